@@ -1,0 +1,5 @@
+"""``python -m eulersym`` — the same as the ``eulersym`` command."""
+
+from eulersym.cli import main
+
+raise SystemExit(main())

@@ -1,0 +1,72 @@
+"""The ``eulersym`` command line.
+
+Each subcommand lives beside the code it drives: the table below maps a name to ``module:function``, and that
+function takes the remaining arguments (``argv: list[str]``) and returns the exit status. Exit codes everywhere:
+0 success, 1 a check or verification failed, 2 bad usage or bad input.
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+
+__all__ = ["main", "COMMANDS"]
+
+#: name → (``module:function``, one-line description).
+COMMANDS: dict[str, tuple[str, str]] = {
+    "check": ("eulersym.text:cli", "derive every closed form of the text and prove it equal"),
+    "derive": ("eulersym.text:cli_derive", "print a derived quantity (--latex for LaTeX)"),
+    "generate": ("eulersym.codegen:cli", "write the NumPy kernels to generated/ (--check: fail if stale)"),
+    "verify": ("eulersym.verify:cli", "check a hand derivation against a derived quantity"),
+    "simulate": ("eulersym.scene:cli", "run a scene (TOML file or bundled name)"),
+    "bench": ("eulersym.bench:cli", "time eulersym against a baseline in the same run"),
+}
+
+_USAGE = "usage: eulersym {" + ",".join(COMMANDS) + "} [args...]\n"
+
+
+def _help() -> str:
+    width = max(map(len, COMMANDS))
+    lines = [_USAGE, "commands:"]
+    lines += [f"  {name:<{width}}  {desc}" for name, (_, desc) in COMMANDS.items()]
+    lines.append("\nRun `eulersym COMMAND --help` for a command's options.")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; return the exit status (0 ok, 1 check failed, 2 bad usage or input)."""
+    from eulersym.errors import CheckFailed, EulersymError, InvalidInput
+
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if not argv or argv[0] in ("-h", "--help"):
+        print(_help())
+        return 0 if argv else 2
+    if argv[0] == "--version":
+        from eulersym import __version__
+
+        print(f"eulersym {__version__}")
+        return 0
+    name, rest = argv[0], argv[1:]
+    if name not in COMMANDS:
+        sys.stderr.write(_USAGE + f"eulersym: error: unknown command {name!r}; valid: {', '.join(COMMANDS)}\n")
+        return 2
+    target = COMMANDS[name][0]
+    module_name, func_name = target.split(":")
+    func = getattr(importlib.import_module(module_name), func_name)
+    try:
+        return int(func(rest) or 0)
+    except CheckFailed as exc:
+        sys.stderr.write(f"eulersym {name}: {exc}\n")
+        return 1
+    except InvalidInput as exc:
+        sys.stderr.write(f"eulersym {name}: error: {exc}\n")
+        return 2
+    except EulersymError as exc:
+        sys.stderr.write(f"eulersym {name}: error: {exc}\n")
+        return 2
+    except KeyboardInterrupt:
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())

@@ -1,0 +1,390 @@
+"""Decide whether two symbolic results are equal: exactly, and at random high-precision points.
+
+This is the one comparison engine of the package: ``eulersym.text.check`` proves the text's closed forms with it,
+and ``eulersym.verify`` builds its verdicts (parsing, diagnosis of slips) on top of it.
+
+What can be compared: SymPy scalars, matrices (componentwise), ``Eq`` (as lhs − rhs), and lists/tuples of these
+(shapes must match). Functions of time such as ``phi(t)`` and their derivatives are frozen into plain symbols
+(``phi``, ``phidot``, ``phiddot``) before comparing, so that identities between Euler-angle expressions are tested
+at independent random values of angles and rates.
+
+Exact strategies, cheapest first:
+
+1. ``expand`` to zero;
+2. trig-polynomial reduction: ``sin x``, ``cos x`` become ``s_x``, ``c_x`` and the numerator is reduced modulo
+   ``s_x² + c_x² − 1`` (a Gröbner basis) — decisive and fast for everything built from rotation matrices;
+3. ``sympy.simplify``, only for small expressions (a budget on the operation count keeps it bounded).
+
+Numeric: each difference is evaluated with mpmath at ``points`` seeded random points at ``dps`` digits; positive
+symbols get positive values. A difference above the tolerance is a counterexample, which proves inequality.
+
+Examples
+--------
+>>> import sympy as sp
+>>> x = sp.Symbol("x")
+>>> r = compare(sp.sin(x)**2, 1 - sp.cos(x)**2)
+>>> r.equal, r.exact
+(True, True)
+>>> print(r.method)
+exact (trig-polynomial reduction) + numeric (5 points at 30 digits)
+>>> compare(sp.sin(2*x), 2*sp.sin(x)).equal
+False
+"""
+
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass, field
+from typing import Any
+
+import sympy as sp
+from sympy.core.function import AppliedUndef
+
+from eulersym.errors import InvalidInput
+
+__all__ = ["Comparison", "compare", "components", "freeze_functions", "zero_exact"]
+
+#: Expressions with more operations than this are not handed to ``sympy.simplify``.
+SIMPLIFY_BUDGET = 300
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """The verdict of :func:`compare`.
+
+    Attributes
+    ----------
+    equal : bool
+        True when every component agrees (exactly, or numerically when no exact proof was found).
+    exact : bool or None
+        True when every component's difference was simplified exactly to zero; False when a counterexample
+        proves a difference; None when neither was decided exactly.
+    numeric : bool
+        True when every component agrees at all random points.
+    method : str
+        How it was shown, in words.
+    difference : sympy object
+        The (simplified) difference, component by component, in the shape of the inputs.
+    counterexample : dict or None
+        Symbol → value where the two differ, or None.
+    differing : tuple of str
+        Labels of the components that differ (``"[0, 1]"`` for a matrix entry, ``"[2]"`` for a list item).
+    points, dps, tolerance
+        The numeric test: number of points, working digits, and the relative tolerance used.
+    """
+
+    equal: bool
+    exact: bool | None
+    numeric: bool
+    method: str
+    difference: Any
+    counterexample: dict | None = None
+    differing: tuple[str, ...] = ()
+    points: int = 0
+    dps: int = 0
+    tolerance: float = 0.0
+    details: dict = field(default_factory=dict, compare=False, repr=False)
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# Shapes
+
+
+def components(obj) -> list[tuple[str, sp.Expr]]:
+    """Flatten a comparable object into ``(label, scalar expression)`` pairs.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> x = sp.Symbol("x")
+    >>> components([sp.Eq(x, 1), sp.Matrix([x, 2])])
+    [('[0]', x - 1), ('[1][0]', x), ('[1][1]', 2)]
+    """
+    out: list[tuple[str, sp.Expr]] = []
+    _flatten(obj, "", out)
+    return out
+
+
+def _flatten(obj, label: str, out: list) -> None:
+    if isinstance(obj, sp.Equality):
+        out.append((label, obj.lhs - obj.rhs))
+    elif isinstance(obj, sp.MatrixBase):
+        if obj.cols == 1:
+            for i in range(obj.rows):
+                out.append((f"{label}[{i}]", obj[i, 0]))
+        else:
+            for i in range(obj.rows):
+                for j in range(obj.cols):
+                    out.append((f"{label}[{i}, {j}]", obj[i, j]))
+    elif isinstance(obj, (list, tuple)):
+        for i, item in enumerate(obj):
+            _flatten(item, f"{label}[{i}]", out)
+    elif isinstance(obj, sp.Basic):
+        out.append((label, obj))
+    elif isinstance(obj, (int, float)) and not isinstance(obj, bool):
+        out.append((label, sp.sympify(obj)))
+    else:
+        raise InvalidInput("expression", obj, "a SymPy expression, Matrix, Eq, or a list/tuple of them")
+
+
+def _shape(obj):
+    if isinstance(obj, sp.MatrixBase):
+        return ("matrix", obj.shape)
+    if isinstance(obj, (list, tuple)):
+        return ("list", tuple(_shape(o) for o in obj))
+    return ("scalar",)
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# Functions of time → symbols
+
+
+def freeze_functions(expr, names: dict | None = None):
+    """Replace functions of one variable and their derivatives by plain real symbols.
+
+    ``phi(t)`` becomes ``phi``, ``Derivative(phi(t), t)`` becomes ``phidot``, the second derivative ``phiddot``,
+    higher ones ``phi_d3`` and so on. Returns ``(frozen, mapping)``.
+
+    Examples
+    --------
+    >>> from eulersym.symbols import phi, t
+    >>> frozen, mapping = freeze_functions(phi.diff(t) * phi)
+    >>> frozen
+    phi*phidot
+    """
+    mapping: dict = {} if names is None else names
+    expr = sp.sympify(expr)
+    derivs = sorted(expr.atoms(sp.Derivative), key=lambda d: -d.derivative_count)
+    for d in derivs:
+        if d in mapping:
+            continue
+        f = d.expr
+        if not isinstance(f, AppliedUndef) or len(d.variables) != d.derivative_count:
+            continue
+        base = f.func.__name__
+        n = d.derivative_count
+        suffix = {1: "dot", 2: "ddot"}.get(n, f"_d{n}")
+        mapping[d] = sp.Symbol(base + suffix, real=True)
+    for f in expr.atoms(AppliedUndef):
+        if f not in mapping:
+            mapping[f] = sp.Symbol(f.func.__name__, real=True)
+    return expr.xreplace(mapping), mapping
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# Exact zero tests
+
+
+def _trig_atoms(expr):
+    return [a for a in expr.atoms(sp.sin, sp.cos, sp.tan, sp.cot)]
+
+
+def _trig_polynomial_zero(expr) -> bool | None:
+    """True if ``expr`` is zero as a rational function of sin and cos of its (symbol) arguments; None if n/a."""
+    expr = sp.expand_trig(expr)
+    trig = _trig_atoms(expr)
+    if not trig:
+        return None
+    args = sorted({a.args[0] for a in trig}, key=sp.default_sort_key)
+    if not all(arg.is_Symbol for arg in args):
+        return None
+    sub, gens, ideal = {}, [], []
+    for arg in args:
+        s, c = sp.Dummy(f"s_{arg}"), sp.Dummy(f"c_{arg}")
+        sub.update({sp.sin(arg): s, sp.cos(arg): c, sp.tan(arg): s / c, sp.cot(arg): c / s})
+        gens += [s, c]
+        ideal.append(s**2 + c**2 - 1)
+    poly_expr = expr.xreplace(sub)
+    if any(a in poly_expr.free_symbols for a in args):  # an angle also appears outside sin/cos
+        others = [a for a in args if a in poly_expr.free_symbols]
+        if any(not poly_expr.is_polynomial(a) for a in others):
+            return None
+    num, _den = sp.fraction(sp.together(poly_expr))
+    num = sp.expand(num)
+    if num == 0:
+        return True
+    if not num.is_polynomial(*gens):
+        return None
+    try:
+        _, remainder = sp.reduced(num, ideal, *gens, order="grevlex")
+    except (sp.PolynomialError, sp.polys.polyerrors.PolificationFailed):
+        return None
+    return sp.expand(remainder) == 0
+
+
+def zero_exact(expr) -> tuple[bool, str]:
+    """Try to prove ``expr == 0`` exactly; return ``(proved, strategy)``.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> x = sp.Symbol("x")
+    >>> zero_exact(sp.cos(x)**2 + sp.sin(x)**2 - 1)
+    (True, 'trig-polynomial reduction')
+    >>> zero_exact(x + 1)
+    (False, '')
+    """
+    expr = sp.sympify(expr)
+    if expr == 0:
+        return True, "identical"
+    expanded = sp.expand(expr)
+    if expanded == 0:
+        return True, "expand"
+    trig = _trig_polynomial_zero(expanded)
+    if trig:
+        return True, "trig-polynomial reduction"
+    if trig is None and not expanded.free_symbols:
+        if sp.nsimplify(expanded) == 0 or sp.simplify(expanded) == 0:
+            return True, "simplify"
+        return False, ""
+    if sp.count_ops(expanded) <= SIMPLIFY_BUDGET:
+        if sp.simplify(expanded) == 0:
+            return True, "simplify"
+    return False, ""
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# Numeric test
+
+
+def _random_point(symbols, rng: random.Random) -> dict:
+    point = {}
+    for s in symbols:
+        if s.is_positive or s.is_nonnegative:
+            value = rng.uniform(0.5, 2.0)
+        else:
+            value = rng.uniform(-1.5, 1.5)
+        point[s] = value
+    return point
+
+
+def _evaluate(expr, point: dict, dps: int):
+    import mpmath
+
+    with mpmath.workdps(dps + 10):
+        subs = {s: sp.Float(repr(v), dps + 10) for s, v in point.items()}
+        value = sp.sympify(expr).xreplace(subs).evalf(dps + 10)
+        try:
+            return complex(value)
+        except TypeError:
+            return complex("nan")
+
+
+def compare(a, b, *, points: int = 5, dps: int = 30, seed: int = 0, exact: bool = True) -> Comparison:
+    """Compare two symbolic objects exactly and at random high-precision points.
+
+    Parameters
+    ----------
+    a, b : SymPy expression, Matrix, Eq, or list/tuple of them
+        Same shapes. Equations compare as lhs − rhs.
+    points : int, optional
+        Number of random points for the numeric test (seeded by ``seed``).
+    dps : int, optional
+        Decimal digits of the numeric evaluation; the relative tolerance is ``10**(-dps/2)``.
+    exact : bool, optional
+        Try exact simplification to zero (default). With ``exact=False`` only the numeric test runs.
+
+    Returns
+    -------
+    Comparison
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> x, y = sp.symbols("x y")
+    >>> compare(sp.Matrix([[x, y]]), sp.Matrix([[x, y + 1]])).differing
+    ('[0, 1]',)
+    """
+    if points < 1:
+        raise InvalidInput("points", points, "an integer >= 1")
+    if dps < 15:
+        raise InvalidInput("dps", dps, "an integer >= 15 (digits of the numeric evaluation)")
+    if _shape(a) != _shape(b):
+        raise InvalidInput("b", b, f"an object of the same shape as a ({_shape(a)}), not {_shape(b)}")
+    ca, cb = components(a), components(b)
+    mapping: dict = {}
+    diffs, pairs = [], []
+    for (label, ea), (_, eb) in zip(ca, cb):
+        fa, _ = freeze_functions(ea, mapping)
+        fb, _ = freeze_functions(eb, mapping)
+        pairs.append((label, fa, fb))
+        diffs.append(fa - fb)
+
+    # exact
+    strategies: list[str] = []
+    exact_ok = [False] * len(diffs)
+    simplified = list(diffs)
+    if exact:
+        for i, d in enumerate(diffs):
+            ok, how = zero_exact(d)
+            exact_ok[i] = ok
+            if ok:
+                simplified[i] = sp.Integer(0)
+                if how not in strategies:
+                    strategies.append(how)
+            else:
+                simplified[i] = sp.expand(d) if sp.count_ops(d) <= SIMPLIFY_BUDGET else d
+
+    # numeric
+    rng = random.Random(seed)
+    symbols = sorted(set().union(*(d.free_symbols for d in diffs)) if diffs else set(), key=sp.default_sort_key)
+    tolerance = 10.0 ** (-dps / 2)
+    differing: list[str] = []
+    counterexample = None
+    for _ in range(points):
+        point = _random_point(symbols, rng)
+        for (label, fa, fb), d in zip(pairs, diffs):
+            if d == 0:
+                continue
+            va, vb = _evaluate(fa, point, dps), _evaluate(fb, point, dps)
+            scale = max(1.0, abs(va), abs(vb))
+            delta = abs(va - vb)
+            if not (delta <= tolerance * scale):  # NaN counts as a difference
+                if label not in differing:
+                    differing.append(label)
+                if counterexample is None:
+                    counterexample = {str(s): v for s, v in point.items()}
+    numeric_ok = not differing
+
+    if all(exact_ok):
+        exact_verdict: bool | None = True
+    elif differing:
+        exact_verdict = False
+    else:
+        exact_verdict = None
+    equal = numeric_ok and exact_verdict is not False
+    numeric_text = f"numeric ({points} points at {dps} digits)"
+    if exact_verdict is True:
+        how = ", ".join(strategies) if strategies else "identical"
+        method = f"exact ({how}) + {numeric_text}"
+    elif exact_verdict is False:
+        method = f"counterexample found by {numeric_text}"
+    else:
+        method = f"{numeric_text} only; no exact proof found"
+    difference = _reshape(a, simplified)
+    return Comparison(
+        equal=equal,
+        exact=exact_verdict,
+        numeric=numeric_ok,
+        method=method,
+        difference=difference,
+        counterexample=counterexample,
+        differing=tuple(differing),
+        points=points,
+        dps=dps,
+        tolerance=tolerance,
+        details={"frozen": mapping},
+    )
+
+
+def _reshape(template, flat: list):
+    it = iter(flat)
+
+    def build(obj):
+        if isinstance(obj, sp.MatrixBase):
+            return sp.Matrix(obj.rows, obj.cols, [next(it) for _ in range(obj.rows * obj.cols)])
+        if isinstance(obj, (list, tuple)):
+            return [build(o) for o in obj]
+        return next(it)
+
+    return build(template)

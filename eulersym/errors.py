@@ -1,0 +1,98 @@
+"""The exceptions eulersym raises on purpose.
+
+Every error names the argument, the value that was given, and what would have been valid::
+
+    >>> from eulersym.errors import InvalidInput
+    >>> raise InvalidInput("convention", "zzz", "one of the 12 sequences such as 'zxz' or 'xyz'")
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: convention='zzz' is not valid: expected one of the 12 sequences such as 'zxz' or 'xyz'
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "EulersymError",
+    "InvalidInput",
+    "SingularConfiguration",
+    "UnsafeExpression",
+    "CheckFailed",
+]
+
+_MAX_REPR = 120
+
+
+def _short_repr(value: object) -> str:
+    text = repr(value)
+    if len(text) > _MAX_REPR:
+        text = text[: _MAX_REPR - 3] + "..."
+    return text
+
+
+class EulersymError(Exception):
+    """Base class of every error eulersym raises on purpose."""
+
+
+class InvalidInput(EulersymError, ValueError):
+    """An argument has a value the function cannot accept.
+
+    Parameters
+    ----------
+    argument : str
+        The name of the argument, as the caller wrote it.
+    value : object
+        The value that was given (shown through ``repr``, shortened).
+    expected : str
+        What would have been valid.
+
+    Examples
+    --------
+    >>> err = InvalidInput("M", -1, "a positive mass")
+    >>> print(err)
+    M=-1 is not valid: expected a positive mass
+    >>> err.argument, err.value
+    ('M', -1)
+    """
+
+    def __init__(self, argument: str, value: object, expected: str):
+        self.argument = argument
+        self.value = value
+        self.expected = expected
+        super().__init__(f"{argument}={_short_repr(value)} is not valid: expected {expected}")
+
+    def __reduce__(self):  # keep pickling (multiprocessing, pytest-xdist) working
+        return (type(self), (self.argument, self.value, self.expected))
+
+
+class SingularConfiguration(InvalidInput):
+    """The configuration sits on a singularity of the chosen coordinates (e.g. sin θ = 0 for Euler angles).
+
+    Examples
+    --------
+    >>> raise SingularConfiguration("theta", 0.0, "sin(theta) != 0; use quaternions at this attitude")
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.SingularConfiguration: theta=0.0 is not valid: expected sin(theta) != 0; use quaternions at this attitude
+    """
+
+
+class UnsafeExpression(InvalidInput):
+    """A string given as a formula holds something other than plain mathematics.
+
+    Examples
+    --------
+    >>> print(UnsafeExpression("candidate", "os.system", "plain math: names, numbers, + - * / ^ and known functions"))
+    candidate='os.system' is not valid: expected plain math: names, numbers, + - * / ^ and known functions
+    """
+
+
+class CheckFailed(EulersymError):
+    """A check of a derived result (against the text, a generated file or a tolerance) did not pass.
+
+    Examples
+    --------
+    >>> raise CheckFailed("generated/euler.py is stale; run `eulersym generate`")
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.CheckFailed: generated/euler.py is stale; run `eulersym generate`
+    """

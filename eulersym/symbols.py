@@ -1,0 +1,49 @@
+"""The canonical symbols of the chapter, defined once.
+
+Every symbolic module takes its symbols from here, so that expressions built in different places compare equal.
+
+- ``t`` — time (the same Symbol ``sympy.physics.vector.dynamicsymbols`` uses);
+- ``phi, theta, psi`` — Euler angles φ (precession), θ (nutation), ψ (spin), functions of ``t``;
+- ``omega1, omega2, omega3`` — body components of the angular velocity, functions of ``t``;
+- ``I1, I2, I3`` — principal moments, ``M`` mass, ``g`` gravity, ``l`` pivot–centre-of-mass distance (positive);
+- ``N1, N2, N3`` — body components of the external torque (real).
+
+Examples
+--------
+>>> from eulersym.symbols import phi, t, I1
+>>> phi.diff(t)
+Derivative(phi(t), t)
+>>> I1.is_positive
+True
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+from sympy.physics.vector import dynamicsymbols
+
+__all__ = [
+    "t",
+    "phi", "theta", "psi",
+    "omega1", "omega2", "omega3",
+    "I1", "I2", "I3", "M", "g", "l",
+    "N1", "N2", "N3",
+    "euler_angles", "euler_rates_symbols", "omega_symbols", "moments", "torques",
+]
+
+t: sp.Symbol = dynamicsymbols._t
+phi, theta, psi = dynamicsymbols("phi theta psi")
+omega1, omega2, omega3 = dynamicsymbols("omega1 omega2 omega3")
+I1, I2, I3, M, g, l = sp.symbols("I1 I2 I3 M g l", positive=True)
+N1, N2, N3 = sp.symbols("N1 N2 N3", real=True)
+
+#: (φ, θ, ψ) as functions of t.
+euler_angles = (phi, theta, psi)
+#: (φ̇, θ̇, ψ̇) as SymPy derivatives.
+euler_rates_symbols = tuple(q.diff(t) for q in euler_angles)
+#: (ω1, ω2, ω3) as functions of t.
+omega_symbols = (omega1, omega2, omega3)
+#: (I1, I2, I3).
+moments = (I1, I2, I3)
+#: (N1, N2, N3).
+torques = (N1, N2, N3)

@@ -1,0 +1,1 @@
+"""Generated NumPy kernels (see eulersym.codegen). Importable without SymPy."""
