@@ -6,7 +6,10 @@ Every symbolic module takes its symbols from here, so that expressions built in 
 - ``phi, theta, psi`` — Euler angles φ (precession), θ (nutation), ψ (spin), functions of ``t``;
 - ``omega1, omega2, omega3`` — body components of the angular velocity, functions of ``t``;
 - ``I1, I2, I3`` — principal moments, ``M`` mass, ``g`` gravity, ``l`` pivot–centre-of-mass distance (positive);
-- ``N1, N2, N3`` — body components of the external torque (real).
+- ``N1, N2, N3`` — body components of the external torque (real);
+- ``eta1, eta2, eta3`` — small perturbations of ω (Example 4.2), functions of ``t``; ``omega0`` — steady spin (positive);
+- ``Gamma1, Gamma2, Gamma3`` — body components of the upward vertical (Euler–Poisson form of the heavy top);
+- ``q0, q1, q2, q3`` — unit quaternion of the attitude, scalar first, functions of ``t``.
 
 Examples
 --------
@@ -28,6 +31,9 @@ __all__ = [
     "omega1", "omega2", "omega3",
     "I1", "I2", "I3", "M", "g", "l",
     "N1", "N2", "N3",
+    "eta1", "eta2", "eta3", "omega0",
+    "Gamma1", "Gamma2", "Gamma3",
+    "q0", "q1", "q2", "q3",
     "euler_angles", "euler_rates_symbols", "omega_symbols", "moments", "torques",
 ]
 
@@ -36,6 +42,10 @@ phi, theta, psi = dynamicsymbols("phi theta psi")
 omega1, omega2, omega3 = dynamicsymbols("omega1 omega2 omega3")
 I1, I2, I3, M, g, l = sp.symbols("I1 I2 I3 M g l", positive=True)
 N1, N2, N3 = sp.symbols("N1 N2 N3", real=True)
+eta1, eta2, eta3 = dynamicsymbols("eta1 eta2 eta3")
+omega0 = sp.Symbol("omega0", positive=True)
+Gamma1, Gamma2, Gamma3 = dynamicsymbols("Gamma1 Gamma2 Gamma3")
+q0, q1, q2, q3 = dynamicsymbols("q0 q1 q2 q3")
 
 #: (φ, θ, ψ) as functions of t.
 euler_angles = (phi, theta, psi)
