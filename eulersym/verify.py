@@ -41,6 +41,7 @@ import re
 import signal
 import sys
 import threading
+import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, Callable, NamedTuple
@@ -49,7 +50,7 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 
 from eulersym import symbols as S
-from eulersym.compare import compare, components, freeze_functions
+from eulersym.compare import SIMPLIFY_BUDGET, compare, components, freeze_functions, zero_exact
 from eulersym.errors import InvalidInput
 from eulersym.parsing import parse, parse_latex
 
@@ -506,7 +507,8 @@ def _values(exprs: list, point: dict) -> list[complex] | None:
     out = []
     for e in exprs:
         try:
-            out.append(complex(e.xreplace(subs).evalf(17)))
+            value = e.xreplace(subs)
+            out.append(complex(value if value.is_Number else value.evalf(17)))
         except (TypeError, ValueError, ZeroDivisionError):
             return None
     return out
@@ -604,13 +606,19 @@ def _slips(candidate, target) -> list[tuple[str, Callable]]:
     free = _free_symbols(candidate)
     funcs = set().union(*(e.atoms(AppliedUndef) for _, e in components(candidate)))
     for a, b in ((S.phi, S.psi), (S.phi, S.theta), (S.theta, S.psi)):
-        if a in funcs or b in funcs:
-            na, nb = _ANGLE_NAMES[a], _ANGLE_NAMES[b]
-            slips.append((f"{na} and {nb} swapped", lambda c, a=a, b=b: _map_scalars(c, _swap(a, b))))
+        rates = {d.expr for _, e in components(candidate) for d in e.atoms(sp.Derivative)} & {a, b}
+        angles = {f for _, e in components(candidate) for f in _undifferentiated(e)} & {a, b}
+        na, nb = _ANGLE_NAMES[a], _ANGLE_NAMES[b]
+        if rates and angles:
+            slips.append((f"{na} and {nb} swapped (angles and rates)",
+                          lambda c, a=a, b=b: _map_scalars(c, _swap(a, b))))
             slips.append((f"{na} and {nb} swapped in the angles (the rates are right)",
                           lambda c, a=a, b=b: _map_scalars(c, _swap_part(a, b, "angles"))))
             slips.append((f"{na}dot and {nb}dot swapped (the rates; the angles are right)",
                           lambda c, a=a, b=b: _map_scalars(c, _swap_part(a, b, "rates"))))
+        elif rates or angles:
+            label = f"{na}dot and {nb}dot swapped" if rates else f"{na} and {nb} swapped"
+            slips.append((label, lambda c, a=a, b=b: _map_scalars(c, _swap(a, b))))
     trig_args = sorted({f.args[0] for _, e in components(candidate) for f in e.atoms(sp.sin, sp.cos)},
                        key=sp.default_sort_key)
     if trig_args:
@@ -637,11 +645,17 @@ def _slips(candidate, target) -> list[tuple[str, Callable]]:
                       "(trigonometric arguments × 180/π make it right)",
                       lambda c: _map_scalars(c, _trig_args_scaled(180 / sp.pi))))
     if not equation:
-        slips.append(("degrees for radians: the candidate is in degrees (× 180/π); multiply by π/180",
+        slips.append(("degrees for radians: the candidate is in degrees (a factor 180/π too many)",
                       lambda c: _map_scalars(c, lambda e: e * sp.pi / 180)))
-        slips.append(("degrees for radians: the candidate is in radians where degrees were meant (× π/180)",
+        slips.append(("degrees for radians: a factor π/180 too many (a conversion that is not needed)",
                       lambda c: _map_scalars(c, lambda e: e * 180 / sp.pi)))
     return slips
+
+
+def _undifferentiated(expr) -> set:
+    """The functions of time that occur in ``expr`` outside derivatives."""
+    hold = {d: sp.Dummy() for d in expr.atoms(sp.Derivative)}
+    return expr.xreplace(hold).atoms(AppliedUndef)
 
 
 def _name(f) -> str:
@@ -795,30 +809,43 @@ def verify(candidate, against, *, points: int = 5, dps: int = 30, seed: int = 0,
         cand = candidate
     cand = _align(_normalize(cand, "candidate"), target)
 
+    equation = isinstance(target, (sp.Equality, list))
+    deadline = None if budget is None else time.monotonic() + budget
     budget_note = ""
+    # 1. equations: the factor k with candidate = k·target (bounded by the budget)
     try:
-        with _time_budget(budget):
+        with _time_budget(_remaining(deadline)):
             a, b, factor = _equations_to_scalars(cand, target)
-            result = compare(*_against_zero(a, b), points=points, dps=dps, seed=seed, exact=True)
     except _BudgetExceeded:
-        budget_note = f"; exact attempt stopped at the {budget:g} s budget"
-        a, b, factor = cand, target, None
-        if isinstance(target, (sp.Equality, list)):
-            a, b = _equation_differences(cand, target)
-        result = compare(*_against_zero(a, b), points=points, dps=dps, seed=seed, exact=False)
-    if factor is not None and isinstance(target, (sp.Equality, list)):
-        note = "; equations compared as lhs − rhs up to a non-zero factor free of the state variables"
-    else:
-        note = ""
-    diagnosis = None
+        budget_note = f"; the search for the equations' factor stopped at the {budget:g} s budget"
+        (a, b), factor = (_equation_differences(cand, target) if equation else (cand, target)), None
+    diff, zero = _against_zero(a, b)
+    # 2. numeric, at high precision: a point where they differ proves inequality
+    result = compare(diff, zero, points=points, dps=dps, seed=seed, exact=False)
+    numeric_text = f"numeric ({result.points} points at {result.dps} digits, relative tolerance {result.tolerance:.0e})"
     if not result.equal:
-        diagnosis = _diagnose(cand, target, seed)
-    differing = tuple(result.differing) if not _is_scalar(target) and not isinstance(target, sp.Equality) else ()
+        exact, method = False, f"counterexample found by {numeric_text}"
+        difference = _map_scalars(result.difference, _tidy)
+    else:
+        # 3. exact: every component of the difference simplified to zero, within the budget
+        exact, strategies, stopped = _prove(diff, deadline)
+        if exact:
+            method = f"exact ({', '.join(strategies)}) + {numeric_text}"
+            difference = _map_scalars(result.difference, lambda e: sp.Integer(0))
+        else:
+            method = f"{numeric_text} only; no exact proof found"
+            if stopped:
+                budget_note += f"; exact attempt stopped at the {budget:g} s budget"
+            difference = result.difference
+    note = ("; equations compared as lhs − rhs up to a non-zero factor free of the state variables"
+            if equation and factor is not None else "")
+    diagnosis = _diagnose(cand, target, seed) if not result.equal else None
+    differing = tuple(result.differing) if isinstance(target, (sp.MatrixBase, list)) else ()
     return Verdict(
         equal=bool(result.equal),
-        exact=result.exact,
-        method=result.method + note + budget_note,
-        difference=result.difference,
+        exact=exact,
+        method=method + note + budget_note,
+        difference=difference,
         counterexample=result.counterexample,
         diagnosis=diagnosis,
         components=differing,
@@ -830,6 +857,35 @@ def verify(candidate, against, *, points: int = 5, dps: int = 30, seed: int = 0,
         dps=result.dps,
         tolerance=result.tolerance,
     )
+
+
+def _remaining(deadline: float | None) -> float | None:
+    if deadline is None:
+        return None
+    return max(deadline - time.monotonic(), 1e-3)
+
+
+def _tidy(expr):
+    """The difference as shown: expanded when small."""
+    return sp.expand(expr) if sp.count_ops(expr) <= SIMPLIFY_BUDGET else expr
+
+
+def _prove(diff, deadline: float | None) -> tuple[bool | None, list[str], bool]:
+    """(True, strategies, False) when every component is exactly zero; (None, [], stopped) otherwise."""
+    strategies: list[str] = []
+    mapping: dict = {}
+    try:
+        with _time_budget(_remaining(deadline)):
+            for _, expr in components(diff):
+                frozen, _ = freeze_functions(expr, mapping)
+                ok, how = zero_exact(frozen)
+                if not ok:
+                    return None, [], False
+                if how not in strategies:
+                    strategies.append(how)
+    except _BudgetExceeded:
+        return None, [], True
+    return True, strategies, False
 
 
 def _against_zero(a, b):
@@ -870,7 +926,7 @@ def cli(argv: list[str]) -> int:
     --------
     >>> cli(["2*sin(x)*cos(x)", "--against", "sin(2*x)"])
     EQUAL
-      method:         exact (...) + numeric (5 points at 30 digits)
+      method:         exact (...) + numeric (5 points at 30 digits, relative tolerance 1e-15)
     0
     """
     parser = argparse.ArgumentParser(
