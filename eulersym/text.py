@@ -11,7 +11,7 @@ evaluation at seeded random points at 30 digits. An entry whose derivation is no
 
 Examples
 --------
->>> r = check("4.2.omega_body")
+>>> r = check("4.1.orthogonality")
 >>> r.status, r.exact
 ('equal', True)
 >>> print(r.how)
