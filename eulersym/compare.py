@@ -181,10 +181,10 @@ def _trig_atoms(expr):
 
 def _trig_polynomial_zero(expr) -> bool | None:
     """True if ``expr`` is zero as a rational function of sin and cos of its (symbol) arguments; None if n/a."""
-    expr = sp.expand_trig(expr)
+    expr = sp.expand(sp.expand_trig(expr))
     trig = _trig_atoms(expr)
     if not trig:
-        return None
+        return True if expr == 0 else None
     args = sorted({a.args[0] for a in trig}, key=sp.default_sort_key)
     if not all(arg.is_Symbol for arg in args):
         return None
@@ -227,6 +227,8 @@ def zero_exact(expr) -> tuple[bool, str]:
     expr = sp.sympify(expr)
     if expr == 0:
         return True, "identical"
+    if expr.atoms(AppliedUndef):
+        expr, _ = freeze_functions(expr)
     expanded = sp.expand(expr)
     if expanded == 0:
         return True, "expand"
@@ -360,7 +362,8 @@ def compare(
 
     # numeric
     rng = random.Random(seed)
-    symbols = sorted(set().union(*(d.free_symbols for d in diffs)) if diffs else set(), key=sp.default_sort_key)
+    symbols = sorted(set().union(*(fa.free_symbols | fb.free_symbols for _, fa, fb in pairs)) if pairs else set(),
+                     key=sp.default_sort_key)
     tolerance = 10.0 ** (-dps / 2)
     differing: list[str] = []
     counterexample = None
@@ -385,11 +388,15 @@ def compare(
         exact_verdict = False
     else:
         exact_verdict = None
-    equal = numeric_ok and exact_verdict is not False
+    # An exact proof is sound; a numeric disagreement with it can only come from evaluation (branch cuts), so the
+    # proof decides and the disagreement is reported in the method.
+    equal = exact_verdict is True or (numeric_ok and exact_verdict is not False)
     numeric_text = f"numeric ({points} points at {dps} digits)"
     if exact_verdict is True:
         how = ", ".join(strategies) if strategies else "identical"
         method = f"exact ({how}) + {numeric_text}"
+        if not numeric_ok:
+            method += f" (numeric evaluation disagreed at {', '.join(differing)}: branch cuts?)"
     elif exact_verdict is False:
         method = f"counterexample found by {numeric_text}"
     else:
