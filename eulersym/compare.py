@@ -181,10 +181,10 @@ def _trig_atoms(expr):
 
 def _trig_polynomial_zero(expr) -> bool | None:
     """True if ``expr`` is zero as a rational function of sin and cos of its (symbol) arguments; None if n/a."""
-    expr = sp.expand_trig(expr)
+    expr = sp.expand(sp.expand_trig(expr))
     trig = _trig_atoms(expr)
     if not trig:
-        return None
+        return True if expr == 0 else None
     args = sorted({a.args[0] for a in trig}, key=sp.default_sort_key)
     if not all(arg.is_Symbol for arg in args):
         return None
@@ -227,6 +227,8 @@ def zero_exact(expr) -> tuple[bool, str]:
     expr = sp.sympify(expr)
     if expr == 0:
         return True, "identical"
+    if expr.atoms(AppliedUndef):
+        expr, _ = freeze_functions(expr)
     expanded = sp.expand(expr)
     if expanded == 0:
         return True, "expand"
@@ -270,7 +272,26 @@ def _evaluate(expr, point: dict, dps: int):
             return complex("nan")
 
 
-def compare(a, b, *, points: int = 5, dps: int = 30, seed: int = 0, exact: bool = True) -> Comparison:
+def _proportionality_factor(fa, fb, states) -> sp.Expr | None:
+    """The factor k with fb = k·fa when k is free of the state symbols and non-zero; else None."""
+    if fa == 0 or fb == 0:
+        return None
+    k = sp.factor(sp.cancel(sp.together(fb / fa)))
+    if k == 0 or k.free_symbols & states or k.has(sp.nan, sp.zoo):
+        return None
+    return k
+
+
+def compare(
+    a,
+    b,
+    *,
+    points: int = 5,
+    dps: int = 30,
+    seed: int = 0,
+    exact: bool = True,
+    up_to_factor: bool = False,
+) -> Comparison:
     """Compare two symbolic objects exactly and at random high-precision points.
 
     Parameters
@@ -283,6 +304,10 @@ def compare(a, b, *, points: int = 5, dps: int = 30, seed: int = 0, exact: bool 
         Decimal digits of the numeric evaluation; the relative tolerance is ``10**(-dps/2)``.
     exact : bool, optional
         Try exact simplification to zero (default). With ``exact=False`` only the numeric test runs.
+    up_to_factor : bool, optional
+        Compare each component up to a non-zero factor free of the state variables (functions of t, their
+        derivatives): the way equations ``lhs = rhs`` are compared. The factors found are in
+        ``details["factors"]``.
 
     Returns
     -------
@@ -304,9 +329,19 @@ def compare(a, b, *, points: int = 5, dps: int = 30, seed: int = 0, exact: bool 
     ca, cb = components(a), components(b)
     mapping: dict = {}
     diffs, pairs = [], []
+    frozen = []
     for (label, ea), (_, eb) in zip(ca, cb):
         fa, _ = freeze_functions(ea, mapping)
         fb, _ = freeze_functions(eb, mapping)
+        frozen.append((label, fa, fb))
+    factors: dict[str, sp.Expr] = {}
+    states = set(mapping.values())
+    for label, fa, fb in frozen:
+        if up_to_factor and not zero_exact(fa - fb)[0]:
+            k = _proportionality_factor(fa, fb, states)
+            if k is not None and k != 1:
+                factors[label] = k
+                fa = k * fa
         pairs.append((label, fa, fb))
         diffs.append(fa - fb)
 
@@ -327,7 +362,8 @@ def compare(a, b, *, points: int = 5, dps: int = 30, seed: int = 0, exact: bool 
 
     # numeric
     rng = random.Random(seed)
-    symbols = sorted(set().union(*(d.free_symbols for d in diffs)) if diffs else set(), key=sp.default_sort_key)
+    symbols = sorted(set().union(*(fa.free_symbols | fb.free_symbols for _, fa, fb in pairs)) if pairs else set(),
+                     key=sp.default_sort_key)
     tolerance = 10.0 ** (-dps / 2)
     differing: list[str] = []
     counterexample = None
@@ -352,15 +388,21 @@ def compare(a, b, *, points: int = 5, dps: int = 30, seed: int = 0, exact: bool 
         exact_verdict = False
     else:
         exact_verdict = None
-    equal = numeric_ok and exact_verdict is not False
+    # An exact proof is sound; a numeric disagreement with it can only come from evaluation (branch cuts), so the
+    # proof decides and the disagreement is reported in the method.
+    equal = exact_verdict is True or (numeric_ok and exact_verdict is not False)
     numeric_text = f"numeric ({points} points at {dps} digits)"
     if exact_verdict is True:
         how = ", ".join(strategies) if strategies else "identical"
         method = f"exact ({how}) + {numeric_text}"
+        if not numeric_ok:
+            method += f" (numeric evaluation disagreed at {', '.join(differing)}: branch cuts?)"
     elif exact_verdict is False:
         method = f"counterexample found by {numeric_text}"
     else:
         method = f"{numeric_text} only; no exact proof found"
+    if factors:
+        method += "; up to factors " + ", ".join(f"{lab or 'expr'}: {k}" for lab, k in factors.items())
     difference = _reshape(a, simplified)
     return Comparison(
         equal=equal,
@@ -373,7 +415,7 @@ def compare(a, b, *, points: int = 5, dps: int = 30, seed: int = 0, exact: bool 
         points=points,
         dps=dps,
         tolerance=tolerance,
-        details={"frozen": mapping},
+        details={"frozen": mapping, "factors": factors},
     )
 
 
