@@ -126,11 +126,21 @@ _DERIVED: tuple = (
     ("sleeping_top_threshold", "the sleeping top's bound on ω3² (stable above it), §4.5",
      "top", "sleeping_top_threshold", (), {}, None),
     ("precession_rates", "(slow, fast) steady precession rates φ̇ of the heavy top, Example 4.3",
-     "top", "steady_precession_rates", (S.theta,), {}, None),
+     "top", "steady_precession_rates", (), {}, None),
     ("precession_rate_slow", "slow steady precession rate (exact root), Example 4.3",
-     "top", "steady_precession_rates", (S.theta,), {}, _item(0)),
+     "top", "steady_precession_rates", (), {}, _item(0)),
     ("precession_rate_fast", "fast steady precession rate (exact root), Example 4.3",
-     "top", "steady_precession_rates", (S.theta,), {}, _item(1)),
+     "top", "steady_precession_rates", (), {}, _item(1)),
+    ("nutation_equation", "the θ equation of the heavy top with ψ̇ = ω3 − φ̇ cos θ, Example 4.3",
+     "top", "nutation_equation", (), {}, None),
+    ("steady_precession_condition", "the quadratic in φ̇ for steady precession, Example 4.3",
+     "top", "steady_precession_condition", (), {}, None),
+    ("linearized_euler_equations", "Euler's equations linearised about steady rotation on axis 2, Example 4.2",
+     "dynamics", "linearized_euler_equations", (), {"axis": 2}, None),
+    ("perturbation_coefficient", "η̈1 = coefficient · η1 about axis 2, Example 4.2",
+     "dynamics", "perturbation_coefficient", (), {"axis": 2}, None),
+    ("symmetric_transverse_equation", "ω̈1 + Ω_prec² ω1 = 0 for the torque-free symmetric body, §4.5",
+     "dynamics", "symmetric_transverse_equation", (), {}, None),
     ("precession_limits", "(slow, fast) precession rates for large spin, Example 4.3",
      "top", "precession_limits", (), {}, None),
 )
@@ -169,10 +179,13 @@ def _catalogue() -> dict[str, Quantity]:
     except ImportError:
         closed = {}
     for key, form in closed.items():
+        needs = re.findall(r"\b(rotation|kinematics|inertia|dynamics|top)\.(\w+)\(", getattr(form, "derivation", ""))
+        if not all(_available(module, attr) for module, attr in needs):
+            continue
         name = key if key not in entries else f"text:{key}"
         section = getattr(form, "section", "")
         statement = getattr(form, "statement", "")
-        entries[name] = Quantity(f"{statement} (text {section}; derived)".strip(), form.derived)
+        entries[name] = Quantity(f"{statement} [text, {section}]".strip(), form.derived)
     return entries
 
 
@@ -199,7 +212,7 @@ class _Catalogue(Mapping):
 #: selected with an index: ``"A[0, 1]"``, ``"omega_body[2]"``, ``"euler_equations[0]"``.
 QUANTITIES: Mapping[str, Quantity] = _Catalogue()
 
-_INDEXED = re.compile(r"^\s*([A-Za-z_][\w:.\-]*)\s*\[\s*(\d+)\s*(?:,\s*(\d+)\s*)?\]\s*$")
+_INDEXED = re.compile(r"^\s*([\w:.\-]+)\s*\[\s*(\d+)\s*(?:,\s*(\d+)\s*)?\]\s*$")
 
 
 def resolve(name: str):
