@@ -270,7 +270,26 @@ def _evaluate(expr, point: dict, dps: int):
             return complex("nan")
 
 
-def compare(a, b, *, points: int = 5, dps: int = 30, seed: int = 0, exact: bool = True) -> Comparison:
+def _proportionality_factor(fa, fb, states) -> sp.Expr | None:
+    """The factor k with fb = k·fa when k is free of the state symbols and non-zero; else None."""
+    if fa == 0 or fb == 0:
+        return None
+    k = sp.factor(sp.cancel(sp.together(fb / fa)))
+    if k == 0 or k.free_symbols & states or k.has(sp.nan, sp.zoo):
+        return None
+    return k
+
+
+def compare(
+    a,
+    b,
+    *,
+    points: int = 5,
+    dps: int = 30,
+    seed: int = 0,
+    exact: bool = True,
+    up_to_factor: bool = False,
+) -> Comparison:
     """Compare two symbolic objects exactly and at random high-precision points.
 
     Parameters
@@ -283,6 +302,10 @@ def compare(a, b, *, points: int = 5, dps: int = 30, seed: int = 0, exact: bool 
         Decimal digits of the numeric evaluation; the relative tolerance is ``10**(-dps/2)``.
     exact : bool, optional
         Try exact simplification to zero (default). With ``exact=False`` only the numeric test runs.
+    up_to_factor : bool, optional
+        Compare each component up to a non-zero factor free of the state variables (functions of t, their
+        derivatives): the way equations ``lhs = rhs`` are compared. The factors found are in
+        ``details["factors"]``.
 
     Returns
     -------
@@ -304,9 +327,19 @@ def compare(a, b, *, points: int = 5, dps: int = 30, seed: int = 0, exact: bool 
     ca, cb = components(a), components(b)
     mapping: dict = {}
     diffs, pairs = [], []
+    frozen = []
     for (label, ea), (_, eb) in zip(ca, cb):
         fa, _ = freeze_functions(ea, mapping)
         fb, _ = freeze_functions(eb, mapping)
+        frozen.append((label, fa, fb))
+    factors: dict[str, sp.Expr] = {}
+    states = set(mapping.values())
+    for label, fa, fb in frozen:
+        if up_to_factor and not zero_exact(fa - fb)[0]:
+            k = _proportionality_factor(fa, fb, states)
+            if k is not None and k != 1:
+                factors[label] = k
+                fa = k * fa
         pairs.append((label, fa, fb))
         diffs.append(fa - fb)
 
@@ -361,6 +394,8 @@ def compare(a, b, *, points: int = 5, dps: int = 30, seed: int = 0, exact: bool 
         method = f"counterexample found by {numeric_text}"
     else:
         method = f"{numeric_text} only; no exact proof found"
+    if factors:
+        method += "; up to factors " + ", ".join(f"{lab or 'expr'}: {k}" for lab, k in factors.items())
     difference = _reshape(a, simplified)
     return Comparison(
         equal=equal,
@@ -373,7 +408,7 @@ def compare(a, b, *, points: int = 5, dps: int = 30, seed: int = 0, exact: bool 
         points=points,
         dps=dps,
         tolerance=tolerance,
-        details={"frozen": mapping},
+        details={"frozen": mapping, "factors": factors},
     )
 
 
