@@ -49,6 +49,7 @@ import numpy as np
 import sympy as sp
 
 from eulersym.errors import InvalidInput
+from eulersym.validation import choice, finite_array, positive
 
 __all__ = [
     "Region",
@@ -88,7 +89,9 @@ _SLACK = 1e-12
 
 
 # --------------------------------------------------------------------------------------------------- validation
-# Local checks, written to the signatures of eulersym.validation (CONTRACTS.md) so they can be swapped for it.
+# eulersym.validation does the scalar checks. Principal moments are checked here: a tensor may have zero moments
+# (a rod, a point mass on an axis), which validation.moments refuses, and symbolic moments are refused here when a
+# triangle inequality is provably violated (e.g. I3 = I1 + I2 + 1).
 
 
 def _is_sympy(value: Any) -> bool:
@@ -112,16 +115,7 @@ def _scalar(argument: str, value: Any) -> Any:
 
 def _positive(argument: str, value: Any) -> Any:
     """``value`` as SymPy, refused when it is (provably) zero, negative, NaN or infinite."""
-    value = _scalar(argument, value)
-    if value.is_positive is False or (value.is_number and value.is_extended_real is False):
-        raise InvalidInput(argument, value, "a positive real number (mass or length)")
-    return value
-
-
-def _choice(argument: str, value: Any, valid: Sequence[str]) -> str:
-    if not isinstance(value, str) or value not in valid:
-        raise InvalidInput(argument, value, "one of " + ", ".join(repr(v) for v in valid))
-    return value
+    return _scalar(argument, positive(argument, value))
 
 
 def _vector3(argument: str, value: Any) -> tuple:
@@ -619,7 +613,7 @@ def cuboid(M: Any, a: Any, b: Any, c: Any, origin: str = "center") -> sp.Matrix:
     Matrix([[M*b**2/12 + M*c**2/12, M*a**2/12 + M*c**2/12, M*a**2/12 + M*b**2/12]])
     """
     args = (_positive("M", M), _positive("a", a), _positive("b", b), _positive("c", c))
-    return sp.Matrix(_cuboid(*args, _choice("origin", origin, _BOX_ORIGINS)))
+    return sp.Matrix(_cuboid(*args, choice("origin", origin, _BOX_ORIGINS)))
 
 
 def cube(M: Any, a: Any, origin: str = "center") -> sp.Matrix:
@@ -639,7 +633,7 @@ def cube(M: Any, a: Any, origin: str = "center") -> sp.Matrix:
     -M*a**2/4
     """
     M, a = _positive("M", M), _positive("a", a)
-    return sp.Matrix(_cuboid(M, a, a, a, _choice("origin", origin, _BOX_ORIGINS)))
+    return sp.Matrix(_cuboid(M, a, a, a, choice("origin", origin, _BOX_ORIGINS)))
 
 
 @functools.lru_cache(maxsize=64)
@@ -685,7 +679,7 @@ def cylinder(M: Any, R: Any, h: Any, origin: str = "center") -> sp.Matrix:
     Matrix([[M*R**2/4 + M*h**2/12, M*R**2/4 + M*h**2/12, M*R**2/2]])
     """
     M, R, h = _positive("M", M), _positive("R", R), _positive("h", h)
-    return sp.Matrix(_cylinder(M, R, h, _choice("origin", origin, _CYLINDER_ORIGINS)))
+    return sp.Matrix(_cylinder(M, R, h, choice("origin", origin, _CYLINDER_ORIGINS)))
 
 
 _CONE_ORIGINS = ("apex", "center")
@@ -715,7 +709,7 @@ def cone(M: Any, R: Any, h: Any, origin: str = "apex") -> sp.Matrix:
     3*M*R**2/20 + 3*M*h**2/80
     """
     M, R, h = _positive("M", M), _positive("R", R), _positive("h", h)
-    return sp.Matrix(_cone(M, R, h, _choice("origin", origin, _CONE_ORIGINS)))
+    return sp.Matrix(_cone(M, R, h, choice("origin", origin, _CONE_ORIGINS)))
 
 
 @functools.lru_cache(maxsize=64)
@@ -763,7 +757,7 @@ def rod(M: Any, L: Any, origin: str = "center") -> sp.Matrix:
     L**2*M/3
     """
     M, L = _positive("M", M), _positive("L", L)
-    return sp.Matrix(_rod(M, L, _choice("origin", origin, _ROD_ORIGINS)))
+    return sp.Matrix(_rod(M, L, choice("origin", origin, _ROD_ORIGINS)))
 
 
 def point_masses(masses: Iterable[tuple]) -> sp.Matrix:
@@ -971,14 +965,9 @@ def _as_omega(value: Any) -> tuple:
         return "sympy", sp.Matrix(_vector3("omega", value))
     if isinstance(value, str):
         raise InvalidInput("omega", value, "3 components (Matrix, list or array of shape (..., 3))")
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise InvalidInput("omega", value, "3 components (Matrix, list or array of shape (..., 3))") from exc
+    arr = finite_array("omega", value)
     if arr.ndim == 0 or arr.shape[-1] != 3:
         raise InvalidInput("omega.shape", arr.shape, "(..., 3): the angular velocity's 3 components last")
-    if not np.all(np.isfinite(arr)):
-        raise InvalidInput("omega", value, "finite components")
     return "numpy", arr
 
 
