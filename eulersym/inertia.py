@@ -854,9 +854,10 @@ def principal_axes(I: Any, *, body: bool = True) -> tuple:
         Ascending. (For symbolic moments whose order cannot be decided, the order in which they were found — the
         diagonal's order for a diagonal tensor.)
     axes : sympy.Matrix or ndarray (3, 3)
-        Orthonormal columns, the principal axes, forming a proper rotation (det = +1): the third column is the
-        cross product of the first two. A degenerate moment gets an orthonormal basis of its eigenspace; each of
-        the first two columns has its first (SymPy) or largest (NumPy) non-zero component positive.
+        Orthonormal columns, the principal axes, forming a proper rotation (det = +1; the third column's sign is
+        chosen for that, or it is the cross product of the first two). A degenerate moment gets an orthonormal
+        basis of its eigenspace; each of the first two columns has its first (SymPy) or largest (NumPy) non-zero
+        component positive.
 
     Examples
     --------
@@ -922,6 +923,30 @@ def _first_nonzero_positive(v: sp.Matrix) -> sp.Matrix:
     return v
 
 
+def _rational_denominator_lcm(v: sp.Matrix) -> sp.Integer:
+    """The lcm of the denominators of the rational coefficients in ``v``'s entries (1 for symbolic entries)."""
+    lcm = sp.Integer(1)
+    for entry in v:
+        for coeff in sp.expand(entry).as_coefficients_dict().values():
+            if not isinstance(coeff, sp.Rational):
+                return sp.Integer(1)
+            lcm = sp.ilcm(lcm, coeff.q)
+    return sp.Integer(lcm)
+
+
+def _orthonormal_basis(vectors: list) -> list:
+    """Gram–Schmidt, keeping every entry as (number-field element) / sqrt(squared norm), so that identities such
+    as QᵀQ = 1 and I q = λ q expand to zero exactly (no rationalised, nested radicals)."""
+    done = []  # (unnormalised vector, its squared norm)
+    for v in vectors:
+        u = v.applyfunc(sp.radsimp)
+        for w, w2 in done:
+            u = (u - sp.radsimp(sp.expand(u.dot(w)) / w2) * w).applyfunc(lambda e: sp.radsimp(sp.expand(e)))
+        u = u * _rational_denominator_lcm(u)
+        done.append((u, sp.factor_terms(sp.expand(u.dot(u)))))
+    return [u / sp.sqrt(u2) for u, u2 in done]
+
+
 @functools.lru_cache(maxsize=128)
 def _principal_axes_sympy(mat: sp.ImmutableMatrix) -> tuple:
     # Diagonal: the coordinate axes are principal already.
@@ -940,8 +965,7 @@ def _principal_axes_sympy(mat: sp.ImmutableMatrix) -> tuple:
     unit = mat.applyfunc(lambda e: sp.cancel(e / scale))
     pairs = []  # (eigenvalue of unit, orthonormal basis of its eigenspace)
     for value, _mult, basis in sp.Matrix(unit).eigenvects():
-        vectors = sp.GramSchmidt([b.applyfunc(sp.radsimp) for b in basis], orthonormal=True)
-        pairs.append((sp.radsimp(value), [v.applyfunc(sp.radsimp) for v in vectors]))
+        pairs.append((sp.radsimp(value), _orthonormal_basis(basis)))
     values = [v for v, vecs in pairs for _ in vecs]
     vectors = [vec for _, vecs in pairs for vec in vecs]
     if len(values) != 3:  # pragma: no cover - sympy could not split the characteristic polynomial
@@ -949,9 +973,15 @@ def _principal_axes_sympy(mat: sp.ImmutableMatrix) -> tuple:
                                      "pass a NumPy array for a numeric answer")
     moments = [sp.expand(scale * v) for v in values]
     order = _decided_order(values) if scale.is_positive else _decided_order(moments)
-    e1, e2 = (_first_nonzero_positive(vectors[i]) for i in order[:2])
-    e3 = e1.cross(e2).applyfunc(sp.radsimp)
-    return tuple(moments[i] for i in order), sp.ImmutableMatrix(sp.Matrix.hstack(e1, e2, e3))
+    e1, e2, e3 = (_first_nonzero_positive(vectors[i]) for i in order)
+    Q = sp.Matrix.hstack(e1, e2, e3)
+    det = Q.det()
+    if det.is_number:  # exactly ±1 (orthonormal columns), so 30 digits decide the sign
+        if complex(det.evalf(30)).real < 0:
+            Q[:, 2] = -e3
+    else:  # symbolic: the third axis as the cross product of the first two, proper by construction
+        Q[:, 2] = e1.cross(e2).applyfunc(sp.radsimp)
+    return tuple(moments[i] for i in order), sp.ImmutableMatrix(Q)
 
 
 # ----------------------------------------------------------------------------------------- energy and momentum

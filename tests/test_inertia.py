@@ -231,9 +231,11 @@ def test_principal_axes_random_bodies(weights, seed):
 
 
 def _check_decomposition_sympy(I, moments, Q):
-    assert (Q.T * Q).applyfunc(sp.radsimp) == sp.eye(3)
-    assert sp.radsimp(Q.det()) == 1
-    assert_equal(Q * sp.diag(*moments) * Q.T, I)
+    assert_equal(Q.T * Q, sp.eye(3))
+    assert_equal(Q.det(), 1)
+    for i in range(3):  # each column an eigenvector: linear in the column, so it expands to zero
+        assert (I * Q[:, i] - moments[i] * Q[:, i]).applyfunc(sp.expand) == sp.zeros(3, 1)
+    assert_equal(Q.T * I * Q, sp.diag(*moments))
 
 
 def test_degenerate_sphere_and_symmetric_body():
@@ -259,6 +261,18 @@ def test_principal_axes_symbolic_product_of_inertia():
     moments, Q = principal_axes(I)
     assert moments == (3 * M * a**2, 4 * M * a**2, 6 * M * a**2)
     _check_decomposition_sympy(I, moments, Q)
+
+
+def test_principal_axes_irrational_eigenvectors():
+    # a box a × a × 2a about a corner: moments (25 ∓ 3√41) M a²/24 and 23 M a²/12, axes with nested radicals
+    I = cuboid(M, a, a, 2 * a, origin="corner")
+    moments, Q = principal_axes(I)
+    assert_equal(list(moments), [(25 - 3 * sp.sqrt(41)) * M * a**2 / 24, (25 + 3 * sp.sqrt(41)) * M * a**2 / 24,
+                                 23 * M * a**2 / 12])
+    _check_decomposition_sympy(I, moments, Q)
+    m_np, Q_np = principal_axes(np.array(I.xreplace({M: 1, a: 1}), dtype=float))
+    np.testing.assert_allclose(m_np, [float(m.xreplace({M: 1, a: 1})) for m in moments], rtol=1e-13)
+    np.testing.assert_allclose(np.abs(Q_np), np.abs(np.array(Q.evalf(), dtype=float)), atol=1e-12)
 
 
 def test_principal_axes_numpy_degenerate(rng):
