@@ -100,17 +100,21 @@ def _is_sympy(value: Any) -> bool:
 
 def _scalar(argument: str, value: Any) -> Any:
     """A real scalar as SymPy (numbers and SymPy expressions only; strings are refused, never parsed)."""
-    if isinstance(value, bool) or not isinstance(value, (numbers.Number, np.number, sp.Expr)):
+    if isinstance(value, sp.Basic):  # before numbers.*: SymPy registers Integer, Rational, Float there
+        if not isinstance(value, sp.Expr) or value.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
+            raise InvalidInput(argument, value, "a finite real number or SymPy expression")
+        return value
+    if isinstance(value, bool) or not isinstance(value, (numbers.Number, np.number)):
         raise InvalidInput(argument, value, "a real number or a SymPy expression")
-    if isinstance(value, (numbers.Number, np.number)):
-        if isinstance(value, numbers.Complex) and not isinstance(value, numbers.Real):
-            raise InvalidInput(argument, value, "a real number or a SymPy expression")
-        if not math.isfinite(float(value)):
-            raise InvalidInput(argument, value, "a finite real number")
-        return sp.Integer(int(value)) if isinstance(value, numbers.Integral) else sp.Float(float(value))
-    if value.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
-        raise InvalidInput(argument, value, "a finite real number or SymPy expression")
-    return value
+    if isinstance(value, numbers.Complex) and not isinstance(value, numbers.Real):
+        raise InvalidInput(argument, value, "a real number or a SymPy expression")
+    if not math.isfinite(float(value)):
+        raise InvalidInput(argument, value, "a finite real number")
+    if isinstance(value, numbers.Integral):
+        return sp.Integer(int(value))
+    if isinstance(value, numbers.Rational):  # fractions.Fraction
+        return sp.Rational(value.numerator, value.denominator)
+    return sp.Float(float(value))
 
 
 def _positive(argument: str, value: Any) -> Any:
@@ -555,7 +559,7 @@ def tensor(density: Any, region: Region) -> sp.Matrix:
     -1/6
     """
     _check_region(region)
-    return _tensor_cached(_density(density), region).copy()
+    return sp.Matrix(_tensor_cached(_density(density), region))
 
 
 @functools.lru_cache(maxsize=256)

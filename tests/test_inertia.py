@@ -85,6 +85,17 @@ def test_bodies_accept_numbers():
     assert cube(2.0, 1.0, origin="corner")[0, 1] == pytest.approx(-0.5)
 
 
+def test_exact_numbers_stay_exact():
+    from fractions import Fraction
+
+    moments, Q = principal_axes(rod(2, 3))  # a rod has a zero moment: still a body
+    assert moments == (0, sp.Rational(3, 2), sp.Rational(3, 2)) and not Q.has(sp.Float)
+    moments, _ = principal_axes(sp.Matrix([[2, 1, 0], [1, 2, 0], [0, 0, sp.Rational(5, 2)]]))
+    assert moments == (1, sp.Rational(5, 2), 3)
+    assert sphere(Fraction(1, 2), 1)[0, 0] == sp.Rational(1, 5)
+    assert isinstance(tensor(1, Region.ball(1)), sp.MutableDenseMatrix)
+
+
 def test_volumes_and_centres_of_mass():
     assert_equal(Region.ball(R).volume(), 4 * sp.pi * R**3 / 3)
     assert_equal(Region.cone(R, h).volume(), sp.pi * R**2 * h / 3)
