@@ -158,6 +158,7 @@ class _Token:
     text: str
     pos: int
     primes: int = 0  # trailing ' (derivative order) for names
+    spaced: bool = False  # preceded by white space: "a [1, 2]" is a product, "a[1]" an (refused) subscript
 
 
 #: Python keywords and built-ins that are refused as names (``lambda`` stays allowed: it is the Greek letter λ).
@@ -247,7 +248,7 @@ def _tokenize(text: str, argument: str) -> list[_Token]:
         if ch in "+-*/^()[],;=":
             if two in ("==", "=>", "<=", ">=", "!="):
                 _refuse(argument, two, "a single '=' between the two sides of an equation")
-            tokens.append(_Token("OP", ch, i))
+            tokens.append(_Token("OP", ch, i, 0, i > 0 and text[i - 1].isspace()))
             i += 1
             continue
         if ch in "'\"":
@@ -371,7 +372,7 @@ class _Parser:
             if self.is_op("*", "/"):
                 op = self.advance().text
                 right = self.unary()
-            elif self.tok.kind in ("NUM", "NAME") or self.is_op("("):
+            elif self.tok.kind in ("NUM", "NAME") or self.is_op("(") or (self.is_op("[") and self.tok.spaced):
                 op = "*"  # juxtaposition
                 right = self.power()
             else:
@@ -393,8 +394,9 @@ class _Parser:
     def power(self):
         start = self.tok.pos
         base = self.atom()
-        if self.is_op("["):
-            _refuse(self.argument, self.snippet(start), "no subscripts or indexing; " + _PLAIN)
+        if self.is_op("[") and not self.tok.spaced:
+            _refuse(self.argument, self.snippet(start), "no subscripts or indexing (a product with a vector "
+                    "needs a space or '*': a [1, 2]); " + _PLAIN)
         if self.is_op("^"):
             tok = self.advance()
             self.enter(tok.pos)
@@ -445,13 +447,10 @@ class _Parser:
             return self.call(tok)
         if self.is_op("(") and (name.replace("_", "") in _TIME_FUNCTIONS or _rate_name(name)):
             # phi(t), phidot(t): the argument must be t
-            save = self.k
-            self.advance()
-            if self.tok.kind == "NAME" and self.tok.text == "t" and self.tokens[self.k + 1].text == ")":
-                self.k += 2
-            else:
-                self.k = save
-                _refuse(self.argument, self.snippet(tok.pos), f"{name}(t) or plain {name}", InvalidInput)
+            # phi(t) is the function itself; phi (...) anything else is a product, read by the caller
+            if (self.tokens[self.k + 1].kind == "NAME" and self.tokens[self.k + 1].text == "t"
+                    and self.tokens[self.k + 2].text == ")"):
+                self.k += 3
         elif self.is_op("(") and name not in FUNCTIONS and self._looks_like_call(name):
             _refuse(self.argument, name,
                     "a call of a known function: " + ", ".join(sorted(FUNCTIONS))
