@@ -72,12 +72,11 @@ def test_counterexample_is_independent_truth(case: Case):
     _needs(case.against)
     v = verify(case.candidate, case.against, latex=case.latex)
     mapping: dict = {}
-    point = None
     diffs = []
-    a = v.candidate if not isinstance(v.target, (sp.Equality, list)) else None
-    if a is None:
-        return  # equations: the factor is part of the verdict, covered by test_corpus
-    for (ca, ct) in zip(_flat(v.candidate), _flat(v.target)):
+    factors = v.factor if isinstance(v.factor, list) else [v.factor] * len(_flat(v.target))
+    for ca, ct, k in zip(_flat(v.candidate), _flat(v.target), factors):
+        if isinstance(ct, sp.Equality):  # equations: candidate lhs − rhs against factor · (target lhs − rhs)
+            ca, ct = ca.lhs - ca.rhs, (1 if k is None else k) * (ct.lhs - ct.rhs)
         fa, _ = freeze_functions(ca, mapping)
         ft, _ = freeze_functions(ct, mapping)
         diffs.append(fa - ft)
@@ -88,6 +87,8 @@ def test_counterexample_is_independent_truth(case: Case):
 def _flat(obj):
     if isinstance(obj, sp.MatrixBase):
         return list(obj)
+    if isinstance(obj, list):
+        return obj
     return [obj]
 
 
