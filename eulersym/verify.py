@@ -16,7 +16,9 @@ componentwise; the verdict names the differing components (0-based ``[i]`` / ``[
 When they differ, :func:`verify` looks for one slip that explains the difference — a single transformation of the
 candidate after which it is right: an overall sign, a factor 2 or ½, φ↔ψ (or θ) swapped, sin↔cos swapped, two of
 I1, I2, I3 (or ω1, ω2, ω3) swapped, another Euler convention (named), a transposed matrix (active vs passive),
-degrees for radians. The slip is found numerically (3 seeded points, double precision, relative tolerance 1e-9).
+degrees for radians. The slip is found numerically (3 seeded points, double precision, relative tolerance 1e-9;
+for equations, proportionality at points where only the state varies). When no slip explains a vector, matrix or list
+of equations as a whole, each differing component is diagnosed on its own and the slips are named per component.
 
 Examples
 --------
@@ -215,6 +217,20 @@ QUANTITIES: Mapping[str, Quantity] = _Catalogue()
 _INDEXED = re.compile(r"^\s*([\w:.\-]+)\s*\[\s*(\d+)\s*(?:,\s*(\d+)\s*)?\]\s*$")
 
 
+@functools.lru_cache(maxsize=256)
+def _derived(base: str):
+    """Each quantity is derived once per process (derivations are pure); callers get copies."""
+    return QUANTITIES[base].derive()
+
+
+def _copy(obj):
+    if isinstance(obj, sp.MatrixBase):
+        return obj.copy()
+    if isinstance(obj, (list, tuple)):
+        return type(obj)(_copy(o) for o in obj)
+    return obj
+
+
 def resolve(name: str):
     """The derived object called ``name`` in :data:`QUANTITIES`, optionally indexed (``"A[0, 2]"``).
 
@@ -232,7 +248,7 @@ def resolve(name: str):
         hint = f" (did you mean {', '.join(close)}?)" if close else ""
         raise InvalidInput("against", name, f"a name in eulersym.verify.QUANTITIES{hint}; "
                                             "`eulersym verify --list` prints them")
-    obj = QUANTITIES[base].derive()
+    obj = _copy(_derived(base))
     if index is None:
         return obj
     try:
@@ -506,13 +522,15 @@ def _equations_to_scalars(candidate, target):
 # Diagnosis
 
 
-def _quick_points(symbols, n: int, seed: int) -> list[dict]:
+def _quick_points(symbols, n: int, seed: int, fixed: set = frozenset()) -> list[dict]:
+    """``n`` seeded points; the symbols in ``fixed`` take the same value at every point."""
     rng = random.Random(seed)
-    pts = []
-    for _ in range(n):
-        pts.append({s: (rng.uniform(0.5, 2.0) if (s.is_positive or s.is_nonnegative) else rng.uniform(-1.5, 1.5))
-                    for s in symbols})
-    return pts
+
+    def draw(s):
+        return rng.uniform(0.5, 2.0) if (s.is_positive or s.is_nonnegative) else rng.uniform(-1.5, 1.5)
+
+    shared = {s: draw(s) for s in symbols if s in fixed}
+    return [{**shared, **{s: draw(s) for s in symbols if s not in fixed}} for _ in range(n)]
 
 
 def _values(exprs: list, point: dict) -> list[complex] | None:
@@ -532,22 +550,46 @@ def _close(a: list, b: list, tol: float = 1e-9) -> bool:
 
 
 class _Probe:
-    """Evaluates a target once at a few seeded points and tests transformed candidates against it."""
+    """Evaluates a target once at a few seeded points (double precision) and tests candidates against it.
 
-    def __init__(self, target_scalars: list, symbols: set, mapping: dict, seed: int, n: int = 3):
+    With ``proportional=True`` (equations) the parameters keep one value at every point and only the state
+    (functions of time, their rates, t) varies; a candidate matches when, component by component, its ratio to
+    the target is the same non-zero number at every point — a factor free of the state.
+    """
+
+    def __init__(self, target_scalars: list, symbols: set, mapping: dict, seed: int, n: int = 3,
+                 proportional: bool = False):
         self.mapping = mapping
-        self.points = _quick_points(sorted(symbols, key=sp.default_sort_key), n, seed)
+        self.proportional = proportional
+        state = _state_symbols(mapping)
+        fixed = {s for s in symbols if s not in state} if proportional else set()
+        self.points = _quick_points(sorted(symbols, key=sp.default_sort_key), n, seed, fixed)
         self.target_values = [_values(target_scalars, p) for p in self.points]
+
+    @property
+    def usable(self) -> bool:
+        return all(v is not None for v in self.target_values)
 
     def matches(self, candidate_scalars: list) -> bool:
         frozen = [freeze_functions(c, self.mapping)[0] for c in candidate_scalars]
         extra = set().union(*(f.free_symbols for f in frozen)) - set(self.points[0]) if frozen else set()
-        if extra:
+        if extra or not self.usable:
             return False
+        ratios = None
         for p, tv in zip(self.points, self.target_values):
             cv = _values(frozen, p)
-            if tv is None or cv is None or not _close(cv, tv):
+            if cv is None:
                 return False
+            if not self.proportional:
+                if not _close(cv, tv):
+                    return False
+                continue
+            if any(abs(t) < 1e-12 for t in tv):
+                return False
+            r = [c / t for c, t in zip(cv, tv)]
+            if any(abs(x) < 1e-12 for x in r) or (ratios is not None and not _close(r, ratios)):
+                return False
+            ratios = r
         return True
 
 
@@ -722,34 +764,60 @@ def _family_of(target):
     return None
 
 
-def _diagnose(candidate, target, seed: int) -> str | None:
+def _labelled(obj) -> dict:
+    """label → component, with the labels of :func:`eulersym.compare.components` (equations kept whole)."""
+    if isinstance(obj, sp.MatrixBase):
+        if obj.cols == 1:
+            return {f"[{i}]": obj[i, 0] for i in range(obj.rows)}
+        return {f"[{i}, {j}]": obj[i, j] for i in range(obj.rows) for j in range(obj.cols)}
+    if isinstance(obj, list):
+        return {f"[{i}]": o for i, o in enumerate(obj)}
+    return {"": obj}
+
+
+def _diagnose_components(candidate, target, labels: tuple, seed: int) -> str | None:
+    """Diagnose each differing component on its own; group the components that share a slip."""
+    cands, targets = _labelled(candidate), _labelled(target)
+    found: dict[str, list[str]] = {}
+    for label in labels:
+        if label not in cands or label not in targets:
+            return None
+        text = _diagnose(cands[label], targets[label], seed, conventions=False)
+        if text is None:
+            return None  # a component no single slip explains: say nothing rather than half
+        found.setdefault(text, []).append(label)
+    return "; ".join(f"component{'s' if len(ls) > 1 else ''} {', '.join(ls)}: {text}" for text, ls in found.items())
+
+
+def _diagnose(candidate, target, seed: int, conventions: bool = True) -> str | None:
+    """The first slip whose transformation makes the candidate equal to the target (numerically), or None."""
+    equation = isinstance(target, (sp.Equality, list))
     mapping: dict = {}
-    c_sc, t_sc, _ = _equations_to_scalars(candidate, target)
+    if equation:
+        c_sc, t_sc = _equation_differences(candidate, target)
+    else:
+        c_sc, t_sc = candidate, target
     t_flat = [freeze_functions(e, mapping)[0] for _, e in components(t_sc)]
     c_flat = [freeze_functions(e, mapping)[0] for _, e in components(c_sc)]
     symbols = set().union(*(e.free_symbols for e in t_flat + c_flat))
-    probe = _Probe(t_flat, symbols, mapping, seed)
-    if any(v is None for v in probe.target_values):
+    probe = _Probe(t_flat, symbols, mapping, seed, proportional=equation)
+    if not probe.usable:
         return None
-    equation = isinstance(target, (sp.Equality, list))
     for text, transform in _slips(candidate, target):
         try:
-            tc, tt, _ = _equations_to_scalars(transform(candidate), target)
-            # equations: the factor is found again for the transformed candidate
-            this = probe if not equation else _Probe(
-                [freeze_functions(e, mapping)[0] for _, e in components(tt)], symbols, mapping, seed)
-            if this.matches([e for _, e in components(tc)]):
+            transformed = transform(candidate)
+            tc = _equation_differences(transformed, target)[0] if equation else transformed
+            if probe.matches([e for _, e in components(tc)]):
                 return text
         except (TypeError, ValueError, AttributeError, sp.PolynomialError):
             continue
-    family = _family_of(target)
+    family = _family_of(target) if conventions else None
     if family is not None:
         label, fam = family
         for conv in _conventions():
             if conv == "zxz":
                 continue
-            other = fam(conv)
-            other_flat = [freeze_functions(e, mapping)[0] for _, e in components(other)]
+            other_flat = [freeze_functions(e, mapping)[0] for _, e in components(fam(conv))]
             if _Probe(other_flat, symbols, mapping, seed).matches(c_flat):
                 return (f"another Euler convention: the candidate is the {label} of the {conv!r} sequence, "
                         "not the text's 'zxz'")
@@ -852,8 +920,10 @@ def verify(candidate, against, *, points: int = 5, dps: int = 30, seed: int = 0,
             difference = result.difference
     note = ("; equations compared as lhs − rhs up to a non-zero factor free of the state variables"
             if equation and factor is not None else "")
-    diagnosis = _diagnose(cand, target, seed) if not result.equal else None
     differing = tuple(result.differing) if isinstance(target, (sp.MatrixBase, list)) else ()
+    diagnosis = _diagnose(cand, target, seed) if not result.equal else None
+    if diagnosis is None and differing and len(differing) < len(_labelled(target)):
+        diagnosis = _diagnose_components(cand, target, differing, seed)
     return Verdict(
         equal=bool(result.equal),
         exact=exact,

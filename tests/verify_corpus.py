@@ -2,7 +2,8 @@
 
 Right ones are written differently from the derived objects (expanded, factored, identities applied, divided
 through); wrong ones carry one slip of every kind the diagnosis knows (sign, factor 2, φ↔ψ, sin↔cos, index swap,
-another Euler convention, transposed matrix, degrees for radians) plus some no single slip explains.
+another Euler convention, transposed matrix, degrees for radians) plus some no single slip explains. For vectors,
+matrices and lists of equations a slip confined to some components is named per component.
 
 The targets are derived quantities (names in ``eulersym.verify.QUANTITIES``, optionally indexed), never typed
 answers. ``tests/test_verify.py`` runs every case; ``eulersym bench verify`` times them.
@@ -73,7 +74,7 @@ CASES: tuple[Case, ...] = (
          "phidot and psidot swapped"),
     Case("w-vector", "4.2", OMEGA_TEXT, "omega_body", True),
     Case("w-vector-sign", "4.2", "[-phi' sin(theta) sin(psi) - theta' cos(psi), phi' sin(theta) cos(psi) - "
-         "theta' sin(psi), phi' cos(theta) + psi']", "omega_body", False, None, ("[0]",)),
+         "theta' sin(psi), phi' cos(theta) + psi']", "omega_body", False, "component [0]: overall sign", ("[0]",)),
     Case("w-zyz", "4.2", "[-phidot sin(theta) cos(psi) + thetadot sin(psi), phidot sin(theta) sin(psi) + "
          "thetadot cos(psi), phidot cos(theta) + psidot]", "omega_body", False, "'zyz'"),
     Case("w-space-3", "4.2", "dphi/dt + dpsi/dt cos(theta)", "omega_space[2]", True),
@@ -89,7 +90,8 @@ CASES: tuple[Case, ...] = (
     Case("L-swapped", "4.3", "[I2 omega1, I1 omega2, I3 omega3]", "angular_momentum", False, "I1 and I2 swapped"),
     Case("cube-corner", "4.3", CUBE_CORNER, "cube_corner_tensor", True),
     Case("cube-corner-products-sign", "4.3", "M a^2 [[2/3, 1/4, 1/4], [1/4, 2/3, 1/4], [1/4, 1/4, 2/3]]",
-         "cube_corner_tensor", False, None, ("[0, 1]", "[0, 2]", "[1, 0]", "[1, 2]", "[2, 0]", "[2, 1]")),
+         "cube_corner_tensor", False, "[2, 1]: overall sign", ("[0, 1]", "[0, 2]", "[1, 0]", "[1, 2]", "[2, 0]",
+                                                                "[2, 1]")),
     Case("cube-corner-half", "4.3", "M a^2 [[1/3, -1/8, -1/8], [-1/8, 1/3, -1/8], [-1/8, -1/8, 1/3]]",
          "cube_corner_tensor", False, "factor 2 missing"),
     Case("cube-center", "4.3", "M a^2/6 [[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "cube_center_tensor", True),
@@ -103,7 +105,7 @@ CASES: tuple[Case, ...] = (
          "I2 and I3 swapped"),
     Case("euler-all", "4.4", f"{EULER_1}; {EULER_2}; {EULER_3}", "euler_equations", True),
     Case("euler-third-wrong", "4.4", f"{EULER_1}; {EULER_2}; I3 omega3' - (I2 - I1) omega1 omega2 = N3",
-         "euler_equations", False, None, ("[2]",)),
+         "euler_equations", False, "component [2]: I1 and I2 swapped", ("[2]",)),
     Case("euler3-free", "4.5", "I3 omega3' = (I1 - I2) omega1 omega2", "euler_equations_torque_free[2]", True),
     Case("euler1-symmetric", "4.5", "I1 omega1' = (I1 - I3) omega2 omega3", "euler_equations_symmetric[0]", True),
     Case("precession-rate", "4.5", "omega3 (1 - I3/I1)", "symmetric_precession_rate", True),
@@ -114,6 +116,8 @@ CASES: tuple[Case, ...] = (
          "cos(theta)^2 + 2 phidot psidot cos(theta) + psidot^2) - M g l cos(theta)", "lagrangian", True),
     Case("L-top-identity", "4.5", "1/2 I1 (thetadot^2 + phidot^2 (1 - cos(theta)^2)) + 1/2 I3 (phidot cos(theta) "
          "+ psidot)^2 - M g l cos(theta)", "lagrangian", True),
+    Case("euler-two-slips", "4.4", "I1 omega1' + (I2 - I3) omega2 omega3 = N1; I2 omega2' - (I3 - I1) omega3 omega1"
+         " = 2 N2; " + EULER_3, "euler_equations", False, None, ("[0]", "[1]")),
     Case("L-top-potential-sign", "4.5", "1/2 I1 (thetadot^2 + phidot^2 sin(theta)^2) + 1/2 I3 (phidot cos(theta) "
          "+ psidot)^2 + M g l cos(theta)", "lagrangian", False, None),
     Case("p-phi", "4.5", "p_phi = I1 phidot sin(theta)^2 + I3 (phidot cos(theta) + psidot) cos(theta)", "p_phi",
