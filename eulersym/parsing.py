@@ -8,6 +8,10 @@ handed to ``eval``, ``exec``, ``compile``, ``sympify`` or ``parse_expr``. Only t
 - operators ``+ - * /``, powers ``^`` or ``**`` (right-associative, ``-x^2 = -(x^2)``), parentheses;
   a product may be written by juxtaposition (``2 I1``, ``1/2 M g l``: read left to right);
 - calls of the functions in :data:`FUNCTIONS` (``sin(theta)``; ``sin theta`` and ``sin^2 theta`` work too);
+  a name that is not a function followed by ``(`` is refused as an unknown function (``f(x)``), except the
+  package's symbols and functions of time, where it is a product (``M (g l)``, ``omega1 (I1 omega1)``; ``phi(t)``
+  is ``phi``); a bracket right after a name or ``)`` is a refused subscript (``x[0]``), a spaced one a product
+  with a vector or matrix (``M a^2 [[...]]``);
 - ``lhs = rhs`` (an equation), and several items separated by ``,`` or ``;`` or inside ``[...]``:
   ``[a, b, c]`` is a column vector, ``[[a, b], [c, d]]`` a matrix, a list of equations stays a list.
 

@@ -391,8 +391,11 @@ class _BudgetExceeded(BaseException):
 
 @contextlib.contextmanager
 def _time_budget(seconds: float | None):
+    """Raise :class:`_BudgetExceeded` inside the block after ``seconds`` (POSIX, main thread, no other timer
+    running); elsewhere the block runs unbounded and the context value is False."""
     usable = (seconds is not None and seconds > 0 and hasattr(signal, "setitimer")
-              and threading.current_thread() is threading.main_thread())
+              and threading.current_thread() is threading.main_thread()
+              and signal.getitimer(signal.ITIMER_REAL)[0] == 0)  # never disturb a timer someone else set
     if not usable:
         yield False
         return
