@@ -61,9 +61,6 @@ __all__ = ["verify", "Verdict", "QUANTITIES", "Quantity", "cli", "resolve", "DEF
 #: Seconds allowed for the exact attempt before falling back to the numeric decision alone.
 DEFAULT_BUDGET = 2.0
 
-_STATE_BASES = ("phi", "theta", "psi", "omega1", "omega2", "omega3", "eta1", "eta2", "eta3",
-                "Gamma1", "Gamma2", "Gamma3", "q0", "q1", "q2", "q3")
-
 
 # ----------------------------------------------------------------------------------------------------------------
 # The catalogue
@@ -82,10 +79,6 @@ def _call(module: str, attr: str, *args, **kwargs):
 
 def _item(index):
     return lambda obj: obj[index]
-
-
-def _zero_torque():
-    return (0, 0, 0)
 
 
 #: name → (description, module, function, args, kwargs, post-processing or None).
@@ -364,16 +357,18 @@ class Verdict:
 
 
 def _text(obj) -> str:
+    """Plain text of a result, with functions of time frozen (``phidot``), as the parser reads it back."""
     if obj is None:
         return ""
+    if isinstance(obj, (list, tuple)):
+        return "[" + ", ".join(_text(o) for o in obj) + "]"
     if isinstance(obj, sp.MatrixBase):
-        return str(obj.tolist())
-    frozen = obj
-    try:
-        frozen, _ = freeze_functions(obj) if isinstance(obj, sp.Basic) else (obj, None)
-    except Exception:  # pragma: no cover - printing must never fail
-        pass
-    return str(frozen)
+        return str(obj.applyfunc(lambda e: freeze_functions(e)[0]).tolist())
+    if isinstance(obj, sp.Equality):
+        return f"{_text(obj.lhs)} = {_text(obj.rhs)}"
+    if isinstance(obj, sp.Basic):
+        return str(freeze_functions(obj)[0])
+    return str(obj)
 
 
 def _short(obj, limit: int = 400) -> str:
@@ -903,16 +898,15 @@ def verify(candidate, against, *, points: int = 5, dps: int = 30, seed: int = 0,
     except _BudgetExceeded:
         budget_note = f"; the search for the equations' factor stopped at the {budget:g} s budget"
         (a, b), factor = (_equation_differences(cand, target) if equation else (cand, target)), None
-    diff, zero = _against_zero(a, b)
     # 2. numeric, at high precision: a point where they differ proves inequality
-    result = compare(diff, zero, points=points, dps=dps, seed=seed, exact=False)
+    result = compare(a, b, points=points, dps=dps, seed=seed, exact=False)
     numeric_text = f"numeric ({result.points} points at {result.dps} digits, relative tolerance {result.tolerance:.0e})"
     if not result.equal:
         exact, method = False, f"counterexample found by {numeric_text}"
         difference = _map_scalars(result.difference, _tidy)
     else:
         # 3. exact: every component of the difference simplified to zero, within the budget
-        exact, strategies, stopped = _prove(diff, deadline)
+        exact, strategies, stopped = _prove(_difference(a, b), deadline)
         if exact:
             method = f"exact ({', '.join(strategies)}) + {numeric_text}"
             difference = _map_scalars(result.difference, lambda e: sp.Integer(0))
@@ -974,15 +968,11 @@ def _prove(diff, deadline: float | None) -> tuple[bool | None, list[str], bool]:
     return True, strategies, False
 
 
-def _against_zero(a, b):
-    """(a − b, 0) in the shape of a: the numeric test then samples every symbol of the difference only, and
-    evaluates the difference itself at high precision (evalf is adaptive, so cancellation costs no digits)."""
-    if isinstance(a, sp.MatrixBase):
-        return a - b, sp.zeros(a.rows, a.cols)
+def _difference(a, b):
+    """a − b in the shape of a (matrices, lists and scalars)."""
     if isinstance(a, list):
-        pairs = [_against_zero(x, y) for x, y in zip(a, b)]
-        return [p[0] for p in pairs], [p[1] for p in pairs]
-    return a - b, sp.Integer(0)
+        return [_difference(x, y) for x, y in zip(a, b)]
+    return a - b
 
 
 def _equation_differences(cand, target):
