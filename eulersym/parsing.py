@@ -173,7 +173,6 @@ _FORBIDDEN_NAMES = frozenset(set(keyword.kwlist) - {"lambda"}) | frozenset({
 })
 _NAME_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _NUM_RE = re.compile(r"(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
-_OPERATORS = ("**", "+", "-", "*", "/", "^", "(", ")", "[", "]", ",", ";", "=")
 
 
 def _refuse(argument: str, value: str, expected: str, cls=UnsafeExpression):
@@ -724,17 +723,25 @@ def parse_latex(text: str, *, known: dict | None = None, argument: str = "candid
     tokens = _LATEX_TOKEN.findall(text.strip().strip("$"))
     pos = 0
 
+    depth = 0
+
     def group() -> str:
         """Translate one argument: {...} or a single token."""
-        nonlocal pos
+        nonlocal pos, depth
         if pos >= len(tokens):
             _refuse(argument, text[-40:], "an argument after the command", InvalidInput)
+        depth += 1
+        if depth > MAX_DEPTH:
+            _refuse(argument, text[:40], f"at most {MAX_DEPTH} levels of nesting")
         if tokens[pos] == "{":
             pos += 1
             inner = sequence(until="}")
             pos += 1
-            return "(" + inner + ")"
-        return single()
+            result = "(" + inner + ")"
+        else:
+            result = single()
+        depth -= 1
+        return result
 
     def single() -> str:
         nonlocal pos
