@@ -161,6 +161,23 @@ def test_global_slips_are_diagnosed(target, factor):
     assert expected in v.diagnosis
 
 
+@pytest.mark.parametrize("target", _TARGETS)
+def test_swaps_are_diagnosed(target):
+    _needs(target)
+    right = resolve(target)
+    for a, b in ((S.phi, S.psi), (S.theta, S.psi)):
+        wrong = right.xreplace({a: b, b: a})
+        if sp.expand(wrong - right) == 0:
+            continue
+        v = verify(str(freeze_functions(wrong)[0]), target)
+        assert not v.equal and v.diagnosis and "swapped" in v.diagnosis, v.report()
+
+
+def test_degrees_in_numeric_angles():
+    v = verify("cos(60) + sin(30)", sp.cos(sp.pi / 3) + sp.sin(sp.pi / 6))
+    assert not v.equal and "degrees for radians" in v.diagnosis
+
+
 # ----------------------------------------------------------------------------------------------------------------
 # The verdict
 
