@@ -67,7 +67,14 @@ DEFAULT_BUDGET = 2.0
 
 
 class Quantity(NamedTuple):
-    """One entry of :data:`QUANTITIES`: a description and a zero-argument callable returning the derived object."""
+    """One entry of :data:`QUANTITIES`: a description and a zero-argument callable returning the derived object.
+
+    Examples
+    --------
+    >>> description, derive = QUANTITIES["omega_body"]
+    >>> derive()[2]
+    cos(theta(t))*Derivative(phi(t), t) + Derivative(psi(t), t)
+    """
 
     description: str
     derive: Callable[[], Any]
@@ -285,6 +292,12 @@ class Verdict:
         For equations: the non-zero factor with candidate = factor · target (a list for lists of equations).
     points, dps, tolerance
         The numeric test: points, digits, relative tolerance.
+
+    Examples
+    --------
+    >>> v = verify("[[1, 0], [0, 2]]", sp.Matrix([[1, 0], [0, 4]]))
+    >>> v.equal, v.exact, v.components, v.diagnosis
+    (False, False, ('[1, 1]',), 'component [1, 1]: a factor 2 missing (½ too many): the candidate is half the right result')
     """
 
     equal: bool
