@@ -316,7 +316,9 @@ class _Parser:
     def expect(self, op: str) -> None:
         if not (self.tok.kind == "OP" and self.tok.text == op):
             found = self.tok.text or "the end of the input"
-            _refuse(self.argument, self.snippet(self.tok.pos), f"'{op}' here, not {found!r}", InvalidInput)
+            where = self.snippet(self.tok.pos) or self.text[-40:]
+            _refuse(self.argument, where, f"'{op}' here, not {found!r}" if self.tok.text else
+                    f"'{op}' before the end of the input", InvalidInput)
         self.advance()
 
     def snippet(self, start: int, end: int | None = None) -> str:

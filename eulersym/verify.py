@@ -18,7 +18,8 @@ candidate after which it is right: an overall sign, a factor 2 or ½, φ↔ψ (o
 I1, I2, I3 (or ω1, ω2, ω3) swapped, another Euler convention (named), a transposed matrix (active vs passive),
 degrees for radians. The slip is found numerically (3 seeded points, double precision, relative tolerance 1e-9;
 for equations, proportionality at points where only the state varies). When no slip explains a vector, matrix or list
-of equations as a whole, each differing component is diagnosed on its own and the slips are named per component.
+of equations as a whole, each differing component is diagnosed on its own and the slips are named per component;
+in a sum, a slip confined to one term is named with the term ("in the term M*g*l*cos(theta): overall sign").
 
 Examples
 --------
@@ -657,9 +658,11 @@ def _trig_args_scaled(factor):
 _ANGLE_NAMES = {S.phi: "phi", S.theta: "theta", S.psi: "psi"}
 
 
-def _slips(candidate, target) -> list[tuple[str, Callable]]:
-    """(diagnosis, transformation of the candidate object) in the order they are tried."""
-    equation = isinstance(target, (sp.Equality, list))
+def _slips(candidate, target, *, term: bool = False) -> list[tuple[str, Callable]]:
+    """(diagnosis, transformation of the candidate object) in the order they are tried.
+
+    With ``term=True`` the candidate is one term of a sum: sign and factor slips apply to equations too."""
+    equation = isinstance(target, (sp.Equality, list)) and not term
     slips: list[tuple[str, Callable]] = []
     if not equation:
         slips += [
@@ -800,6 +803,26 @@ def _diagnose_components(candidate, target, labels: tuple, seed: int) -> str | N
     return "; ".join(f"component{'s' if len(ls) > 1 else ''} {', '.join(ls)}: {text}" for text, ls in found.items())
 
 
+def _diagnose_terms(candidate_scalar, probe: _Probe, target, equation: bool) -> str | None:
+    """A slip confined to one term of a scalar sum (or of lhs − rhs of an equation): "in the term ...: ..."."""
+    if not isinstance(candidate_scalar, sp.Add):
+        return None
+    terms = sp.Add.make_args(candidate_scalar)
+    if len(terms) > 12:
+        return None
+    for i, term in enumerate(terms):
+        rest = sp.Add(*(terms[:i] + terms[i + 1:]))
+        for text, transform in _slips(term, target, term=True):
+            if text.startswith("transposed"):
+                continue
+            try:
+                if probe.matches([rest + transform(term)]):
+                    return f"in the term {_text(term)}: {text}"
+            except (TypeError, ValueError, AttributeError, sp.PolynomialError):
+                continue
+    return None
+
+
 def _diagnose(candidate, target, seed: int, conventions: bool = True) -> str | None:
     """The first slip whose transformation makes the candidate equal to the target (numerically), or None."""
     equation = isinstance(target, (sp.Equality, list))
@@ -822,6 +845,9 @@ def _diagnose(candidate, target, seed: int, conventions: bool = True) -> str | N
                 return text
         except (TypeError, ValueError, AttributeError, sp.PolynomialError):
             continue
+    found = _diagnose_terms(c_sc, probe, target, equation)
+    if found:
+        return found
     family = _family_of(target) if conventions else None
     if family is not None:
         label, fam = family
@@ -1048,9 +1074,10 @@ def cli(argv: list[str]) -> int:
             for n in names:
                 print(f"{n:<{width}}  {QUANTITIES[n].description}")
         return 0
-    if args.expr is None or args.against is None:
-        raise InvalidInput("EXPR/--against", args.expr if args.expr is None else args.against,
-                           "a formula and --against NAME (or --list)")
+    if args.expr is None:
+        raise InvalidInput("EXPR", None, "a formula to check (quote it), or --list")
+    if args.against is None:
+        raise InvalidInput("--against", None, "a quantity name (see --list) or a formula to check EXPR against")
     verdict = verify(args.expr, args.against, points=args.points, dps=args.dps, seed=args.seed,
                      budget=args.budget, latex=args.latex)
     if args.json:

@@ -3,7 +3,8 @@
 Right ones are written differently from the derived objects (expanded, factored, identities applied, divided
 through); wrong ones carry one slip of every kind the diagnosis knows (sign, factor 2, φ↔ψ, sin↔cos, index swap,
 another Euler convention, transposed matrix, degrees for radians) plus some no single slip explains. For vectors,
-matrices and lists of equations a slip confined to some components is named per component.
+matrices and lists of equations a slip confined to some components is named per component, and in a sum a slip
+confined to one term is named with the term.
 
 The targets are derived quantities (names in ``eulersym.verify.QUANTITIES``, optionally indexed), never typed
 answers. ``tests/test_verify.py`` runs every case; ``eulersym bench verify`` times them.
@@ -78,6 +79,7 @@ CASES: tuple[Case, ...] = (
     Case("w-zyz", "4.2", "[-phidot sin(theta) cos(psi) + thetadot sin(psi), phidot sin(theta) sin(psi) + "
          "thetadot cos(psi), phidot cos(theta) + psidot]", "omega_body", False, "'zyz'"),
     Case("w-space-3", "4.2", "dphi/dt + dpsi/dt cos(theta)", "omega_space[2]", True),
+    Case("w1-two-slips", "4.2", "phidot cos(theta) sin(psi) + 2 thetadot cos(psi)", "omega_body[0]", False, None),
     Case("w1-deg-factor", "4.2", "180/pi (phidot sin(theta) sin(psi) + thetadot cos(psi))", "omega_body[0]",
          False, "degrees for radians"),
     # §4.3 inertia
@@ -117,9 +119,15 @@ CASES: tuple[Case, ...] = (
     Case("L-top-identity", "4.5", "1/2 I1 (thetadot^2 + phidot^2 (1 - cos(theta)^2)) + 1/2 I3 (phidot cos(theta) "
          "+ psidot)^2 - M g l cos(theta)", "lagrangian", True),
     Case("euler-two-slips", "4.4", "I1 omega1' + (I2 - I3) omega2 omega3 = N1; I2 omega2' - (I3 - I1) omega3 omega1"
-         " = 2 N2; " + EULER_3, "euler_equations", False, None, ("[0]", "[1]")),
+         " = 2 N2; " + EULER_3, "euler_equations", False, "component [1]: in the term -2*N2: a factor 2 too many",
+         ("[0]", "[1]")),
     Case("L-top-potential-sign", "4.5", "1/2 I1 (thetadot^2 + phidot^2 sin(theta)^2) + 1/2 I3 (phidot cos(theta) "
+         "+ psidot)^2 + M g l cos(theta)", "lagrangian", False, "in the term M*g*l*cos(theta): overall sign"),
+    Case("L-top-sin-potential", "4.5", "1/2 I1 (thetadot^2 + phidot^2 sin(theta)^2) + 1/2 I3 (phidot cos(theta) "
+         "+ psidot)^2 - M g l sin(theta)", "lagrangian", False, "sin and cos swapped"),
+    Case("L-top-two-slips", "4.5", "I1 (thetadot^2 + phidot^2 sin(theta)^2) + 1/2 I3 (phidot cos(theta) "
          "+ psidot)^2 + M g l cos(theta)", "lagrangian", False, None),
+    Case("p-phi-missing-term", "4.5", "I1 phidot sin(theta)^2 + I3 psidot cos(theta)", "p_phi", False, None),
     Case("p-phi", "4.5", "p_phi = I1 phidot sin(theta)^2 + I3 (phidot cos(theta) + psidot) cos(theta)", "p_phi",
          True),
     Case("p-phi-collected", "4.5", "phidot (I1 sin(theta)^2 + I3 cos(theta)^2) + I3 psidot cos(theta)", "p_phi",
