@@ -834,6 +834,12 @@ def _diagnose(candidate, target, seed: int, conventions: bool = True) -> str | N
     t_flat = [freeze_functions(e, mapping)[0] for _, e in components(t_sc)]
     c_flat = [freeze_functions(e, mapping)[0] for _, e in components(c_sc)]
     symbols = set().union(*(e.free_symbols for e in t_flat + c_flat))
+    extra = set().union(*(e.free_symbols for e in c_flat)) - set().union(*(e.free_symbols for e in t_flat))
+    extra = {x for x in extra if x not in _state_symbols(mapping) and not _is_symbol_name(str(x))}
+    if extra:  # names of the package (angles, rates, moments) may be slips; other names cannot be
+        names = ", ".join(sorted(map(str, extra)))
+        known = ", ".join(sorted({str(x) for e in t_flat for x in e.free_symbols})) or "none"
+        return f"names the target does not have: {names} (a typo? the target's names are {known})"
     probe = _Probe(t_flat, symbols, mapping, seed, proportional=equation)
     if not probe.usable:
         return None

@@ -173,6 +173,11 @@ def test_swaps_are_diagnosed(target):
         assert not v.equal and v.diagnosis and "swapped" in v.diagnosis, v.report()
 
 
+def test_unknown_names_are_pointed_out():
+    v = verify("phidot sin(thet) sin(psi) + thetadot cos(psi)", "omega_body[0]")
+    assert not v.equal and "thet" in v.diagnosis and "typo" in v.diagnosis
+
+
 def test_degrees_in_numeric_angles():
     v = verify("cos(60) + sin(30)", sp.cos(sp.pi / 3) + sp.sin(sp.pi / 6))
     assert not v.equal and "degrees for radians" in v.diagnosis
