@@ -7,7 +7,8 @@ target (a SymPy object, a formula, or the name of a derived quantity in :data:`Q
 - **exact** — the difference simplifies to zero (expand, trig-polynomial reduction, bounded simplify), within a
   time budget (``budget`` seconds, default 2; POSIX main thread: an interval timer stops the attempt);
 - **numeric** — otherwise, or in addition, evaluation at ``points`` seeded random points with ``dps`` digits
-  (mpmath), relative tolerance ``10**(-dps/2)``. A point where they differ is a counterexample.
+  (mpmath) of the difference itself, which must stay within ``10**(-dps/2)`` (relative to the difference when it
+  exceeds 1). A point where it does not is a counterexample.
 
 Equations compare ``lhs − rhs`` up to a non-zero factor free of the state variables (angles, rates, ω, t): the
 factor is ``cancel(candidate / target)``, and it must hold no state variable. Vectors and matrices compare
@@ -292,7 +293,7 @@ class Verdict:
     factor : SymPy expression or None
         For equations: the non-zero factor with candidate = factor · target (a list for lists of equations).
     points, dps, tolerance
-        The numeric test: points, digits, relative tolerance.
+        The numeric test: points, digits, and the tolerance on the difference.
 
     Examples
     --------
@@ -764,6 +765,9 @@ def _family_of(target):
     """(family label, convention → object matching the target's position) when the target is zxz-dependent."""
     if not _is_scalar(target) and not isinstance(target, sp.MatrixBase):
         return None
+    angles = set(S.euler_angles)
+    if not any(f in angles for _, e in components(target) for f in e.atoms(AppliedUndef)):
+        return None
     for label, fam in _convention_families():
         try:
             base = fam("zxz")
@@ -886,7 +890,9 @@ def verify(candidate, against, *, points: int = 5, dps: int = 30, seed: int = 0,
     points, dps, seed : int
         The numeric test: number of seeded random points and working digits (tolerance ``10**(-dps/2)``).
     budget : float or None
-        Seconds for the exact attempt; past it the decision is numeric only (None: no limit).
+        Seconds for the exact attempt (the factor of equations, the proof and the tidying of the difference);
+        past it the decision is numeric only. The search for a slip has the same number of seconds of its own.
+        None: no limit. The budget needs an interval timer: POSIX, main thread, no other timer running.
     latex : bool
         Read a string candidate as LaTeX.
 
@@ -943,15 +949,24 @@ def verify(candidate, against, *, points: int = 5, dps: int = 30, seed: int = 0,
     except _BudgetExceeded:
         budget_note = f"; the search for the equations' factor stopped at the {budget:g} s budget"
         (a, b), factor = (_equation_differences(cand, target) if equation else (cand, target)), None
-    # 2. numeric, at high precision: a point where they differ proves inequality
-    result = compare(a, b, points=points, dps=dps, seed=seed, exact=False)
-    numeric_text = f"numeric ({result.points} points at {result.dps} digits, relative tolerance {result.tolerance:.0e})"
+    # 2. numeric, at high precision: a point where they differ proves inequality. The difference itself is
+    #    evaluated (evalf is adaptive: its digits are the difference's own, so a small difference between large
+    #    values is not lost to the relative tolerance of each side).
+    diff = _difference(a, b)
+    result = compare(diff, _zeros_like(diff), points=points, dps=dps, seed=seed, exact=False)
+    counterexample = _complete_point(result.counterexample, a, b, seed)
+    numeric_text = (f"numeric ({result.points} points at {result.dps} digits, |difference| <= "
+                    f"{result.tolerance:.0e})")
     if not result.equal:
         exact, method = False, f"counterexample found by {numeric_text}"
-        difference = _map_scalars(result.difference, _tidy)
+        try:
+            with _time_budget(_remaining(deadline)):
+                difference = _map_scalars(result.difference, _tidy)
+        except _BudgetExceeded:
+            difference = result.difference
     else:
         # 3. exact: every component of the difference simplified to zero, within the budget
-        exact, strategies, stopped = _prove(_difference(a, b), deadline)
+        exact, strategies, stopped = _prove(diff, deadline)
         if exact:
             method = f"exact ({', '.join(strategies)}) + {numeric_text}"
             difference = _map_scalars(result.difference, lambda e: sp.Integer(0))
@@ -963,15 +978,22 @@ def verify(candidate, against, *, points: int = 5, dps: int = 30, seed: int = 0,
     note = ("; equations compared as lhs − rhs up to a non-zero factor free of the state variables"
             if equation and factor is not None else "")
     differing = tuple(result.differing) if isinstance(target, (sp.MatrixBase, list)) else ()
-    diagnosis = _diagnose(cand, target, seed) if not result.equal else None
-    if diagnosis is None and differing and len(differing) < len(_labelled(target)):
-        diagnosis = _diagnose_components(cand, target, differing, seed)
+    diagnosis = None
+    if not result.equal:
+        # the diagnosis has a budget of its own (the same number of seconds)
+        try:
+            with _time_budget(budget):
+                diagnosis = _diagnose(cand, target, seed)
+                if diagnosis is None and differing and len(differing) < len(_labelled(target)):
+                    diagnosis = _diagnose_components(cand, target, differing, seed)
+        except _BudgetExceeded:
+            budget_note += f"; the search for a slip stopped at the {budget:g} s budget"
     return Verdict(
         equal=bool(result.equal),
         exact=exact,
         method=method + note + budget_note,
         difference=difference,
-        counterexample=result.counterexample,
+        counterexample=counterexample,
         diagnosis=diagnosis,
         components=differing,
         candidate=cand,
@@ -1013,6 +1035,29 @@ def _prove(diff, deadline: float | None) -> tuple[bool | None, list[str], bool]:
     return True, strategies, False
 
 
+def _zeros_like(obj):
+    if isinstance(obj, sp.MatrixBase):
+        return sp.zeros(obj.rows, obj.cols)
+    if isinstance(obj, list):
+        return [_zeros_like(o) for o in obj]
+    return sp.Integer(0)
+
+
+def _complete_point(point: dict | None, a, b, seed: int) -> dict | None:
+    """Give the symbols that cancelled from the difference a value too (any value: the difference does not depend
+    on them), so that both sides can be evaluated at the counterexample."""
+    if point is None:
+        return None
+    mapping: dict = {}
+    names = set()
+    for obj in (a, b):
+        for _, e in components(obj):
+            names |= freeze_functions(e, mapping)[0].free_symbols
+    missing = sorted((x for x in names if str(x) not in point), key=sp.default_sort_key)
+    filled = _quick_points(missing, 1, seed + 1)[0] if missing else {}
+    return {**point, **{str(k): v for k, v in filled.items()}}
+
+
 def _difference(a, b):
     """a − b in the shape of a (matrices, lists and scalars)."""
     if isinstance(a, list):
@@ -1047,7 +1092,7 @@ def cli(argv: list[str]) -> int:
     --------
     >>> cli(["2*sin(x)*cos(x)", "--against", "sin(2*x)"])
     EQUAL
-      method:         exact (...) + numeric (5 points at 30 digits, relative tolerance 1e-15)
+      method:         exact (...) + numeric (5 points at 30 digits, |difference| <= 1e-15)
     0
     """
     parser = argparse.ArgumentParser(

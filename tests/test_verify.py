@@ -374,6 +374,16 @@ def test_an_outer_timer_is_left_alone():
         signal.signal(signal.SIGALRM, previous)
 
 
+def test_heavy_but_accepted_input_is_decided_in_bounded_time():
+    """(a+…+f)^64 expands to millions of terms: every symbolic step is under the budget."""
+    import time
+
+    start = time.perf_counter()
+    v = verify("(a + b + c + d + e + f)^64", "(a + b + c + d + e + f)^64 + a", budget=0.5)
+    assert not v.equal and v.exact is False
+    assert time.perf_counter() - start < 10.0
+
+
 # ----------------------------------------------------------------------------------------------------------------
 # Command line
 
