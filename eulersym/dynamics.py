@@ -80,6 +80,7 @@ __all__ = [
     "euler_equations",
     "euler_poisson_equations",
     "symmetric_precession_rate",
+    "symmetric_transverse_equation",
     "torque_free_symmetric_solution",
     "linearized_euler_equations",
     "perturbation_coefficient",
@@ -470,6 +471,33 @@ def symmetric_precession_rate() -> sp.Expr:
     return rate
 
 
+@functools.lru_cache(maxsize=1)
+def symmetric_transverse_equation() -> sp.Eq:
+    """``ω̈1 + Ω_prec² ω1 = 0``: the torque-free symmetric body's ω1 is a harmonic oscillator (§4.5.1).
+
+    Derived by differentiating ``ω̇1`` (from :func:`euler_equations` with ``I2 = I1``, ``N = 0``) once more and
+    substituting ``ω̇2`` and ``ω̇3 = 0`` from the same equations.
+
+    Returns
+    -------
+    sympy.Eq
+        ``Eq(ω̈1 + Ω² ω1, 0)`` with ``Ω = (I1 − I3)/I1 · ω3``.
+
+    Examples
+    --------
+    >>> symmetric_transverse_equation()
+    Eq(Derivative(omega1(t), (t, 2)) + (I1 - I3)**2*omega1(t)*omega3(t)**2/I1**2, 0)
+    """
+    eqs = euler_equations((I1, I1, I3), (0, 0, 0))
+    derivatives = [w.diff(t) for w in _OMEGA]
+    rates = dict(zip(derivatives, _solve_linear([e.lhs - e.rhs for e in eqs], derivatives)))
+    second = sp.expand(rates[derivatives[0]].diff(t).xreplace(rates))
+    restoring = sp.factor(-second / omega1)
+    if restoring.has(omega2, *derivatives):
+        raise CheckFailed(f"ω̈1 is not proportional to ω1: {second}")
+    return sp.Eq(omega1.diff(t, 2) + restoring * omega1, 0, evaluate=False)
+
+
 def torque_free_symmetric_solution(amplitude=AMPLITUDE, phase=PHASE, spin=SPIN) -> tuple:
     """The harmonic solution ``ω1 = A cos(Ω t + δ)``, ``ω2 = −A sin(Ω t + δ)``, ``ω3 = const`` (§4.5.1).
 
@@ -828,7 +856,7 @@ def _ordered_about(values, energy_value, l2_value, about):
             raise InvalidInput("I", values, "moments with axis 2 intermediate (I1 < I2 < I3 or I1 > I2 > I3)")
         lo, hi = sorted((2 * energy_value * a, 2 * energy_value * c))
         if not lo <= l2_value <= hi:
-            raise InvalidInput("L2", l2_value, f"a value in [2 E I_min, 2 E I_max] = [{lo:g}, {hi:g}]")
+            raise InvalidInput("L2", l2_value, f"a value in [2 E I_min, 2 E I_max] = [{float(lo):g}, {float(hi):g}]")
         side = l2_value - 2 * energy_value * b
         if about is None:
             if side == 0:
