@@ -39,6 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from eulersym import inertia as _inertia
 from eulersym.errors import CheckFailed, InvalidInput
 from eulersym.symbols import (
     Gamma1,
@@ -91,6 +92,7 @@ __all__ = [
     "energy_ellipsoid",
     "inertia_ellipsoid",
     "invariable_plane_distance",
+    "herpolhode_radius_squared",
     "polhode",
     "free_body_elliptic_solution",
     "separatrix_solution",
@@ -349,7 +351,7 @@ def rotating_frame_derivative(G_body, omega=_OMEGA) -> sp.Matrix:
 
 @functools.lru_cache(maxsize=64)
 def _euler_lhs(inertia: sp.ImmutableMatrix) -> tuple:
-    L = inertia * _OMEGA  # body components of L = I·ω
+    L = _inertia.angular_momentum(inertia, _OMEGA)  # body components of L = I·ω
     return tuple(sp.expand(c) for c in rotating_frame_derivative(L, _OMEGA))
 
 
@@ -761,15 +763,14 @@ def intermediate_axis_growth_rate(I1=_symbols.I1, I2=_symbols.I2, I3=_symbols.I3
 
 
 def energy(I=_PRINCIPAL, omega=_OMEGA) -> sp.Expr:
-    """Rotational kinetic energy ``T = ½ ωᵀ I ω`` (body components).
+    """Rotational kinetic energy ``T = ½ ωᵀ I ω`` (body components; :func:`eulersym.inertia.kinetic_energy`, expanded).
 
     Examples
     --------
     >>> energy()
     I1*omega1(t)**2/2 + I2*omega2(t)**2/2 + I3*omega3(t)**2/2
     """
-    w = _vector3("omega", omega)
-    return sp.expand((w.T * _inertia_matrix(I) * w)[0, 0] / 2)
+    return sp.expand(_inertia.kinetic_energy(_inertia_matrix(I), _vector3("omega", omega)))
 
 
 def angular_momentum_squared(I=_PRINCIPAL, omega=_OMEGA) -> sp.Expr:
@@ -780,7 +781,7 @@ def angular_momentum_squared(I=_PRINCIPAL, omega=_OMEGA) -> sp.Expr:
     >>> angular_momentum_squared()
     I1**2*omega1(t)**2 + I2**2*omega2(t)**2 + I3**2*omega3(t)**2
     """
-    L = _inertia_matrix(I) * _vector3("omega", omega)
+    L = _inertia.angular_momentum(_inertia_matrix(I), _vector3("omega", omega))
     return sp.expand(L.dot(L))
 
 
@@ -845,6 +846,26 @@ def invariable_plane_distance(I=_PRINCIPAL, omega=_OMEGA, *, scale: str = "omega
     if scale == "rho":
         distance = distance / sp.sqrt(2 * T)
     return distance
+
+
+def herpolhode_radius_squared(I=_PRINCIPAL, omega=_OMEGA) -> sp.Expr:
+    """Squared distance of ω's tip from the foot of the perpendicular on the invariable plane (the herpolhode).
+
+    ω = (its component along L̂) + (its component in the plane); the first is the constant
+    :func:`invariable_plane_distance` ``d = 2T/|L|``, so the herpolhode — the curve the tip of ω traces on the fixed
+    invariable plane — has radius ``r`` with ``r² = |ω|² − d²``. It varies only through ``|ω|²`` along the motion,
+    between the extremes of ``|ω|²`` on the polhode: the herpolhode stays in an annulus.
+
+    Examples
+    --------
+    >>> from eulersym.compare import compare
+    >>> r2 = herpolhode_radius_squared()
+    >>> w2 = sum(w**2 for w in _OMEGA)
+    >>> compare(r2 + invariable_plane_distance()**2, w2).exact
+    True
+    """
+    w = sp.Matrix(_vector3("omega", omega))
+    return sp.expand(w.dot(w)) - invariable_plane_distance(I, w) ** 2
 
 
 def _ordered_about(values, energy_value, l2_value, about):
