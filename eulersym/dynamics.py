@@ -879,10 +879,13 @@ def _ordered_about(values, energy_value, l2_value, about):
         if not lo <= l2_value <= hi:
             raise InvalidInput("L2", l2_value, f"a value in [2 E I_min, 2 E I_max] = [{float(lo):g}, {float(hi):g}]")
         side = l2_value - 2 * energy_value * b
-        if about is None:
-            if side == 0:
-                raise InvalidInput("L2", l2_value, "L2 != 2 E I2 (that is the separatrix: use separatrix_solution)")
-            about = 3 if (side > 0) == (c > a) else 1
+        if side == 0:
+            raise InvalidInput("L2", l2_value, "L2 != 2 E I2 (that is the separatrix: use separatrix_solution)")
+        encircled = 3 if (side > 0) == (c > a) else 1
+        if about is not None and about != encircled:
+            raise InvalidInput("about", about, f"{encircled}: with these E and L2 the polhode encircles axis "
+                               f"{encircled} (L2 {'>' if side > 0 else '<'} 2 E I2)")
+        about = encircled
     if about is None:
         about = 3
     if isinstance(about, bool) or about not in (1, 3):

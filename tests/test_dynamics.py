@@ -410,6 +410,10 @@ def test_polhode_regime_checks():
     with pytest.raises(InvalidInput, match="separatrix"):
         dyn.polhode((1, 2, 3), 1, 4)
     assert dyn.polhode((1, 2, 3), 1, 5)[2].has(sp.Symbol("s", real=True))
+    with pytest.raises(InvalidInput, match="about"):
+        dyn.polhode((1, 2, 3), 1, 5, about=1)  # L² > 2 E I2: the polhode encircles axis 3
+    with pytest.raises(InvalidInput, match="intermediate"):
+        dyn.free_body_elliptic_solution((2, 1, 3), 1, 5)
 
 
 def _ordered():
