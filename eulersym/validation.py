@@ -1,0 +1,176 @@
+"""Input checks at the package's boundary, shared by every layer (SymPy-free).
+
+Each function returns the validated value or raises an :mod:`eulersym.errors` exception whose message names the
+argument, the value and what is valid. SymPy objects are checked by duck typing (``.is_positive``, ``.is_real``)
+so that this module never imports SymPy.
+
+Examples
+--------
+>>> moments("I", (1.0, 2.0, 3.0))
+(1.0, 2.0, 3.0)
+>>> moments("I", (1.0, 1.0, 3.0))
+Traceback (most recent call last):
+...
+eulersym.errors.InvalidInput: I=(1.0, 1.0, 3.0) is not valid: expected principal moments of a body: positive and I1 + I2 >= I3, I2 + I3 >= I1, I3 + I1 >= I2 (here I1 + I2 = 2 < I3 = 3)
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from typing import Any, Iterable, Sequence
+
+import numpy as np
+
+from eulersym.errors import InvalidInput
+
+__all__ = ["positive", "moments", "finite_array", "choice", "is_symbolic"]
+
+#: Relative slack allowed on the triangle inequalities of floating-point moments (a flat body has I1 + I2 = I3).
+TRIANGLE_SLACK = 1e-12
+
+
+def is_symbolic(value: Any) -> bool:
+    """True for SymPy objects (anything with ``free_symbols`` that is not a plain number).
+
+    Examples
+    --------
+    >>> is_symbolic(1.0)
+    False
+    """
+    return hasattr(value, "free_symbols") and hasattr(value, "is_positive")
+
+
+def _as_float(argument: str, value: Any, expected: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
+        raise InvalidInput(argument, value, expected)
+    out = float(value)
+    if not math.isfinite(out):
+        raise InvalidInput(argument, value, expected)
+    return out
+
+
+def positive(argument: str, value: Any):
+    """Return ``value`` if it is (or may be, for symbols) a finite positive number.
+
+    SymPy objects pass unless SymPy can prove them non-positive (``is_positive is False``) or they are not real.
+
+    Examples
+    --------
+    >>> positive("M", 2)
+    2
+    >>> positive("M", 0.0)
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: M=0.0 is not valid: expected a finite positive number
+    """
+    expected = "a finite positive number"
+    if is_symbolic(value):
+        if value.is_positive is False or value.is_real is False or _nonfinite(value):
+            raise InvalidInput(argument, value, expected)
+        return value
+    if _as_float(argument, value, expected) <= 0:
+        raise InvalidInput(argument, value, expected)
+    return value
+
+
+def _nonfinite(value) -> bool:  # SymPy: oo, zoo, nan
+    return any(str(a) in ("oo", "-oo", "zoo", "nan") for a in getattr(value, "atoms", lambda: ())())
+
+
+def moments(argument: str, values: Iterable, *, body: bool = True) -> tuple:
+    """Validate three principal moments of inertia.
+
+    Parameters
+    ----------
+    argument : str
+        Name used in the error message.
+    values : iterable of 3 numbers or SymPy expressions
+    body : bool, optional
+        Also require the triangle inequalities that every physical body satisfies:
+        I1 + I2 ≥ I3, I2 + I3 ≥ I1, I3 + I1 ≥ I2 (floats with a relative slack of ``TRIANGLE_SLACK``).
+
+    Returns
+    -------
+    tuple
+        The three moments, unchanged.
+
+    Examples
+    --------
+    >>> moments("I", [2, 2, 1])
+    (2, 2, 1)
+    >>> moments("I", [1, -2, 3], body=False)
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: I=[1, -2, 3] is not valid: expected three positive principal moments (I2=-2 is not)
+    """
+    try:
+        items = tuple(values)
+    except TypeError:
+        raise InvalidInput(argument, values, "three principal moments (I1, I2, I3)") from None
+    if len(items) != 3:
+        raise InvalidInput(argument, values, f"three principal moments (I1, I2, I3), got {len(items)} values")
+    for k, value in enumerate(items, start=1):
+        try:
+            positive(f"{argument}[{k - 1}]", value)
+        except InvalidInput:
+            raise InvalidInput(argument, values, f"three positive principal moments (I{k}={value!r} is not)") from None
+    if not body or any(is_symbolic(v) and v.free_symbols for v in items):
+        return items
+    floats = [float(v) for v in items]
+    scale = max(floats)
+    for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+        if floats[i] + floats[j] < floats[k] - TRIANGLE_SLACK * scale:
+            raise InvalidInput(
+                argument,
+                values,
+                "principal moments of a body: positive and I1 + I2 >= I3, I2 + I3 >= I1, I3 + I1 >= I2 "
+                f"(here I{i + 1} + I{j + 1} = {items[i] + items[j]:g} < I{k + 1} = {items[k]:g})",
+            )
+    return items
+
+
+def finite_array(argument: str, value: Any, shape: Sequence[int | None] | None = None) -> np.ndarray:
+    """Return ``value`` as a float64 array after checking it is finite and (optionally) of ``shape``.
+
+    ``shape`` entries may be ``None`` for "any length".
+
+    Examples
+    --------
+    >>> finite_array("omega0", [1, 2, 3], shape=(3,))
+    array([1., 2., 3.])
+    >>> finite_array("omega0", [1, float("nan"), 3], shape=(3,))
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: omega0=[1, nan, 3] is not valid: expected finite numbers (no NaN or infinity)
+    """
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InvalidInput(argument, value, "an array of real numbers") from None
+    if shape is not None:
+        ok = arr.ndim == len(shape) and all(s is None or s == n for s, n in zip(shape, arr.shape))
+        if not ok:
+            want = "(" + ", ".join("n" if s is None else str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
+            raise InvalidInput(argument, value, f"an array of shape {want}, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise InvalidInput(argument, value, "finite numbers (no NaN or infinity)")
+    return arr
+
+
+def choice(argument: str, value: Any, valid: Iterable[str]):
+    """Return ``value`` if it is one of ``valid``.
+
+    Examples
+    --------
+    >>> choice("origin", "corner", ("center", "corner"))
+    'corner'
+    >>> choice("origin", "edge", ("center", "corner"))
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: origin='edge' is not valid: expected one of 'center', 'corner'
+    """
+    valid = tuple(valid)
+    if not isinstance(value, str) or value not in valid:
+        raise InvalidInput(argument, value, "one of " + ", ".join(repr(v) for v in valid))
+    return value
