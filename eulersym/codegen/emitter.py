@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import hashlib
 import keyword
+import textwrap
 from dataclasses import dataclass, field
 
 import sympy as sp
@@ -394,6 +395,9 @@ class _Printer(PythonCodePrinter):
         return repr(float(expr))
 
     def _print_Symbol(self, expr):
+        name = expr.name
+        if name.startswith(_CSE_PREFIX) and name[len(_CSE_PREFIX):].isdigit():
+            return name  # a CSE symbol (arguments may not use such names: see local_name)
         return local_name(expr)
 
     def _print_Pi(self, expr):
@@ -446,12 +450,19 @@ def _signature(f: FunctionSpec) -> str:
 
 
 def _order_doc(f: FunctionSpec) -> list[str]:
-    lines = []
+    """One line per vector argument (its components in order); consecutive scalars share one line."""
+    lines: list[str] = []
+    scalars: list[str] = []
     for a in f.arguments:
         if a.vector:
-            lines.append(f"    {a.name} = ({', '.join(a.names)})" + (f"  — {a.doc}" if a.doc else ""))
+            if scalars:
+                lines.append("    " + ", ".join(scalars))
+                scalars = []
+            lines.append(f"    {a.name} = ({', '.join(a.names)})" + (f": {a.doc}" if a.doc else ""))
         else:
-            lines.append(f"    {a.name}" + (f"  — {a.doc}" if a.doc else ""))
+            scalars.append(a.name)
+    if scalars:
+        lines.append("    " + ", ".join(scalars))
     return lines
 
 
@@ -650,7 +661,8 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
     for f in spec.functions:
         header.append(f"# Arguments: {f.name}({_signature(f)})" + "".join(
             f"; {a.name} = ({', '.join(a.names)})" for a in f.arguments if a.vector))
-    doc = ['"""' + spec.description.strip(), "", "Functions (each also as ``<name>_batched(..., out=None)``):", ""]
+    description = textwrap.fill(spec.description.strip(), width=100, break_on_hyphens=False).split("\n")
+    doc = ['"""' + description[0], *description[1:], "", "Functions (each also as ``<name>_batched(..., out=None)``):", ""]
     for f in spec.functions:
         doc.append(f"- ``{f.name}({_signature(f)})`` → {_outputs_doc(f)}" + (f": {f.doc}" if f.doc else ""))
         for line in _order_doc(f):
@@ -660,7 +672,7 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
             "Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once",
             "per call, and the result is a new array unless ``out=`` is given."]
     for note in spec.notes:
-        doc += ["", note]
+        doc += ["", *textwrap.fill(note, width=100, break_on_hyphens=False).split("\n")]
     doc.append('"""')
     imports = ["", "import numpy as np"]
     if used:
