@@ -5,13 +5,24 @@ import numpy as np
 
 from eulersym.errors import InvalidInput
 
-__all__ = ["_as_vector", "_prepare_out", "_wrong_length"]
+__all__ = ["_as_vector", "_prepare_out", "_unpack", "_wrong_length"]
 
 
 def _wrong_length(name, value, names):
     """The error for a vector argument of the wrong length (scalar flavour)."""
     order = ", ".join(names)
     return InvalidInput(name, value, f"a sequence of {len(names)} floats in the order ({order})")
+
+
+def _unpack(name, value, names):
+    """``value`` (any sequence but an ndarray) as a list of ``len(names)`` items; otherwise InvalidInput."""
+    try:
+        values = list(value)
+    except TypeError:
+        raise _wrong_length(name, value, names) from None
+    if len(values) != len(names):
+        raise _wrong_length(name, value, names)
+    return values
 
 
 def _as_vector(name, value, names):

@@ -24,7 +24,7 @@ per call, and the result is a new array unless ``out=`` is given.
 import numpy as np
 from math import cos, sin
 
-from eulersym.generated._runtime import _as_vector, _prepare_out, _wrong_length
+from eulersym.generated._runtime import _as_vector, _prepare_out, _unpack, _wrong_length
 
 __all__ = ['attitude_matrix', 'omega_body', 'attitude_matrix_batched', 'omega_body_batched']
 

@@ -386,7 +386,7 @@ class _Printer(PythonCodePrinter):
         return f"{self._prefix}{self._table['sqrt']}({self._print(base)})"
 
     def _print_Rational(self, expr):
-        return f"({expr.p}/{expr.q})"
+        return f"{expr.p}/{expr.q}"
 
     def _print_Half(self, expr):
         return "0.5"
@@ -422,8 +422,8 @@ def make_printer(flavour: str) -> _Printer:
     --------
     >>> import sympy as sp
     >>> x = sp.Symbol("x")
-    >>> make_printer("scalar").doprint(sp.sin(x) ** 2 / x)
-    '(sin(x)*sin(x))/x'
+    >>> make_printer("scalar").doprint(sp.sin(x) ** 2 / x**2)
+    'sin(x)**2/(x*x)'
     >>> make_printer("batched").doprint(sp.atan2(x, 1) + x ** 3)
     '(x*x*x) + np.arctan2(x, 1)'
     """
@@ -480,11 +480,12 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
     >>> import sympy as sp
     >>> a, b = sp.symbols("a b")
     >>> f = FunctionSpec("f", (Argument("y", (a, b), vector=True),), sp.Matrix([a * b, a * b + 1]))
-    >>> print("\\n".join(emit_function(f, cse_pass([f]), "scalar").splitlines()[7:]))
+    >>> source = emit_function(f, cse_pass([f]), "scalar")
+    >>> print(source[source.index("    try:"):])
         try:
             a, b = y.tolist()
         except AttributeError:
-            a, b = y
+            a, b = _unpack('y', y, ('a', 'b'))
         except ValueError:
             raise _wrong_length('y', y, ('a', 'b')) from None
         x0 = a*b
@@ -511,7 +512,7 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
                 "try:",
                 f"    {names}{trailing} = {a.name}.tolist()",
                 "except AttributeError:",
-                f"    {names}{trailing} = {a.name}",
+                f"    {names}{trailing} = _unpack({a.name!r}, {a.name}, {a.names!r})",
                 "except ValueError:",
                 f"    raise _wrong_length({a.name!r}, {a.name}, {a.names!r}) from None",
             ]
@@ -611,7 +612,7 @@ def check_module(spec: ModuleSpec) -> None:
         check_expressions(list(f.expressions), symbols, what=f"{spec.name}.{f.name}")
 
 
-_RUNTIME_IMPORT = "from eulersym.generated._runtime import _as_vector, _prepare_out, _wrong_length"
+_RUNTIME_IMPORT = "from eulersym.generated._runtime import _as_vector, _prepare_out, _unpack, _wrong_length"
 
 
 def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_import: str | None = None) -> str:
