@@ -114,8 +114,9 @@ def _residual(eq):
 def first_order(equations, unknowns) -> sp.Matrix:
     """Solve equations linear in ``unknowns`` (the highest derivatives, as symbols) for them: ``M x = F``.
 
-    A diagonal mass matrix is inverted entry by entry; otherwise LU, followed by ``cancel`` of each entry
-    (rational simplification only: cheap, and it removes the LU's nested fractions).
+    A diagonal mass matrix is inverted entry by entry (and each entry ``cancel``-ed). Otherwise the LU solution is
+    kept in its nested form, or replaced by its ``cancel``-ed form where that is cheaper: the candidate with
+    fewer operations after CSE wins (for a full 3×3 inertia tensor the nested form is 4× smaller).
 
     Parameters
     ----------
@@ -139,8 +140,10 @@ def first_order(equations, unknowns) -> sp.Matrix:
         if any(M[i, i] == 0 for i in range(M.rows)):
             raise InvalidInput("equations", equations, "a non-singular mass matrix")
         return sp.Matrix([sp.cancel(F[i] / M[i, i]) for i in range(M.rows)])
-    x = M.LUsolve(F)
-    return x.applyfunc(lambda e: sp.factor_terms(sp.cancel(sp.together(e))))
+    nested = M.LUsolve(F)
+    cancelled = nested.applyfunc(lambda e: sp.factor_terms(sp.cancel(sp.together(e))))
+    size = [sp.count_ops(sp.cse(list(x), order="canonical")) for x in (nested, cancelled)]
+    return cancelled if size[1] <= size[0] else nested
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -272,23 +275,26 @@ def _build_heavy_top_euler_angles() -> ModuleSpec:
 
 def _build_heavy_top_euler_poisson() -> ModuleSpec:
     dynamics = importlib.import_module("eulersym.dynamics")
-    eqs = dynamics.euler_poisson_equations()
-    frozen = [freeze_state(_residual(e), {**_OMEGA, **_GAMMA}) for e in eqs]
-    rates = first_order(frozen, (*OMEGA_DOT, *GAMMA_DOT))
+    derived = dynamics.euler_poisson_equations()
+    frozen = {**_OMEGA, **_GAMMA}
+    if len(derived) == 2 and all(isinstance(m, sp.MatrixBase) for m in derived):  # (omega_dot, Gamma_dot)
+        rates = [freeze_state(e, frozen) for m in derived for e in m]
+    else:  # equations in the derivatives
+        rates = list(first_order([freeze_state(_residual(e), frozen) for e in derived], (*OMEGA_DOT, *GAMMA_DOT)))
     q_dot = _quaternion_rhs()
     omega = sp.Matrix(S.omega_symbols)
     gamma = sp.Matrix([S.Gamma1, S.Gamma2, S.Gamma3])
     I = tuple(S.moments)
-    energy = dynamics.euler_poisson_energy() if hasattr(dynamics, "euler_poisson_energy") else (
-        dynamics.energy(I, omega) + S.M * S.g * S.l * gamma[2])
+    chi = sp.Matrix([0, 0, S.l])  # the centre of mass, body components (the derivation's default)
+    energy = dynamics.energy(I, omega) + S.M * S.g * chi.dot(gamma)
     L = sp.diag(*I) * omega
     invariants = _freeze_all([energy, gamma.dot(gamma), L.dot(gamma), sum(q ** 2 for q in (S.q0, S.q1, S.q2, S.q3))])
     return _ode(
         "heavy_top_euler_poisson",
         "The heavy top in the non-singular Euler–Poisson form, centre of mass at l·e3 in the body: "
         "I ω̇ = (I ω) × ω + M g l Γ × e3, Γ̇ = Γ × ω (Γ: the upward vertical in body components), with the "
-        "attitude quaternion q̇ = ½ q ⊗ (0, ω).",
-        "eulersym.dynamics.euler_poisson_equations() solved for d(omega, Gamma)/dt and "
+        "attitude quaternion q̇ = ½ q ⊗ (0, ω). Invariants: E = ½ ω·Iω + M g l Γ3, |Γ|², L·Γ = (Iω)·Γ, |q|².",
+        "eulersym.dynamics.euler_poisson_equations() (omega_dot, Gamma_dot) and "
         "eulersym.kinematics.quaternion_rate(q, omega)",
         (*OMEGA, *GAMMA, *QUAT), (*S.moments, S.M, S.g, S.l), list(rates) + list(q_dot), invariants,
         ("E", "Gamma_norm2", "L_dot_Gamma", "q_norm2"),
