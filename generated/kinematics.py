@@ -89,15 +89,22 @@ def attitude_matrix_batched(phi, theta, psi, out=None):
     x8 = np.sin(theta)
     x9 = x4*x8
     x10 = x1*x8
-    out[0, 0] = x0*x1 - x2*x5
-    out[0, 1] = x2*x7 + x6
-    out[0, 2] = x9
-    out[1, 0] = -x2*x6 - x7
-    out[1, 1] = x0*x1*x2 - x5
-    out[1, 2] = x10
-    out[2, 0] = x3*x8
-    out[2, 1] = -x0*x8
-    out[2, 2] = x2
+    np.multiply(x0, x1, out=out[0, 0, ...])
+    out[0, 0, ...] -= x2*x5
+    np.multiply(x2, x7, out=out[0, 1, ...])
+    out[0, 1, ...] += x6
+    out[0, 2, ...] = x9
+    np.multiply(x2, x6, out=out[1, 0, ...])
+    np.negative(out[1, 0, ...], out=out[1, 0, ...])
+    out[1, 0, ...] -= x7
+    np.multiply(x0, x1, out=out[1, 1, ...])
+    out[1, 1, ...] *= x2
+    out[1, 1, ...] -= x5
+    out[1, 2, ...] = x10
+    np.multiply(x3, x8, out=out[2, 0, ...])
+    np.multiply(x0, x8, out=out[2, 1, ...])
+    np.negative(out[2, 1, ...], out=out[2, 1, ...])
+    out[2, 2, ...] = x2
     return out
 
 
@@ -117,7 +124,10 @@ def omega_body_batched(phi, theta, psi, phidot, thetadot, psidot, out=None):
     x8 = np.sin(theta)
     x9 = x4*x8
     x10 = x1*x8
-    out[0] = phidot*x9 + thetadot*x1
-    out[1] = phidot*x10 - thetadot*x4
-    out[2] = phidot*x2 + psidot
+    np.multiply(phidot, x9, out=out[0, ...])
+    out[0, ...] += thetadot*x1
+    np.multiply(phidot, x10, out=out[1, ...])
+    out[1, ...] -= thetadot*x4
+    np.multiply(phidot, x2, out=out[2, ...])
+    out[2, ...] += psidot
     return out

@@ -7,11 +7,6 @@ tests/test_codegen_kernels.py.
 from __future__ import annotations
 
 import hashlib
-import os
-import shutil
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -26,7 +21,6 @@ from eulersym.codegen import (
     FunctionSpec,
     ModuleSpec,
     available,
-    check,
     check_expressions,
     compile_expressions,
     emit_module,
@@ -36,8 +30,6 @@ from eulersym.codegen import (
 from eulersym.codegen.emitter import cse_pass, make_printer
 from eulersym.errors import InvalidInput
 
-ROOT = Path(__file__).resolve().parents[1]
-GENERATED = ROOT / "generated"
 
 a, b, c, k = sp.symbols("a b c k", real=True)
 EXPRS = [k * a * b + sp.sin(a) ** 2 * sp.cos(b), sp.exp(-c) * a / (1 + b**2), sp.sqrt(1 + a**2) - sp.atan2(b, c),
@@ -207,68 +199,7 @@ def test_first_order_solves_a_mass_matrix():
 
 
 # ---------------------------------------------------------------------------------------------------------------
-# Determinism and generate --check
-
-
-_RENDER = """
-import hashlib, sys
-from eulersym.codegen.generate import render
-files, skipped = render()
-for name in sorted(files):
-    print(name, hashlib.sha256(files[name].encode()).hexdigest())
-"""
-
-
-def test_bytes_do_not_depend_on_pythonhashseed():
-    digests = set()
-    for seed in ("0", "1", "12345"):
-        env = {**os.environ, "PYTHONHASHSEED": seed}
-        out = subprocess.run([sys.executable, "-c", _RENDER], capture_output=True, text=True, env=env,
-                             cwd=ROOT, check=True).stdout
-        digests.add(out)
-    assert len(digests) == 1, digests
-
-
-def test_committed_generated_passes_check():
-    report = check(GENERATED)
-    assert report.ok, report.problems
-    assert main(["generate", "--check"]) == 0
-
-
-@pytest.fixture
-def copy_of_generated(tmp_path):
-    target = tmp_path / "generated"
-    shutil.copytree(GENERATED, target, ignore=shutil.ignore_patterns("__pycache__"))
-    return target
-
-
-def test_check_fails_on_altered_missing_or_extra(copy_of_generated, capsys):
-    d = copy_of_generated
-    assert main(["generate", "--check", "--dir", str(d)]) == 0
-    kernel = sorted(p for p in d.glob("*.py") if not p.name.startswith("_"))[0]
-    original = kernel.read_text()
-    kernel.write_text(original.replace("return", "return  ", 1))
-    assert main(["generate", "--check", "--dir", str(d)]) == 1
-    assert "differs" in capsys.readouterr().err
-    kernel.unlink()
-    assert main(["generate", "--check", "--dir", str(d)]) == 1
-    assert "missing" in capsys.readouterr().err
-    kernel.write_text(original)
-    assert main(["generate", "--check", "--dir", str(d)]) == 0
-    (d / "stray.py").write_text("x = 1\n")
-    assert main(["generate", "--check", "--dir", str(d)]) == 1
-    assert "extra" in capsys.readouterr().err
-
-
-def test_check_across_sympy_versions_compares_the_input_hash(copy_of_generated):
-    d = copy_of_generated
-    kernel = sorted(p for p in d.glob("*.py") if not p.name.startswith("_"))[0]
-    text = kernel.read_text().replace(f"# SymPy version: {sp.__version__}", "# SymPy version: 0.0.1")
-    kernel.write_text(text.replace("return", "return  ", 1))  # code printed differently by "another SymPy"
-    report = check(d)
-    assert report.ok and any("code not compared" in n for n in report.notes)
-    kernel.write_text(text.replace("# Input hash: sha256:", "# Input hash: sha256:0"))
-    assert not check(d).ok
+# generate (the whole-catalogue checks are in tests/test_codegen_sync.py)
 
 
 def test_generate_writes_into_a_fresh_folder(tmp_path):
