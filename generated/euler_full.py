@@ -27,7 +27,8 @@ Functions (each also as ``<name>_batched(..., out=None)``):
 Scalar flavour: Python floats and ``math``; returns a new list on every call (safe with
 ``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.
 Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once
-per call, and the result is a new array unless ``out=`` is given.
+per call, and the result is a new array unless ``out=`` is given (written in place, so it may not
+overlap the inputs).
 
 Invariants: E = ½ ω·Iω and L² = |Iω|² (conserved only without torque).
 """
@@ -188,10 +189,11 @@ def rhs_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None):
         t
         y = (omega1, omega2, omega3): state
         I11, I12, I13, I22, I23, I33, N1, N2, N3
-    Shapes are checked once per call; ``out`` (if given) is filled and returned.
+    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
+    and returned.
     """
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
-    out = _prepare_out(out, (3,), np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3))
+    out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
     omega1, omega2, omega3 = y
     x0 = 1/I11
     x1 = I13*omega2
@@ -243,10 +245,11 @@ def jac_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None):
         t
         y = (omega1, omega2, omega3): state
         I11, I12, I13, I22, I23, I33, N1, N2, N3
-    Shapes are checked once per call; ``out`` (if given) is filled and returned.
+    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
+    and returned.
     """
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
-    out = _prepare_out(out, (3, 3), np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3))
+    out = _prepare_out(out, (3, 3), (np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
     omega1, omega2, omega3 = y
     x0 = 1/I11
     x1 = I13*omega2
@@ -318,10 +321,11 @@ def invariants_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None)
         t
         y = (omega1, omega2, omega3): state
         I11, I12, I13, I22, I23, I33, N1, N2, N3
-    Shapes are checked once per call; ``out`` (if given) is filled and returned.
+    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
+    and returned.
     """
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
-    out = _prepare_out(out, (2,), np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3))
+    out = _prepare_out(out, (2,), (np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
     omega1, omega2, omega3 = y
     x1 = I13*omega2
     x3 = I33*omega3

@@ -26,7 +26,8 @@ Functions (each also as ``<name>_batched(..., out=None)``):
 Scalar flavour: Python floats and ``math``; returns a new list on every call (safe with
 ``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.
 Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once
-per call, and the result is a new array unless ``out=`` is given.
+per call, and the result is a new array unless ``out=`` is given (written in place, so it may not
+overlap the inputs).
 
 Invariants: E = ½ ω·Iω and L² = |Iω|² (conserved only without torque).
 """
@@ -124,10 +125,11 @@ def rhs_batched(t, y, I1, I2, I3, N1, N2, N3, out=None):
         t
         y = (omega1, omega2, omega3): state
         I1, I2, I3, N1, N2, N3
-    Shapes are checked once per call; ``out`` (if given) is filled and returned.
+    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
+    and returned.
     """
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
-    out = _prepare_out(out, (3,), np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(N1), np.shape(N2), np.shape(N3))
+    out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I1, I2, I3, N1, N2, N3,))
     omega1, omega2, omega3 = y
     x0 = 1/I1
     x1 = I2*omega3
@@ -161,10 +163,11 @@ def jac_batched(t, y, I1, I2, I3, N1, N2, N3, out=None):
         t
         y = (omega1, omega2, omega3): state
         I1, I2, I3, N1, N2, N3
-    Shapes are checked once per call; ``out`` (if given) is filled and returned.
+    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
+    and returned.
     """
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
-    out = _prepare_out(out, (3, 3), np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(N1), np.shape(N2), np.shape(N3))
+    out = _prepare_out(out, (3, 3), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I1, I2, I3, N1, N2, N3,))
     omega1, omega2, omega3 = y
     x0 = 1/I1
     x1 = I2*omega3
@@ -208,10 +211,11 @@ def invariants_batched(t, y, I1, I2, I3, N1, N2, N3, out=None):
         t
         y = (omega1, omega2, omega3): state
         I1, I2, I3, N1, N2, N3
-    Shapes are checked once per call; ``out`` (if given) is filled and returned.
+    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
+    and returned.
     """
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
-    out = _prepare_out(out, (2,), np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(N1), np.shape(N2), np.shape(N3))
+    out = _prepare_out(out, (2,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I1, I2, I3, N1, N2, N3,))
     omega1, omega2, omega3 = y
     x9 = (omega1*omega1)
     x10 = (omega2*omega2)

@@ -27,7 +27,8 @@ Functions (each also as ``<name>_batched(..., out=None)``):
 Scalar flavour: Python floats and ``math``; returns a new list on every call (safe with
 ``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.
 Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once
-per call, and the result is a new array unless ``out=`` is given.
+per call, and the result is a new array unless ``out=`` is given (written in place, so it may not
+overlap the inputs).
 """
 
 import numpy as np
@@ -142,10 +143,11 @@ def rhs_batched(t, y, I1, I2, I3, out=None):
         t
         y = (omega1, omega2, omega3, q0, q1, q2, q3): state
         I1, I2, I3
-    Shapes are checked once per call; ``out`` (if given) is filled and returned.
+    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
+    and returned.
     """
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3'))
-    out = _prepare_out(out, (7,), np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3))
+    out = _prepare_out(out, (7,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3),), (t, y, I1, I2, I3,))
     omega1, omega2, omega3, q0, q1, q2, q3 = y
     x0 = 1/I1
     x1 = I2*omega3
@@ -196,10 +198,11 @@ def jac_batched(t, y, I1, I2, I3, out=None):
         t
         y = (omega1, omega2, omega3, q0, q1, q2, q3): state
         I1, I2, I3
-    Shapes are checked once per call; ``out`` (if given) is filled and returned.
+    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
+    and returned.
     """
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3'))
-    out = _prepare_out(out, (7, 7), np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3))
+    out = _prepare_out(out, (7, 7), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3),), (t, y, I1, I2, I3,))
     omega1, omega2, omega3, q0, q1, q2, q3 = y
     x0 = 1/I1
     x1 = I2*omega3
@@ -296,10 +299,11 @@ def invariants_batched(t, y, I1, I2, I3, out=None):
         t
         y = (omega1, omega2, omega3, q0, q1, q2, q3): state
         I1, I2, I3
-    Shapes are checked once per call; ``out`` (if given) is filled and returned.
+    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
+    and returned.
     """
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3'))
-    out = _prepare_out(out, (3,), np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3))
+    out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3),), (t, y, I1, I2, I3,))
     omega1, omega2, omega3, q0, q1, q2, q3 = y
     x22 = (omega1*omega1)
     x23 = (omega2*omega2)

@@ -28,7 +28,8 @@ Functions (each also as ``<name>_batched(..., out=None)``):
 Scalar flavour: Python floats and ``math``; returns a new list on every call (safe with
 ``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.
 Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once
-per call, and the result is a new array unless ``out=`` is given.
+per call, and the result is a new array unless ``out=`` is given (written in place, so it may not
+overlap the inputs).
 """
 
 import numpy as np
@@ -185,10 +186,11 @@ def rhs_batched(t, y, I1, I3, M, g, l, out=None):
         t
         y = (phi, theta, psi, phidot, thetadot, psidot): state
         I1, I3, M, g, l
-    Shapes are checked once per call; ``out`` (if given) is filled and returned.
+    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
+    and returned.
     """
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
-    out = _prepare_out(out, (6,), np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l))
+    out = _prepare_out(out, (6,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
     phi, theta, psi, phidot, thetadot, psidot = y
     x0 = np.cos(theta)
     x1 = I1*x0
@@ -237,10 +239,11 @@ def jac_batched(t, y, I1, I3, M, g, l, out=None):
         t
         y = (phi, theta, psi, phidot, thetadot, psidot): state
         I1, I3, M, g, l
-    Shapes are checked once per call; ``out`` (if given) is filled and returned.
+    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
+    and returned.
     """
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
-    out = _prepare_out(out, (6, 6), np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l))
+    out = _prepare_out(out, (6, 6), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
     phi, theta, psi, phidot, thetadot, psidot = y
     x0 = np.cos(theta)
     x1 = I1*x0
@@ -329,10 +332,11 @@ def invariants_batched(t, y, I1, I3, M, g, l, out=None):
         t
         y = (phi, theta, psi, phidot, thetadot, psidot): state
         I1, I3, M, g, l
-    Shapes are checked once per call; ``out`` (if given) is filled and returned.
+    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
+    and returned.
     """
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
-    out = _prepare_out(out, (3,), np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l))
+    out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
     phi, theta, psi, phidot, thetadot, psidot = y
     x0 = np.cos(theta)
     x5 = I3*psidot

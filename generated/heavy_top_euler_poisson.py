@@ -28,7 +28,8 @@ Functions (each also as ``<name>_batched(..., out=None)``):
 Scalar flavour: Python floats and ``math``; returns a new list on every call (safe with
 ``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.
 Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once
-per call, and the result is a new array unless ``out=`` is given.
+per call, and the result is a new array unless ``out=`` is given (written in place, so it may not
+overlap the inputs).
 """
 
 import numpy as np
@@ -146,10 +147,11 @@ def rhs_batched(t, y, I1, I2, I3, M, g, l, out=None):
         t
         y = (omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3): state
         I1, I2, I3, M, g, l
-    Shapes are checked once per call; ``out`` (if given) is filled and returned.
+    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
+    and returned.
     """
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'Gamma1', 'Gamma2', 'Gamma3', 'q0', 'q1', 'q2', 'q3'))
-    out = _prepare_out(out, (10,), np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(M), np.shape(g), np.shape(l))
+    out = _prepare_out(out, (10,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I2, I3, M, g, l,))
     omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3 = y
     x0 = 1/I1
     x1 = I2*omega3
@@ -206,10 +208,11 @@ def jac_batched(t, y, I1, I2, I3, M, g, l, out=None):
         t
         y = (omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3): state
         I1, I2, I3, M, g, l
-    Shapes are checked once per call; ``out`` (if given) is filled and returned.
+    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
+    and returned.
     """
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'Gamma1', 'Gamma2', 'Gamma3', 'q0', 'q1', 'q2', 'q3'))
-    out = _prepare_out(out, (10, 10), np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(M), np.shape(g), np.shape(l))
+    out = _prepare_out(out, (10, 10), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I2, I3, M, g, l,))
     omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3 = y
     x0 = 1/I1
     x1 = I2*omega3
@@ -355,10 +358,11 @@ def invariants_batched(t, y, I1, I2, I3, M, g, l, out=None):
         t
         y = (omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3): state
         I1, I2, I3, M, g, l
-    Shapes are checked once per call; ``out`` (if given) is filled and returned.
+    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
+    and returned.
     """
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'Gamma1', 'Gamma2', 'Gamma3', 'q0', 'q1', 'q2', 'q3'))
-    out = _prepare_out(out, (4,), np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(M), np.shape(g), np.shape(l))
+    out = _prepare_out(out, (4,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I2, I3, M, g, l,))
     omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3 = y
     x2 = I3*omega3
     x3 = M*g*l

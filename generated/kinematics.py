@@ -18,7 +18,8 @@ Functions (each also as ``<name>_batched(..., out=None)``):
 Scalar flavour: Python floats and ``math``; returns a new list on every call (safe with
 ``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.
 Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once
-per call, and the result is a new array unless ``out=`` is given.
+per call, and the result is a new array unless ``out=`` is given (written in place, so it may not
+overlap the inputs).
 """
 
 import numpy as np
@@ -75,9 +76,10 @@ def attitude_matrix_batched(phi, theta, psi, out=None):
 
     Arguments, in order (vectors: components first, batch after; scalars broadcast):
         phi, theta, psi
-    Shapes are checked once per call; ``out`` (if given) is filled and returned.
+    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
+    and returned.
     """
-    out = _prepare_out(out, (3, 3), np.shape(phi), np.shape(theta), np.shape(psi))
+    out = _prepare_out(out, (3, 3), (np.shape(phi), np.shape(theta), np.shape(psi),), (phi, theta, psi,))
     x0 = np.cos(phi)
     x1 = np.cos(psi)
     x2 = np.cos(theta)
@@ -115,9 +117,10 @@ def omega_body_batched(phi, theta, psi, phidot, thetadot, psidot, out=None):
 
     Arguments, in order (vectors: components first, batch after; scalars broadcast):
         phi, theta, psi, phidot, thetadot, psidot
-    Shapes are checked once per call; ``out`` (if given) is filled and returned.
+    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
+    and returned.
     """
-    out = _prepare_out(out, (3,), np.shape(phi), np.shape(theta), np.shape(psi), np.shape(phidot), np.shape(thetadot), np.shape(psidot))
+    out = _prepare_out(out, (3,), (np.shape(phi), np.shape(theta), np.shape(psi), np.shape(phidot), np.shape(thetadot), np.shape(psidot),), (phi, theta, psi, phidot, thetadot, psidot,))
     x1 = np.cos(psi)
     x2 = np.cos(theta)
     x4 = np.sin(psi)

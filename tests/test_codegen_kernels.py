@@ -180,6 +180,15 @@ def test_wrong_state_length_names_the_order(name, rng):
         mod.rhs(0.0, y, *p[:-1])
     with pytest.raises(InvalidInput, match="out"):
         mod.rhs_batched(0.0, np.ones((len(y), 4)), *p, out=np.empty((len(y), 5)))
+    Y = np.ones((len(y), 4))
+    with pytest.raises(InvalidInput, match="overlapping"):
+        mod.rhs_batched(0.0, Y, *p, out=Y)
+
+
+def test_heavy_top_in_euler_angles_refuses_the_singular_attitude_loudly():
+    mod = _module("heavy_top_euler_angles")
+    with pytest.raises(ZeroDivisionError):
+        mod.rhs(0.0, [0.0, 0.0, 0.0, 1.0, 0.0, 1.0], 1.0, 0.5, 1.0, 9.81, 0.3)
 
 
 @pytest.mark.parametrize("name", ODE_KERNELS)

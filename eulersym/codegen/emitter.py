@@ -536,7 +536,8 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
             doc += ["    " + f.doc, ""]
         doc += ["    Arguments, in order (vectors: components first, batch after; scalars broadcast):"]
         doc += ["    " + line for line in _order_doc(f)]
-        doc += ["    Shapes are checked once per call; ``out`` (if given) is filled and returned.", "    " + _Q]
+        doc += ["    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled",
+                "    and returned.", "    " + _Q]
         shapes = []
         for a in f.arguments:
             if a.vector:
@@ -544,7 +545,8 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
                 shapes.append(f"{a.name}.shape[1:]")
             else:
                 shapes.append(f"np.shape({a.name})")
-        body.append(f"out = _prepare_out(out, {f.out_shape!r}, {', '.join(shapes)})")
+        inputs = ", ".join(a.name for a in f.arguments)
+        body.append(f"out = _prepare_out(out, {f.out_shape!r}, ({', '.join(shapes)},), ({inputs},))")
         for a in f.arguments:
             if a.vector:
                 trailing = "," if len(a.names) == 1 else ""
@@ -725,7 +727,8 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
     doc += ["", "Scalar flavour: Python floats and ``math``; returns a new list on every call (safe with",
             "``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.",
             "Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once",
-            "per call, and the result is a new array unless ``out=`` is given."]
+            "per call, and the result is a new array unless ``out=`` is given (written in place, so it may not",
+            "overlap the inputs)."]
     for note in spec.notes:
         doc += ["", *textwrap.fill(note, width=100, break_on_hyphens=False).split("\n")]
     doc.append('"""')

@@ -8,7 +8,7 @@ Examples
 --------
 >>> namespace = {}
 >>> exec(compile(RUNTIME_SOURCE, "_runtime.py", "exec"), namespace)
->>> namespace["_prepare_out"](None, (2,), (3,), ()).shape
+>>> namespace["_prepare_out"](None, (2,), ((3,), ())).shape
 (2, 3)
 """
 
@@ -57,8 +57,11 @@ def _as_vector(name, value, names):
     return array
 
 
-def _prepare_out(out, head, *shapes):
-    """A float array of shape ``head + batch`` (batch: the shapes broadcast), ``out`` itself if it fits."""
+def _prepare_out(out, head, shapes, inputs=()):
+    """A float array of shape ``head + batch`` (batch: the shapes broadcast), ``out`` itself if it fits.
+
+    ``out`` is written in place row by row, so it may not overlap an input array.
+    """
     try:
         batch = np.broadcast_shapes(*shapes)
     except ValueError:
@@ -69,5 +72,7 @@ def _prepare_out(out, head, *shapes):
     if not isinstance(out, np.ndarray) or out.shape != shape or out.dtype != np.float64:
         got = f"{type(out).__name__} of shape {getattr(out, 'shape', None)}, dtype {getattr(out, 'dtype', None)}"
         raise InvalidInput("out", got, f"a float64 ndarray of shape {shape}")
+    if any(np.may_share_memory(out, array) for array in inputs):
+        raise InvalidInput("out", "an array overlapping an input", "a separate array (out is written in place)")
     return out
 '''
