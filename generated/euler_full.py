@@ -12,14 +12,11 @@
 Functions (each also as ``<name>_batched(..., out=None)``):
 
 - ``rhs(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3)`` → (domega1/dt, domega2/dt, domega3/dt): the right-hand side dy/dt
-  t
-  y = (omega1, omega2, omega3): state
-  I11, I12, I13, I22, I23, I33, N1, N2, N3
 - ``jac(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3)`` → shape (3, 3): the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
-  t
-  y = (omega1, omega2, omega3): state
-  I11, I12, I13, I22, I23, I33, N1, N2, N3
 - ``invariants(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3)`` → (E, L2): the invariants E, L2
+
+Arguments, in order (the same for every function):
+
   t
   y = (omega1, omega2, omega3): state
   I11, I12, I13, I22, I23, I33, N1, N2, N3

@@ -11,14 +11,11 @@
 Functions (each also as ``<name>_batched(..., out=None)``):
 
 - ``rhs(t, y, I1, I2, I3, N1, N2, N3)`` → (domega1/dt, domega2/dt, domega3/dt): the right-hand side dy/dt
-  t
-  y = (omega1, omega2, omega3): state
-  I1, I2, I3, N1, N2, N3
 - ``jac(t, y, I1, I2, I3, N1, N2, N3)`` → shape (3, 3): the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
-  t
-  y = (omega1, omega2, omega3): state
-  I1, I2, I3, N1, N2, N3
 - ``invariants(t, y, I1, I2, I3, N1, N2, N3)`` → (E, L2): the invariants E, L2
+
+Arguments, in order (the same for every function):
+
   t
   y = (omega1, omega2, omega3): state
   I1, I2, I3, N1, N2, N3

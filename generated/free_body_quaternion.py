@@ -12,14 +12,11 @@ I ω̇ = (I ω) × ω and q̇ = ½ q ⊗ (0, ω_body).
 Functions (each also as ``<name>_batched(..., out=None)``):
 
 - ``rhs(t, y, I1, I2, I3)`` → (domega1/dt, domega2/dt, domega3/dt, dq0/dt, dq1/dt, dq2/dt, dq3/dt): the right-hand side dy/dt
-  t
-  y = (omega1, omega2, omega3, q0, q1, q2, q3): state
-  I1, I2, I3
 - ``jac(t, y, I1, I2, I3)`` → shape (7, 7): the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
-  t
-  y = (omega1, omega2, omega3, q0, q1, q2, q3): state
-  I1, I2, I3
 - ``invariants(t, y, I1, I2, I3)`` → (E, L2, q_norm2): the invariants E, L2, q_norm2
+
+Arguments, in order (the same for every function):
+
   t
   y = (omega1, omega2, omega3, q0, q1, q2, q3): state
   I1, I2, I3

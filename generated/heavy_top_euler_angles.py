@@ -13,14 +13,11 @@ by zero).
 Functions (each also as ``<name>_batched(..., out=None)``):
 
 - ``rhs(t, y, I1, I3, M, g, l)`` → (dphi/dt, dtheta/dt, dpsi/dt, dphidot/dt, dthetadot/dt, dpsidot/dt): the right-hand side dy/dt
-  t
-  y = (phi, theta, psi, phidot, thetadot, psidot): state
-  I1, I3, M, g, l
 - ``jac(t, y, I1, I3, M, g, l)`` → shape (6, 6): the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
-  t
-  y = (phi, theta, psi, phidot, thetadot, psidot): state
-  I1, I3, M, g, l
 - ``invariants(t, y, I1, I3, M, g, l)`` → (E, p_phi, p_psi): the invariants E, p_phi, p_psi
+
+Arguments, in order (the same for every function):
+
   t
   y = (phi, theta, psi, phidot, thetadot, psidot): state
   I1, I3, M, g, l

@@ -13,14 +13,11 @@ quaternion q̇ = ½ q ⊗ (0, ω). Invariants: E = ½ ω·Iω + M g l Γ3, |Γ|�
 Functions (each also as ``<name>_batched(..., out=None)``):
 
 - ``rhs(t, y, I1, I2, I3, M, g, l)`` → (domega1/dt, domega2/dt, domega3/dt, dGamma1/dt, dGamma2/dt, dGamma3/dt, dq0/dt, dq1/dt, dq2/dt, dq3/dt): the right-hand side dy/dt
-  t
-  y = (omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3): state
-  I1, I2, I3, M, g, l
 - ``jac(t, y, I1, I2, I3, M, g, l)`` → shape (10, 10): the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
-  t
-  y = (omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3): state
-  I1, I2, I3, M, g, l
 - ``invariants(t, y, I1, I2, I3, M, g, l)`` → (E, Gamma_norm2, L_dot_Gamma, q_norm2): the invariants E, Gamma_norm2, L_dot_Gamma, q_norm2
+
+Arguments, in order (the same for every function):
+
   t
   y = (omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3): state
   I1, I2, I3, M, g, l

@@ -184,7 +184,7 @@ def _call(target: str):
 
 def _ode(name, description, source, state, params, rhs, invariants=None, invariant_names=(), notes=()):
     """A ModuleSpec with rhs, jac (and invariants) of (t, y, *params)."""
-    args = (Argument("t", (S.t,), doc="time (the system is autonomous: unused)"),
+    args = (Argument("t", (S.t,), doc="time"),
             Argument("y", tuple(state), vector=True, doc="state"),
             *(Argument(p.name, (p,)) for p in params))
     rhs = sp.Matrix(rhs)

@@ -720,10 +720,14 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
             f"; {a.name} = ({', '.join(a.names)})" for a in f.arguments if a.vector))
     description = textwrap.fill(spec.description.strip(), width=100, break_on_hyphens=False).split("\n")
     doc = ['"""' + description[0], *description[1:], "", "Functions (each also as ``<name>_batched(..., out=None)``):", ""]
+    shared = len({_signature(f) for f in spec.functions}) == 1 and any(a.vector for a in spec.functions[0].arguments)
     for f in spec.functions:
         doc.append(f"- ``{f.name}({_signature(f)})`` → {_outputs_doc(f)}" + (f": {f.doc}" if f.doc else ""))
-        for line in _order_doc(f):
-            doc.append("  " + line.strip())
+        if not shared:
+            doc += ["  " + line.strip() for line in _order_doc(f)]
+    if shared:
+        doc += ["", "Arguments, in order (the same for every function):", ""]
+        doc += ["  " + line.strip() for line in _order_doc(spec.functions[0])]
     doc += ["", "Scalar flavour: Python floats and ``math``; returns a new list on every call (safe with",
             "``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.",
             "Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once",
