@@ -155,8 +155,8 @@ def jacobi_sncndn(u, mc):
     ...     want = float(mpmath.ellipfun("sn", 30, 1 - mpmath.mpf(1e-12)))
     >>> bool(abs(sn[1] - want) < 1e-14)
     True
-    >>> jacobi_sncndn(0.0, 0.3)
-    (array(0.), array(1.), array(1.))
+    >>> [float(v) for v in jacobi_sncndn(0.0, 0.3)]
+    [0.0, 1.0, 1.0]
     """
     u = np.asarray(u, dtype=np.float64)
     mc = float(mc)
@@ -184,7 +184,8 @@ def jacobi_sncndn(u, mc):
     sn = np.where(near, cz / dz, sz)
     cn = np.where(near, rootmc * sz / dz, cz)
     dn = np.where(near, rootmc / dz, dz)
-    return sign_sn * sn, sign_cn * cn, dn
+    shape = u.shape
+    return (sign_sn * sn).reshape(shape), (sign_cn * cn).reshape(shape), np.asarray(dn).reshape(shape)
 
 
 # ----------------------------------------------------------------------------------------------------------------
