@@ -157,7 +157,7 @@ def integrate_heavy_top(I, M, g, l, omega0, q0, t, *, h=None, method="strang"):
     counts, steps = output_steps(tt, h)
     a, b, c, d = qq
     gamma0 = (2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d)  # R(q)ᵀ ẑ
-    state = (I[0] * w0[0], I[1] * w0[1], I[2] * w0[2], *gamma0, *qq.tolist())
+    state = tuple(float(x) for x in (I[0] * w0[0], I[1] * w0[1], I[2] * w0[2], *gamma0, *qq))
     i1inv, nu_coef = 1.0 / I[0], 1.0 / I[2] - 1.0 / I[0]
     subs = (1.0,) if method == "strang" else YOSHIDA_GAMMA
     out = np.empty((tt.size, 10))

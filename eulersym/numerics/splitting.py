@@ -285,12 +285,18 @@ def integrate_free_body(I, omega0, q0, t, *, method="dmv4", h=None, check_body=T
     counts, steps = output_steps(tt, h)
     inv = (1.0 / I[0], 1.0 / I[1], 1.0 / I[2])
     step = _stepper(I, method)
-    state = (I[0] * w0[0], I[1] * w0[1], I[2] * w0[2], *qq.tolist())
+    state = tuple(float(x) for x in (I[0] * w0[0], I[1] * w0[1], I[2] * w0[2], *qq))
     out = np.empty((tt.size, 7))
     out[0] = state
+    normalise = method in ("strang", "yoshida4")  # the DMV normalises inside its step; RK4 is left to drift
+    sqrt = math.sqrt
     for k, (n, hk) in enumerate(zip(counts.tolist(), steps.tolist())):
         for _ in range(n):
             state = step(state, hk, inv)
+            if normalise:
+                m1, m2, m3, q0_, q1_, q2_, q3_ = state
+                r = 1.0 / sqrt(q0_ * q0_ + q1_ * q1_ + q2_ * q2_ + q3_ * q3_)
+                state = (m1, m2, m3, q0_ * r, q1_ * r, q2_ * r, q3_ * r)
         out[k + 1] = state
     if not np.all(np.isfinite(out)):
         raise InvalidInput("h", h, "a step small enough for a finite solution")
