@@ -56,7 +56,14 @@ def test_euler_angles_round_trip(angles):
 
 @pytest.mark.parametrize("theta", [0.0, 1e-12])
 def test_euler_angles_at_singularity(theta):
-    q = _quat_from_matrix(_A(0.4, theta, 0.3).T)
+    from eulersym.numerics import quaternion_multiply
+
+    def qz(a):
+        return np.array([math.cos(a / 2), 0.0, 0.0, math.sin(a / 2)])
+
+    qx = np.array([math.cos(theta / 2), math.sin(theta / 2), 0.0, 0.0])
+    q = quaternion_multiply(quaternion_multiply(qz(0.4), qx), qz(0.3))  # Aᵀ = Rz(φ) Rx(θ) Rz(ψ)
+    assert np.allclose(invariants.rotation_matrix([q])[0], _A(0.4, theta, 0.3).T, atol=1e-15)
     phi, th, psi = invariants.euler_angles([q])[0]
     assert abs(th - theta) < 1e-12
     assert abs((phi + psi) - 0.7) < 1e-9
