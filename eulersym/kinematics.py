@@ -35,6 +35,7 @@ __all__ = [
     "euler_rate_matrix",
     "euler_rates",
     "quaternion_rate",
+    "space_rate_in_body",
 ]
 
 _E = {"x": sp.Matrix([1, 0, 0]), "y": sp.Matrix([0, 1, 0]), "z": sp.Matrix([0, 0, 1])}
@@ -210,3 +211,25 @@ def quaternion_rate(q, omega_body):
         raise InvalidInput("omega_body", omega_body, "three body components")
     w = quaternion_multiply(q, [0, *omega_body])
     return w / 2
+
+
+def space_rate_in_body(G_body, convention: str = "zxz") -> sp.Matrix:
+    """Body components of the space-frame rate of a vector: ``A · d/dt (Aᵀ G_body)``.
+
+    Differentiates the space components ``G_space = Aᵀ G_body`` and maps the result back to the body frame; §4.4's
+    operator relation ``(dG/dt)_space = (dG/dt)_body + ω × G`` is this, once ω is recognised (``eulersym check``
+    entry ``4.4.rotating_frame``).
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from eulersym.compare import compare
+    >>> G = sp.Matrix(sp.symbols("G1:4"))  # a vector fixed in the body
+    >>> compare(space_rate_in_body(G), omega_body().cross(G)).equal
+    True
+    """
+    G = sp.Matrix(G_body)
+    if G.shape != (3, 1):
+        raise InvalidInput("G_body", G_body, "a 3-vector of body components")
+    A = euler_matrix(*euler_angles, convention=convention)
+    return (A * (A.T * G).diff(t)).applyfunc(sp.expand)
