@@ -71,13 +71,15 @@ def rotate_to_body(q, v):
 # --------------------------------------------------------------------------------------------------------------
 
 
-def dop853_batched(fun, y0, t_eval, *, rtol, atol, chunk=16384, progress=None):
+def dop853_batched(fun, y0, t_eval, *, params=(), rtol, atol, chunk=16384, progress=None):
     """Integrate ``y' = fun(t, y)`` for a batch of states at once with Dormand–Prince 8(5,3).
 
     Parameters
     ----------
-    fun : callable ``fun(t, y) -> ydot``, y of shape (n, batch) (state first, batch after)
+    fun : callable ``fun(t, y, *params) -> ydot``, y of shape (n, batch) (state first, batch after)
     y0 : ndarray (n, batch)
+    params : sequence
+        Extra arguments of ``fun``: numbers, or arrays of shape (batch,) (one value per member; sliced per chunk).
     t_eval : ndarray (m,), increasing, ``t_eval[0]`` the start
     rtol, atol : float
         Tolerances as in ``scipy.integrate.solve_ivp``; the step of a chunk is accepted when the error norm of
@@ -104,7 +106,8 @@ def dop853_batched(fun, y0, t_eval, *, rtol, atol, chunk=16384, progress=None):
         hi = min(lo + chunk, batch)
         if hi <= lo:
             break
-        Y[:, :, lo:hi], c = _dop853_chunk(fun, y0[:, lo:hi], t_eval, rtol, atol,
+        sliced = tuple(p[lo:hi] if np.ndim(p) == 1 and len(p) == batch else p for p in params)
+        Y[:, :, lo:hi], c = _dop853_chunk(lambda tt, y: fun(tt, y, *sliced), y0[:, lo:hi], t_eval, rtol, atol,
                                           None if progress is None else (lambda f, lo=lo, hi=hi: progress((lo + f * (hi - lo)) / batch)))
         calls += c
     return Y, calls
@@ -358,10 +361,10 @@ def _torque_free(scene, plan, call, t, moments, omega0, q0, rot0, members, batch
         I = [moments[:, k] for k in range(3)]
         if wants_q:
             y0 = np.concatenate([omega0, q0], axis=1).T
-            Y, calls = dop853_batched(lambda tt, y: gen.rhs_batched(tt, y, *I), y0, t, rtol=scene.accuracy, atol=_atol(scene), progress=bar.fraction)
+            Y, calls = dop853_batched(gen.rhs_batched, y0, t, params=I, rtol=scene.accuracy, atol=_atol(scene), progress=bar.fraction)
             return np.moveaxis(Y[:, :3], (0, 1, 2), (1, 2, 0)), _normalise(np.moveaxis(Y[:, 3:], (0, 1, 2), (1, 2, 0))), None, calls
         zeros = np.zeros(batch)
-        Y, calls = dop853_batched(lambda tt, y: gen.rhs_batched(tt, y, *I, zeros, zeros, zeros), omega0.T, t, rtol=scene.accuracy, atol=_atol(scene), progress=bar.fraction)
+        Y, calls = dop853_batched(gen.rhs_batched, omega0.T, t, params=(*I, zeros, zeros, zeros), rtol=scene.accuracy, atol=_atol(scene), progress=bar.fraction)
         return np.moveaxis(Y, (0, 1, 2), (1, 2, 0)), None, None, calls
     I = tuple(moments[0])
     method = plan.options.get("ivp_method", scene.method if scene.method in ("DOP853", "RK45", "Radau", "LSODA") else "DOP853")
@@ -405,7 +408,7 @@ def _heavy_top(scene, plan, call, t, moments, omega0, q0, rot0, members, batch, 
     if call == "batched":
         params = [moments[:, 0], moments[:, 1], moments[:, 2], M, g, l]
         y0 = np.concatenate([omega0, gamma0, q0], axis=1).T
-        Y, calls = dop853_batched(lambda tt, y: gen.rhs_batched(tt, y, *params), y0, t, rtol=scene.accuracy, atol=_atol(scene), progress=bar.fraction)
+        Y, calls = dop853_batched(gen.rhs_batched, y0, t, params=params, rtol=scene.accuracy, atol=_atol(scene), progress=bar.fraction)
         Y = np.moveaxis(Y, (0, 1, 2), (1, 2, 0))  # (batch, n, state)
         return Y[..., :3], _normalise(Y[..., 6:10]), Y[..., 3:6], calls
     I = tuple(moments[0])
@@ -439,23 +442,24 @@ def _torqued(scene, plan, call, t, moments, omega0, q0, rot0, members, batch, ba
     space = scene.torque_frame == "space"
     N = _member_vector(scene, members, "torque", batch)
     I = [moments[:, k] for k in range(3)]
+    params = (*I, N[:, 0], N[:, 1], N[:, 2])
     if wants_q:
         free = importlib.import_module("eulersym.generated.free_body_quaternion")
 
-        def fun(tt, y):  # y (7, batch)
-            torque = rotate_to_body(y[3:7], N.T) if space else N.T
-            dw = euler.rhs_batched(tt, y[:3], *I, torque[0], torque[1], torque[2])
-            dq = free.rhs_batched(tt, y, *I)[3:7]
+        def fun(tt, y, I1, I2, I3, N1, N2, N3):  # y (7, batch)
+            torque = rotate_to_body(y[3:7], np.stack([N1, N2, N3])) if space else (N1, N2, N3)
+            dw = euler.rhs_batched(tt, y[:3], I1, I2, I3, torque[0], torque[1], torque[2])
+            dq = free.rhs_batched(tt, y, I1, I2, I3)[3:7]
             return np.concatenate([dw, dq], axis=0)
 
         y0 = np.concatenate([omega0, q0], axis=1).T
     else:
-        def fun(tt, y):
-            return euler.rhs_batched(tt, y, *I, N[:, 0], N[:, 1], N[:, 2])
+        def fun(tt, y, *p):
+            return euler.rhs_batched(tt, y, *p)
 
         y0 = omega0.T
     if call == "batched":
-        Y, calls = dop853_batched(fun, y0, t, rtol=scene.accuracy, atol=_atol(scene), progress=bar.fraction)
+        Y, calls = dop853_batched(fun, y0, t, params=params, rtol=scene.accuracy, atol=_atol(scene), progress=bar.fraction)
         Y = np.moveaxis(Y, (0, 1, 2), (1, 2, 0))
         return Y[..., :3], (_normalise(Y[..., 3:7]) if wants_q else None), None, calls
     method = plan.options.get("ivp_method", "DOP853")
@@ -465,7 +469,7 @@ def _torqued(scene, plan, call, t, moments, omega0, q0, rot0, members, batch, ba
         return traj.omega[None], None, None, traj.n_rhs_calls
     from scipy.integrate import solve_ivp
 
-    sol = solve_ivp(lambda tt, y: fun(tt, y[:, None])[:, 0], (t[0], t[-1]), y0[:, 0], method=method, t_eval=t, rtol=scene.accuracy, atol=_atol(scene))
+    sol = solve_ivp(lambda tt, y: fun(tt, y[:, None], *params)[:, 0], (t[0], t[-1]), y0[:, 0], method=method, t_eval=t, rtol=scene.accuracy, atol=_atol(scene))
     if not sol.success:
         raise InvalidInput("accuracy", scene.accuracy, f"an accuracy {method} can reach ({sol.message})")
     return sol.y[:3].T[None], _normalise(sol.y[3:7].T)[None], None, sol.nfev
