@@ -71,7 +71,7 @@ def rotate_to_body(q, v):
 # --------------------------------------------------------------------------------------------------------------
 
 
-def dop853_batched(fun, y0, t_eval, *, params=(), rtol, atol, chunk=16384, progress=None):
+def dop853_batched(fun, y0, t_eval, *, params=(), rtol, atol, chunk=4096, progress=None):
     """Integrate ``y' = fun(t, y)`` for a batch of states at once with Dormand–Prince 8(5,3).
 
     Parameters
@@ -113,8 +113,40 @@ def dop853_batched(fun, y0, t_eval, *, params=(), rtol, atol, chunk=16384, progr
     return Y, calls
 
 
+def _runs(weights) -> tuple:
+    """Contiguous runs of non-zero weights: ((start, stop, weights[..., start:stop]), ...) (rows of weights may be
+    stacked: the runs are where any row is non-zero)."""
+    w = np.atleast_2d(weights)
+    nonzero = np.flatnonzero(np.any(w != 0, axis=0))
+    runs, start = [], None
+    for k, j in enumerate(nonzero):
+        if start is None:
+            start = j
+        if k + 1 == len(nonzero) or nonzero[k + 1] != j + 1:
+            runs.append((int(start), int(j + 1), np.ascontiguousarray(np.asarray(weights)[..., start:j + 1])))
+            start = None
+    return tuple(runs)
+
+
+def _combine(K, runs):
+    """Σ_j w_j K[j] over the non-zero weights, reading K in contiguous blocks (no copies of K)."""
+    total = None
+    for a, b, w in runs:
+        part = np.einsum("...s,snb->...nb", w, K[a:b])
+        if total is None:
+            total = part
+        else:
+            total += part
+    return total
+
+
+_A_RUNS = tuple(_runs(DOP853.A[s, :s]) for s in range(DOP853.n_stages))
+_B_RUNS = _runs(DOP853.B)
+_E_RUNS = _runs(np.stack([DOP853.E5, DOP853.E3]))
+
+
 def _dop853_chunk(fun, y0, t_eval, rtol, atol, progress):
-    A, B, C, E3, E5 = DOP853.A, DOP853.B, DOP853.C, DOP853.E3, DOP853.E5
+    C = DOP853.C
     S = DOP853.n_stages
     exponent = -1.0 / (DOP853.error_estimator_order + 1)
     n, b = y0.shape
@@ -144,15 +176,23 @@ def _dop853_chunk(fun, y0, t_eval, rtol, atol, progress):
             clipped = h_use < h
             K[0] = f
             for s in range(1, S):
-                dy = np.tensordot(A[s, :s], K[:s], axes=(0, 0))
-                K[s] = fun(t + C[s] * h_use, y + h_use * dy)
-            y_new = y + h_use * np.tensordot(B, K[:S], axes=(0, 0))
+                dy = _combine(K, _A_RUNS[s])
+                dy *= h_use
+                dy += y
+                K[s] = fun(t + C[s] * h_use, dy)
+            y_new = _combine(K, _B_RUNS)
+            y_new *= h_use
+            y_new += y
             f_new = np.asarray(fun(t + h_use, y_new), dtype=float)
             K[S] = f_new
             calls += S
-            scale = atol + np.maximum(np.abs(y), np.abs(y_new)) * rtol
-            e5 = np.sum((np.tensordot(E5, K, axes=(0, 0)) / scale) ** 2, axis=0)
-            e3 = np.sum((np.tensordot(E3, K, axes=(0, 0)) / scale) ** 2, axis=0)
+            scale = np.maximum(np.abs(y), np.abs(y_new))
+            scale *= rtol
+            scale += atol
+            err53 = _combine(K, _E_RUNS)
+            err53 /= scale
+            err53 *= err53
+            e5, e3 = np.sum(err53, axis=1)
             denom = e5 + 0.01 * e3
             with np.errstate(invalid="ignore", divide="ignore"):
                 norms = np.where(denom > 0, h_use * e5 / np.sqrt(denom * n), 0.0)
@@ -496,7 +536,7 @@ def _outputs(scene, plan, t, moments, P, rot_P, omega_pr, q_pr, gamma, members, 
     notes = []
     omega_body = omega_pr @ P.T
     attitude = euler_angles = None
-    if q_pr is not None:
+    if q_pr is not None and ("attitude" in outputs or "euler_angles" in outputs):
         n = q_pr.shape[1]
         rot_pr = quaternion_to_rotation(q_pr.reshape(-1, 4))
         rot_body = rot_pr * Rotation.from_matrix(np.repeat(P.T[None], len(rot_pr), axis=0))
