@@ -562,6 +562,15 @@ def test_cli_writes_npz_and_csv(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.csv", "out.npz"]
 
 
+@needs_numerics
+def test_cli_plot_writes_png(tmp_path):
+    pytest.importorskip("matplotlib")
+    path = tmp_path / "racket.png"
+    assert _main("tennis-racket", "--plot", str(path)) == 0
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert oct(path.stat().st_mode & 0o777) != oct(0o600)
+
+
 @needs_kernels
 def test_sweep_csv_has_member_columns(tmp_path):
     r = simulate(Scene(**{**TOP, "t_end": 0.05, "points": 3, "omega": (0, 0, [100.0, 120.0]), "outputs": ("omega",), "accuracy": 1e-6}))
