@@ -143,10 +143,16 @@ def make_plan(scene, moments=None) -> Plan:
         else:
             module = "free_body_quaternion" if wants_attitude else "euler_principal"
             kernels.append(module)
-            engine = f"integrate: {method} on {module}"
-            steps.append(Step("integrate", f"solve_ivp {method} on {module}", f"asked for, at rtol = {scene.accuracy:g}"))
-            options["call"] = "integrate_ivp"
             options["module"] = module
+            if batch > 1:
+                engine = f"integrate: batched DOP853 on {module}"
+                steps.append(Step("integrate", f"{batch} members in one vectorised pass", f"adaptive DOP853 on the batched kernel, rtol = {scene.accuracy:g}"))
+                options["call"] = "batched"
+            else:
+                engine = f"integrate: {method} on {module}"
+                steps.append(Step("integrate", f"solve_ivp {method} on {module}", f"asked for, at rtol = {scene.accuracy:g}"))
+                options["call"] = "integrate_ivp"
+                options["ivp_method"] = method
         if not wants_attitude and "attitude" not in propagate:
             skipped.append(Step("skip", "attitude propagation", "no output needs the attitude; Euler's equations with N = 0 close on ω alone"))
     elif regime == "heavy top":

@@ -338,6 +338,20 @@ def test_quaternion_helpers_agree_with_scipy(rng):
     assert np.allclose(rotate_to_body(q.T, v), expected, atol=1e-13)
 
 
+def test_progress_bar_only_when_enabled():
+    import io
+
+    from eulersym._scene_io import Progress
+
+    quiet, loud = io.StringIO(), io.StringIO()
+    for stream, enabled in ((quiet, False), (loud, True)):
+        bar = Progress("demo", enabled=enabled, stream=stream)
+        bar.fraction(0.5)
+        bar.fraction(1.0)
+        bar.done()
+    assert quiet.getvalue() == "" and "100.0%" in loud.getvalue()
+
+
 def test_atomic_write_leaves_nothing_on_error(tmp_path):
     target = tmp_path / "out.npz"
 
@@ -409,6 +423,17 @@ def test_torque_free_omega_only_matches_independent_integration_and_propagates_n
     ref = solve_ivp(_euler_rhs(FREE["moments"]), (0, FREE["t_end"]), FREE["omega"], t_eval=result.t, rtol=1e-12, atol=1e-14, method="DOP853")
     assert np.max(np.abs(result.omega - ref.y.T)) < 1e-9
     assert result.drift["energy"] < 1e-12 and result.drift["L2"] < 1e-12
+
+
+@needs_kernels
+def test_asked_for_dop853_agrees_with_the_closed_form():
+    exact = simulate(Scene(**{**FREE, "outputs": ("omega",)}))
+    ivp = simulate(Scene(**{**FREE, "outputs": ("omega",), "method": "DOP853", "accuracy": 1e-11}))
+    assert ivp.plan.engine == "integrate: DOP853 on euler_principal" and ivp.n_rhs_calls > 0
+    assert np.max(np.abs(ivp.omega - exact.omega)) < 1e-8
+    swept = simulate(Scene(**{**FREE, "omega": (0.1, [1.0, 1.5], 0.2), "outputs": ("omega",), "method": "DOP853", "accuracy": 1e-11}))
+    assert swept.plan.engine == "integrate: batched DOP853 on euler_principal"
+    assert np.max(np.abs(swept.omega[0] - exact.omega)) < 1e-8
 
 
 @needs_numerics
