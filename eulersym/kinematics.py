@@ -1,0 +1,235 @@
+"""Angular velocity in Euler angles (§4.2.2), derived from the attitude matrix.
+
+Two derivations, shown equal in the tests and by ``eulersym check``:
+
+* **composition** (used for the results, no simplification needed): for the body-fixed sequence "abc",
+  ``ω = φ̇ e_a + θ̇ e_b' + ψ̇ e_c''``, each rate about the axis it turns, expressed in body components:
+  ``ω_body = P_c(ψ) P_b(θ) e_a φ̇ + P_c(ψ) e_b θ̇ + e_c ψ̇``;
+* **the skew matrix** of the definition: with ``r_body = A r_space``, a vector fixed in space moves in the body frame as
+  ``ṙ_body = Ȧ Aᵀ r_body = −ω × r_body``, so ``[ω_body]× = −Ȧ Aᵀ`` and ``[ω_space]× = −Aᵀ Ȧ``
+  (:func:`angular_velocity_matrix`).
+
+Examples
+--------
+>>> from eulersym.compare import compare
+>>> from eulersym.rotation import skew
+>>> compare(skew(omega_body()), angular_velocity_matrix()).exact
+True
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import sympy as sp
+
+from eulersym.errors import InvalidInput, SingularConfiguration
+from eulersym.rotation import _convention, elementary, euler_matrix, quaternion_multiply
+from eulersym.symbols import euler_angles, t
+
+__all__ = [
+    "omega_body",
+    "omega_space",
+    "angular_velocity_matrix",
+    "euler_rate_matrix",
+    "euler_rates",
+    "quaternion_rate",
+    "space_rate_in_body",
+]
+
+_E = {"x": sp.Matrix([1, 0, 0]), "y": sp.Matrix([0, 1, 0]), "z": sp.Matrix([0, 0, 1])}
+
+
+@functools.lru_cache(maxsize=32)
+def omega_body(convention: str = "zxz") -> sp.Matrix:
+    """Body components of the angular velocity in terms of the Euler angles and their rates.
+
+    ``ω_body = P_c(ψ) P_b(θ) e_a φ̇ + P_c(ψ) e_b θ̇ + e_c ψ̇`` for the passive body-fixed sequence "abc"
+    (:func:`eulersym.rotation.euler_matrix`); for the text's "zxz" this is §4.2's three formulas.
+
+    Parameters
+    ----------
+    convention : str
+        One of :data:`eulersym.rotation.CONVENTIONS`.
+
+    Returns
+    -------
+    sympy.Matrix (3×1) in ``phi, theta, psi`` (functions of t) and their first derivatives.
+
+    Examples
+    --------
+    >>> omega_body()
+    Matrix([
+    [ sin(psi(t))*sin(theta(t))*Derivative(phi(t), t) + cos(psi(t))*Derivative(theta(t), t)],
+    [-sin(psi(t))*Derivative(theta(t), t) + sin(theta(t))*cos(psi(t))*Derivative(phi(t), t)],
+    [                           cos(theta(t))*Derivative(phi(t), t) + Derivative(psi(t), t)]])
+    """
+    a, b, c = _convention(convention)
+    phi, theta, psi = euler_angles
+    Pc, Pb = elementary(c, psi), elementary(b, theta)
+    w = Pc * Pb * _E[a] * phi.diff(t) + Pc * _E[b] * theta.diff(t) + _E[c] * psi.diff(t)
+    return w.applyfunc(sp.expand)
+
+
+@functools.lru_cache(maxsize=32)
+def omega_space(convention: str = "zxz") -> sp.Matrix:
+    """Space components of the angular velocity: ``ω_space = Aᵀ ω_body``, composed without simplification.
+
+    ``ω_space = e_a φ̇ + P_a(φ)ᵀ e_b θ̇ + P_a(φ)ᵀ P_b(θ)ᵀ e_c ψ̇``.
+
+    Examples
+    --------
+    >>> omega_space()[2]
+    cos(theta(t))*Derivative(psi(t), t) + Derivative(phi(t), t)
+    """
+    a, b, c = _convention(convention)
+    phi, theta, psi = euler_angles
+    PaT, PbT = elementary(a, phi).T, elementary(b, theta).T
+    w = _E[a] * phi.diff(t) + PaT * _E[b] * theta.diff(t) + PaT * PbT * _E[c] * psi.diff(t)
+    return w.applyfunc(sp.expand)
+
+
+def angular_velocity_matrix(convention: str = "zxz", frame: str = "body") -> sp.Matrix:
+    """The skew matrix of the definition: ``−Ȧ Aᵀ`` (frame="body") or ``−Aᵀ Ȧ`` (frame="space"), unsimplified.
+
+    Its entries equal ``skew(omega_body())`` (resp. ``skew(omega_space())``) once sin² + cos² = 1 is used; the
+    equality is proven in the tests and by ``eulersym check`` (entry ``4.2.omega_skew``).
+
+    Examples
+    --------
+    >>> W = angular_velocity_matrix()
+    >>> W.shape
+    (3, 3)
+    """
+    if frame not in ("body", "space"):
+        raise InvalidInput("frame", frame, "'body' or 'space'")
+    A = euler_matrix(*euler_angles, convention=convention)
+    Adot = A.diff(t)
+    W = -Adot * A.T if frame == "body" else -A.T * Adot
+    return W.applyfunc(sp.expand)
+
+
+@functools.lru_cache(maxsize=32)
+def euler_rate_matrix(convention: str = "zxz") -> sp.Matrix:
+    """The matrix J(φ, θ, ψ) with ``ω_body = J · (φ̇, θ̇, ψ̇)``, and its determinant's zero set is the singularity.
+
+    Examples
+    --------
+    >>> sp.trigsimp(euler_rate_matrix().det())
+    -sin(theta(t))
+    """
+    w = omega_body(convention)
+    rates = [q.diff(t) for q in euler_angles]
+    return w.jacobian(rates)
+
+
+def euler_rates(omega_body, angles, convention: str = "zxz"):
+    """Invert ``ω_body = J(angles) · rates`` for the Euler-angle rates (φ̇, θ̇, ψ̇).
+
+    Parameters
+    ----------
+    omega_body : sequence of 3 (numbers or SymPy expressions)
+        Body components of ω.
+    angles : sequence of 3 (φ, θ, ψ), numbers or SymPy expressions
+    convention : str
+
+    Returns
+    -------
+    tuple of 3: floats for numeric input, SymPy expressions otherwise.
+
+    Raises
+    ------
+    SingularConfiguration
+        At the coordinate singularity (sin θ = 0 for "zxz"; cos θ = 0 for Tait–Bryan sequences), where the rates are
+        not determined by ω; numerically when |det J| < 1e-12. Use quaternions there.
+
+    Examples
+    --------
+    >>> euler_rates([0.0, 0.0, 1.0], [0.1, 0.5, 0.2])  # doctest: +ELLIPSIS
+    (0.0, 0.0, 1.0)
+    >>> euler_rates([0, 0, 1], [0.0, 0.0, 0.0])
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.SingularConfiguration: angles=[0.0, 0.0, 0.0] is not valid: expected a non-singular attitude for 'zxz' (det J = 0 here; J is singular where sin(theta) = 0): integrate with quaternions there
+    """
+    J = euler_rate_matrix(convention)
+    syms = list(euler_angles)
+    if len(angles) != 3:
+        raise InvalidInput("angles", angles, "three angles (phi, theta, psi)")
+    if len(omega_body) != 3:
+        raise InvalidInput("omega_body", omega_body, "three body components")
+    where = _singular_set(convention)
+    numeric = all(not isinstance(v, sp.Basic) for v in [*angles, *omega_body])
+    if numeric:
+        f = _rate_matrix_function(convention)
+        Jn = np.asarray(f(*[float(a) for a in angles]), dtype=float)
+        det = np.linalg.det(Jn)
+        if not abs(det) >= 1e-12:
+            raise SingularConfiguration(
+                "angles", list(angles),
+                f"a non-singular attitude for {convention!r} (det J = {det:.3g} here; J is singular where {where}): "
+                "integrate with quaternions there",
+            )
+        rates = np.linalg.solve(Jn, np.asarray(omega_body, dtype=float))
+        return tuple(float(r) for r in rates)
+    Jv = J.xreplace(dict(zip(syms, [sp.sympify(a) for a in angles])))
+    det = sp.trigsimp(Jv.det())
+    if det == 0:
+        raise SingularConfiguration(
+            "angles", list(angles), f"a non-singular attitude for {convention!r} (J is singular where {where})"
+        )
+    rates = Jv.LUsolve(sp.Matrix(omega_body))
+    return tuple(sp.trigsimp(sp.simplify(r)) for r in rates)
+
+
+def _singular_set(convention: str) -> str:
+    a, b, c = _convention(convention)
+    return "sin(theta) = 0" if a == c else "cos(theta) = 0"
+
+
+@functools.lru_cache(maxsize=32)
+def _rate_matrix_function(convention: str):
+    J = euler_rate_matrix(convention)
+    return sp.lambdify(list(euler_angles), J, modules="numpy")
+
+
+def quaternion_rate(q, omega_body):
+    """Rate of the attitude quaternion: ``q̇ = ½ q ⊗ (0, ω_body)``.
+
+    From composition: over dt the body turns by ω dt about its own axes, ``q(t + dt) = q(t) ⊗ (1, ½ ω dt)``. Scalar
+    first; q describes the body's orientation (:func:`eulersym.rotation.from_quaternion`).
+
+    Examples
+    --------
+    >>> quaternion_rate([1.0, 0, 0, 0], [0, 0, 2.0])
+    array([0., 0., 0., 1.])
+    """
+    if len(q) != 4:
+        raise InvalidInput("q", q, "4 components (scalar first)")
+    if len(omega_body) != 3:
+        raise InvalidInput("omega_body", omega_body, "three body components")
+    w = quaternion_multiply(q, [0, *omega_body])
+    return w / 2
+
+
+def space_rate_in_body(G_body, convention: str = "zxz") -> sp.Matrix:
+    """Body components of the space-frame rate of a vector: ``A · d/dt (Aᵀ G_body)``.
+
+    Differentiates the space components ``G_space = Aᵀ G_body`` and maps the result back to the body frame; §4.4's
+    operator relation ``(dG/dt)_space = (dG/dt)_body + ω × G`` is this, once ω is recognised (``eulersym check``
+    entry ``4.4.rotating_frame``).
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from eulersym.compare import compare
+    >>> G = sp.Matrix(sp.symbols("G1:4"))  # a vector fixed in the body
+    >>> compare(space_rate_in_body(G), omega_body().cross(G)).equal
+    True
+    """
+    G = sp.Matrix(G_body)
+    if G.shape != (3, 1):
+        raise InvalidInput("G_body", G_body, "a 3-vector of body components")
+    A = euler_matrix(*euler_angles, convention=convention)
+    return (A * (A.T * G).diff(t)).applyfunc(sp.expand)

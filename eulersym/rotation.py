@@ -1,0 +1,499 @@
+"""Rotations and the group SO(3) (§4.1–§4.2 of the text).
+
+Convention (Goldstein's, the text's): **passive**. A rotation matrix ``A`` maps the space-frame components of a vector
+to its body-frame components, ``r_body = A @ r_space``. ``from_axis_angle(n, α)`` is the matrix of the body frame
+obtained by turning the space frame by the angle α (right-handed) about the unit axis n; with the active rotation
+``R(n, α) = I + sin α [n]× + (1 − cos α)[n]×²`` (Rodrigues), ``A = R(n, α)ᵀ``.
+
+The text's elementary rotations are derived from that one formula — ``D(φ)`` and ``B(ψ)`` about z, ``C(θ)`` about x
+(the line of nodes) — and the Euler matrix is ``A = B(ψ) C(θ) D(φ)``. Relation to SciPy (whose matrices are active):
+``euler_matrix(φ, θ, ψ, "zxz") == Rotation.from_euler("ZXZ", [φ, θ, ψ]).as_matrix().T`` and in general, for a
+lower-case sequence ``"abc"`` of this module, SciPy's intrinsic sequence ``"ABC"`` with the same angles, transposed.
+
+Quaternions are unit, scalar first, ``q = (cos α/2, sin α/2 · n)``, and describe the same rotation as
+``from_axis_angle(n, α)``: ``from_quaternion(q) = R(q)ᵀ`` with ``R(q)`` the active matrix (body → space).
+
+Examples
+--------
+>>> import sympy as sp
+>>> from eulersym.symbols import phi, theta, psi
+>>> A = euler_matrix(phi, theta, psi)
+>>> A == B(psi) * C(theta) * D(phi)
+True
+>>> is_rotation(A)
+True
+"""
+
+from __future__ import annotations
+
+import functools
+import random
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from eulersym.errors import InvalidInput
+from eulersym.validation import finite_array
+
+__all__ = [
+    "CONVENTIONS",
+    "skew",
+    "from_axis_angle",
+    "elementary",
+    "D",
+    "C",
+    "B",
+    "euler_matrix",
+    "is_rotation",
+    "axis_angle",
+    "to_quaternion",
+    "from_quaternion",
+    "quaternion_multiply",
+    "degrees_of_freedom",
+]
+
+#: The 12 Euler (proper, a = c) and Tait–Bryan (all different) sequences: the body-fixed axes of the three
+#: successive passive rotations, first to last. "zxz" is the text's.
+CONVENTIONS = (
+    "zxz", "xyx", "yzy", "zyz", "xzx", "yxy",
+    "xyz", "yzx", "zxy", "xzy", "zyx", "yxz",
+)
+
+_AXES = {"x": (1, 0, 0), "y": (0, 1, 0), "z": (0, 0, 1)}
+
+
+def _is_numeric(*values) -> bool:
+    """True when every value is a plain number or NumPy array (not a SymPy object)."""
+    return all(not isinstance(v, sp.Basic) and not isinstance(v, sp.MatrixBase) for v in values)
+
+
+def skew(v):
+    """The cross-product matrix ``[v]×`` with ``[v]× w = v × w``.
+
+    Parameters
+    ----------
+    v : sequence of 3 (SymPy or numbers)
+
+    Returns
+    -------
+    sympy.Matrix for SymPy input, else a (3, 3) ndarray.
+
+    Examples
+    --------
+    >>> skew([1, 2, 3]) @ np.array([0, 0, 1.0])
+    array([ 2., -1.,  0.])
+    """
+    if _is_numeric(*list(v)):
+        x, y, z = finite_array("v", v, shape=(3,))
+        return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+    x, y, z = [sp.sympify(c) for c in v]
+    return sp.Matrix([[0, -z, y], [z, 0, -x], [-y, x, 0]])
+
+
+def _unit_axis(axis):
+    if isinstance(axis, str):
+        if axis not in _AXES:
+            raise InvalidInput("axis", axis, "'x', 'y', 'z' or a 3-vector")
+        return _AXES[axis]
+    return axis
+
+
+def from_axis_angle(axis, angle):
+    """Passive rotation matrix of the frame turned by ``angle`` about ``axis``: ``r_body = A @ r_space``.
+
+    ``A = I − sin α [n]× + (1 − cos α) [n]×²`` — the transpose of Rodrigues' active rotation. The axis is normalised
+    (it must not be zero); ``"x"``, ``"y"``, ``"z"`` name the coordinate axes.
+
+    Parameters
+    ----------
+    axis : 'x', 'y', 'z' or sequence of 3
+    angle : SymPy expression or float (radians)
+
+    Returns
+    -------
+    sympy.Matrix for SymPy input, (3, 3) ndarray for floats.
+
+    Examples
+    --------
+    >>> from eulersym.symbols import phi
+    >>> from_axis_angle("z", phi)
+    Matrix([
+    [ cos(phi(t)), sin(phi(t)), 0],
+    [-sin(phi(t)), cos(phi(t)), 0],
+    [           0,           0, 1]])
+    >>> np.allclose(from_axis_angle([1, 1, 1], 2 * np.pi / 3), [[0, 1, 0], [0, 0, 1], [1, 0, 0]])
+    True
+    """
+    axis = _unit_axis(axis)
+    if _is_numeric(*list(axis), angle):
+        n = finite_array("axis", axis, shape=(3,))
+        norm = np.linalg.norm(n)
+        if norm == 0.0:
+            raise InvalidInput("axis", axis, "a non-zero 3-vector")
+        angle = float(finite_array("angle", angle, shape=()))
+        K = skew(n / norm)
+        return np.eye(3) - np.sin(angle) * K + (1.0 - np.cos(angle)) * (K @ K)
+    n = sp.Matrix([sp.sympify(c) for c in axis])
+    if len(n) != 3:
+        raise InvalidInput("axis", axis, "a 3-vector")
+    norm2 = (n.T * n)[0, 0]
+    if norm2 == 0:
+        raise InvalidInput("axis", axis, "a non-zero 3-vector")
+    if norm2 != 1:
+        n = n / sp.sqrt(norm2)
+    K = skew(n)
+    angle = sp.sympify(angle)
+    return sp.eye(3) - sp.sin(angle) * K + (1 - sp.cos(angle)) * (K * K).applyfunc(sp.expand)
+
+
+def elementary(axis: str, angle):
+    """The passive elementary rotation about a coordinate axis ``'x'``, ``'y'`` or ``'z'``.
+
+    Examples
+    --------
+    >>> elementary("x", sp.pi / 2)
+    Matrix([
+    [1,  0, 0],
+    [0,  0, 1],
+    [0, -1, 0]])
+    """
+    if axis not in _AXES:
+        raise InvalidInput("axis", axis, "one of 'x', 'y', 'z'")
+    return from_axis_angle(axis, angle)
+
+
+def D(phi):
+    """Precession: passive rotation by φ about the space z-axis (§4.2), ``D(φ) = from_axis_angle('z', φ)``.
+
+    Examples
+    --------
+    >>> from eulersym.symbols import phi
+    >>> D(phi)
+    Matrix([
+    [ cos(phi(t)), sin(phi(t)), 0],
+    [-sin(phi(t)), cos(phi(t)), 0],
+    [           0,           0, 1]])
+    """
+    return from_axis_angle("z", sp.sympify(phi))
+
+
+def C(theta):
+    """Nutation: passive rotation by θ about the line of nodes (the intermediate x-axis), §4.2.
+
+    Examples
+    --------
+    >>> from eulersym.symbols import theta
+    >>> C(theta)
+    Matrix([
+    [1,              0,             0],
+    [0,  cos(theta(t)), sin(theta(t))],
+    [0, -sin(theta(t)), cos(theta(t))]])
+    """
+    return from_axis_angle("x", sp.sympify(theta))
+
+
+def B(psi):
+    """Spin: passive rotation by ψ about the body z'-axis (§4.2).
+
+    Examples
+    --------
+    >>> from eulersym.symbols import psi
+    >>> B(psi)[0, :]
+    Matrix([[cos(psi(t)), sin(psi(t)), 0]])
+    """
+    return from_axis_angle("z", sp.sympify(psi))
+
+
+def _convention(convention: str) -> str:
+    if convention not in CONVENTIONS:
+        hint = ""
+        if isinstance(convention, str) and convention.lower() in CONVENTIONS:
+            hint = (
+                f" (upper case is not accepted: {convention.lower()!r} is the body-fixed sequence; the space-fixed "
+                f"sequence 'abc' with angles (φ, θ, ψ) equals the body-fixed 'cba' with (ψ, θ, φ))"
+            )
+        raise InvalidInput("convention", convention, "one of " + ", ".join(CONVENTIONS) + hint)
+    return convention
+
+
+def _numeric_elementary(axis: str, angle: np.ndarray) -> np.ndarray:
+    """Passive elementary rotations, broadcast over an array of angles: shape angle.shape + (3, 3)."""
+    c, s = np.cos(angle), np.sin(angle)
+    one, zero = np.ones_like(c), np.zeros_like(c)
+    i = "xyz".index(axis)
+    j, k = (i + 1) % 3, (i + 2) % 3
+    out = np.zeros(np.shape(angle) + (3, 3))
+    out[..., i, i] = one
+    out[..., j, j] = c
+    out[..., k, k] = c
+    out[..., j, k] = s
+    out[..., k, j] = -s
+    del zero
+    return out
+
+
+def euler_matrix(phi, theta, psi, convention: str = "zxz"):
+    """The attitude matrix from three Euler (or Tait–Bryan) angles, passive and body-fixed.
+
+    For the sequence ``"abc"``: turn by φ about a, then by θ about the new b, then by ψ about the newest c, and
+    ``A = P_c(ψ) P_b(θ) P_a(φ)`` with ``P`` the passive elementary rotations; ``r_body = A @ r_space``. The default
+    ``"zxz"`` is the text's ``A = B(ψ) C(θ) D(φ)``. Equals SciPy's
+    ``Rotation.from_euler(convention.upper(), [φ, θ, ψ]).as_matrix().T``.
+
+    Parameters
+    ----------
+    phi, theta, psi : SymPy expressions, or floats / arrays (broadcast; the result has shape ``(..., 3, 3)``)
+    convention : str
+        One of :data:`CONVENTIONS` (lower case).
+
+    Returns
+    -------
+    sympy.Matrix for SymPy input, ndarray for numeric input.
+
+    Examples
+    --------
+    >>> from scipy.spatial.transform import Rotation
+    >>> A = euler_matrix(0.3, 0.5, 0.7)
+    >>> np.allclose(A, Rotation.from_euler("ZXZ", [0.3, 0.5, 0.7]).as_matrix().T)
+    True
+    """
+    seq = _convention(convention)
+    if _is_numeric(phi, theta, psi):
+        angles = [finite_array(name, v) for name, v in (("phi", phi), ("theta", theta), ("psi", psi))]
+        angles = np.broadcast_arrays(*angles)
+        Pa, Pb, Pc = (_numeric_elementary(ax, ang) for ax, ang in zip(seq, angles))
+        return Pc @ Pb @ Pa
+    return _euler_matrix_symbolic(sp.sympify(phi), sp.sympify(theta), sp.sympify(psi), seq)
+
+
+@functools.lru_cache(maxsize=64)
+def _euler_matrix_symbolic(phi, theta, psi, seq):
+    return elementary(seq[2], psi) * elementary(seq[1], theta) * elementary(seq[0], phi)
+
+
+def _square3(argument: str, A):
+    if isinstance(A, sp.MatrixBase):
+        if A.shape != (3, 3):
+            raise InvalidInput(argument, A, f"a 3×3 matrix, got shape {A.shape}")
+        return A
+    arr = finite_array(argument, A)
+    if arr.shape != (3, 3):
+        raise InvalidInput(argument, A, f"a 3×3 matrix, got shape {arr.shape}")
+    return arr
+
+
+def is_rotation(A, tol: float | None = None) -> bool:
+    """Whether ``A`` is a proper rotation: ``AᵀA = 1`` and ``det A = +1``.
+
+    SymPy input is decided exactly (each entry of ``AᵀA − 1`` and ``det A − 1`` is simplified to zero, with
+    trigonometric-polynomial reduction); numeric input within ``tol`` (default 1e-10).
+
+    Examples
+    --------
+    >>> from eulersym.symbols import phi, theta, psi
+    >>> is_rotation(euler_matrix(phi, theta, psi))
+    True
+    >>> is_rotation(np.diag([1.0, 1.0, -1.0]))
+    False
+    """
+    from eulersym.compare import zero_exact
+
+    A = _square3("A", A)
+    if isinstance(A, sp.MatrixBase):
+        residual = list(A.T * A - sp.eye(3)) + [A.det(method="berkowitz") - 1]
+        return all(zero_exact(r)[0] for r in residual)
+    tol = 1e-10 if tol is None else float(tol)
+    if not tol > 0:
+        raise InvalidInput("tol", tol, "a positive tolerance")
+    return bool(np.max(np.abs(A.T @ A - np.eye(3))) <= tol and abs(np.linalg.det(A) - 1.0) <= tol)
+
+
+def _require_rotation(argument: str, A, tol: float = 1e-9):
+    A = _square3(argument, A)
+    if isinstance(A, sp.MatrixBase):
+        if not is_rotation(A):
+            raise InvalidInput(argument, A, "a proper rotation matrix (AᵀA = 1, det A = +1)")
+        return A
+    if not is_rotation(A, tol=tol):
+        det = np.linalg.det(A)
+        what = "an improper matrix (det −1)" if det < 0 else f"a matrix with det {det:.3g}, |AᵀA − 1| > {tol:g}"
+        raise InvalidInput(argument, A, f"a proper rotation matrix (AᵀA = 1, det A = +1), not {what}")
+    return A
+
+
+def axis_angle(A):
+    """Euler's rotation theorem: the unit axis and the angle of a proper rotation, ``A = from_axis_angle(axis, angle)``.
+
+    The angle is in [0, π]. The axis is the eigenvector of eigenvalue 1 (every proper rotation has one). Robust
+    near 0 (the axis from the antisymmetric part) and near π (the axis from the symmetric part, its sign from the
+    antisymmetric part). At angle 0 the axis is arbitrary and (0, 0, 1) is returned.
+
+    Parameters
+    ----------
+    A : 3×3 proper rotation (ndarray, or SymPy Matrix with numeric entries or symbols)
+
+    Returns
+    -------
+    (axis, angle): ndarray (3,) and float for numeric input; SymPy Matrix and expression for SymPy input.
+
+    Examples
+    --------
+    >>> axis, angle = axis_angle(from_axis_angle([0, 0, 1], 0.5))
+    >>> np.round(axis, 12), round(angle, 12)
+    (array([0., 0., 1.]), 0.5)
+    """
+    A = _require_rotation("A", A)
+    if isinstance(A, sp.MatrixBase):
+        angle = sp.acos(sp.simplify((A.trace() - 1) / 2))
+        null = (A - sp.eye(3)).nullspace(simplify=True)
+        if not null:  # pragma: no cover - excluded by Euler's theorem
+            raise InvalidInput("A", A, "a rotation with an eigenvalue 1")
+        v = null[0]
+        v = v / sp.sqrt(sp.simplify((v.T * v)[0, 0]))
+        # orient the axis so that from_axis_angle(v, angle) == A: sin(angle) n = ½ vee(Aᵀ − A)
+        s = sp.Matrix([A[1, 2] - A[2, 1], A[2, 0] - A[0, 2], A[0, 1] - A[1, 0]]) / 2
+        if sp.simplify((v.T * s)[0, 0]).is_negative:
+            v = -v
+        return sp.simplify(v), angle
+    R = A.T  # the active rotation
+    s = 0.5 * np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])  # sin α · n
+    c = 0.5 * (np.trace(R) - 1.0)  # cos α
+    sin_a = np.linalg.norm(s)
+    angle = float(np.arctan2(sin_a, c))
+    if angle < 0.5 * np.pi:
+        if sin_a == 0.0:
+            return np.array([0.0, 0.0, 1.0]), 0.0
+        return s / sin_a, angle
+    # near π: (R + Rᵀ)/2 − cos α · 1 = (1 − cos α) n nᵀ
+    S = 0.5 * (R + R.T) - c * np.eye(3)
+    k = int(np.argmax(np.diag(S)))
+    n = S[:, k] / np.sqrt(S[k, k])
+    n /= np.linalg.norm(n)
+    if n @ s < 0:
+        n = -n
+    return n, angle
+
+
+def quaternion_multiply(p, q):
+    """Hamilton product ``p ⊗ q`` of quaternions, scalar first (SymPy or numeric).
+
+    Composition: if ``p`` and ``q`` describe successive body-frame rotations, ``p ⊗ q`` is the total one.
+
+    Examples
+    --------
+    >>> quaternion_multiply([0, 1, 0, 0], [0, 0, 1, 0])
+    array([0., 0., 0., 1.])
+    """
+    p0, p1, p2, p3 = p
+    q0, q1, q2, q3 = q
+    out = [
+        p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3,
+        p0 * q1 + p1 * q0 + p2 * q3 - p3 * q2,
+        p0 * q2 - p1 * q3 + p2 * q0 + p3 * q1,
+        p0 * q3 + p1 * q2 - p2 * q1 + p3 * q0,
+    ]
+    if _is_numeric(*p, *q):
+        return np.array(out, dtype=float)
+    return sp.Matrix(out)
+
+
+def from_quaternion(q):
+    """Passive attitude matrix of a unit quaternion (scalar first): ``A = R(q)ᵀ``, ``r_body = A @ r_space``.
+
+    ``R(q) v = q ⊗ (0, v) ⊗ q*`` is the active rotation (body → space); numeric input is normalised first (a zero
+    quaternion is refused); SymPy input is used as given (assumed unit).
+
+    Examples
+    --------
+    >>> a = 0.4
+    >>> np.allclose(from_quaternion([np.cos(a / 2), 0, 0, np.sin(a / 2)]), from_axis_angle("z", a))
+    True
+    """
+    if _is_numeric(*list(q)):
+        qa = finite_array("q", q, shape=(4,))
+        norm = np.linalg.norm(qa)
+        if norm == 0.0:
+            raise InvalidInput("q", q, "a non-zero quaternion (scalar first)")
+        w, x, y, z = qa / norm
+        R = np.array(
+            [
+                [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+            ]
+        )
+        return R.T
+    if len(q) != 4:
+        raise InvalidInput("q", q, "4 components (scalar first)")
+    w, x, y, z = [sp.sympify(c) for c in q]
+    R = sp.Matrix(
+        [
+            [w**2 + x**2 - y**2 - z**2, 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), w**2 - x**2 + y**2 - z**2, 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), w**2 - x**2 - y**2 + z**2],
+        ]
+    )
+    return R.T
+
+
+def to_quaternion(A) -> np.ndarray:
+    """Unit quaternion (scalar first, q0 ≥ 0) of a proper rotation matrix: ``from_quaternion(to_quaternion(A)) == A``.
+
+    Shepperd's method: the largest of the four squared components is taken from the trace, the others from
+    off-diagonal sums, so no component loses accuracy.
+
+    Examples
+    --------
+    >>> q = to_quaternion(from_axis_angle("z", 0.4))
+    >>> np.allclose(q, [np.cos(0.2), 0, 0, np.sin(0.2)])
+    True
+    """
+    A = _require_rotation("A", A)
+    if isinstance(A, sp.MatrixBase):
+        A = np.array(A.evalf(), dtype=float)
+    R = A.T
+    tr = np.trace(R)
+    cand = np.array([tr, R[0, 0], R[1, 1], R[2, 2]])
+    k = int(np.argmax(cand))
+    if k == 0:
+        w = 0.5 * np.sqrt(1.0 + tr)
+        q = np.array([w, (R[2, 1] - R[1, 2]) / (4 * w), (R[0, 2] - R[2, 0]) / (4 * w), (R[1, 0] - R[0, 1]) / (4 * w)])
+    else:
+        i = k - 1
+        j, m = (i + 1) % 3, (i + 2) % 3
+        vi = 0.5 * np.sqrt(1.0 + 2.0 * R[i, i] - tr)
+        q = np.empty(4)
+        q[1 + i] = vi
+        q[0] = (R[m, j] - R[j, m]) / (4 * vi)
+        q[1 + j] = (R[j, i] + R[i, j]) / (4 * vi)
+        q[1 + m] = (R[m, i] + R[i, m]) / (4 * vi)
+    if q[0] < 0:
+        q = -q
+    return q / np.linalg.norm(q)
+
+
+def degrees_of_freedom(n_points: int = 3, *, seed: int = 0) -> int:
+    """Degrees of freedom of a rigid body given by ``n_points`` non-collinear particles (§4.1).
+
+    Counted, not assumed: 3n coordinates minus the rank of the Jacobian of the pairwise distance constraints
+    |r_i − r_j|² = c_ij at a generic (seeded random, exact rational) configuration. For three points: 9 coordinates,
+    3 independent constraints, 6 degrees of freedom — and 6 for any n ≥ 3.
+
+    Examples
+    --------
+    >>> degrees_of_freedom(3)
+    6
+    >>> degrees_of_freedom(5)
+    6
+    """
+    if not isinstance(n_points, int) or isinstance(n_points, bool) or n_points < 3:
+        raise InvalidInput("n_points", n_points, "an integer >= 3 (three non-collinear points fix a rigid body)")
+    xs = sp.symbols(f"x0:{3 * n_points}")
+    pts = [sp.Matrix(xs[3 * i : 3 * i + 3]) for i in range(n_points)]
+    constraints = [((pts[i] - pts[j]).T * (pts[i] - pts[j]))[0, 0] for i in range(n_points) for j in range(i)]
+    jac = sp.Matrix(constraints).jacobian(xs)
+    rng = random.Random(seed)
+    point = {x: sp.Rational(rng.randint(-97, 97), rng.randint(1, 13)) for x in xs}
+    rank = jac.xreplace(point).rank()
+    return 3 * n_points - rank
