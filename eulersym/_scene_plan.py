@@ -126,7 +126,7 @@ def make_plan(scene, moments=None) -> Plan:
             engine = f"closed form: {kind}" if kind else "closed form"
             why = {
                 "spherical": "all moments equal: ω is constant and the body turns uniformly about it",
-                "symmetric": "I1 = I2 (two equal moments): ω turns about the symmetry axis at Ω = (I1 − I3)/I1 · ω3 (trigonometric)",
+                "symmetric": "two equal moments (a symmetric top): ω turns uniformly about the symmetry axis, at Ω = (I1 − I3)/I1 · ω3 when I1 = I2 (trigonometric)",
                 "asymmetric": "three distinct moments: ω from Jacobi elliptic functions sn, cn, dn (the exact oracle)",
             }.get(body, "trigonometric if two principal moments coincide, elliptic otherwise (decided once the moments are derived)")
             call = "free_rigid_body_attitude_exact" if wants_attitude else "free_rigid_body_exact"

@@ -312,6 +312,9 @@ def run(scene: Scene, *, progress: bool = False) -> Result:
     else:
         moments = np.repeat(derived, batch, axis=0)
     plan = make_plan(scene, moments=moments)
+    bound = None
+    if "top.sleeping_top_threshold" in plan.derive:
+        bound = _sleeping_threshold(moments, *(_member_field(scene, members, k, batch) for k in ("mass", "g", "l")), record)
     timings["derive"] = time.perf_counter() - clock
     bar.stage("derived", 0.1)
 
@@ -335,7 +338,7 @@ def run(scene: Scene, *, progress: bool = False) -> Result:
     bar.stage("integrated", 0.9)
 
     clock = time.perf_counter()
-    out = _outputs(scene, plan, t, moments, P, rot_P, omega_pr, q_pr, gamma, members, batch, record)
+    out = _outputs(scene, plan, t, moments, P, omega_pr, q_pr, gamma, members, batch, bound)
     timings["outputs"] = time.perf_counter() - clock
     timings["total"] = sum(timings.values())
     bar.done()
@@ -451,8 +454,9 @@ def _heavy_top(scene, plan, call, t, moments, omega0, q0, rot0, members, batch, 
         Y, calls = dop853_batched(gen.rhs_batched, y0, t, params=params, rtol=scene.accuracy, atol=_atol(scene), progress=bar.fraction)
         Y = np.moveaxis(Y, (0, 1, 2), (1, 2, 0))  # (batch, n, state)
         return Y[..., :3], _normalise(Y[..., 6:10]), Y[..., 3:6], calls
-    I = tuple(moments[0])
+    I = tuple(float(x) for x in moments[0])
     if call == "integrate_heavy_top":
+        I = (I[0], I[0], I[2])  # symmetric to round-off (the plan checked I1 = I2 to 1e-12)
         h = _heavy_top_step(scene, I, M[0], g[0], l[0], omega0[0], t)
         traj = numerics.integrate_heavy_top(I, M[0], g[0], l[0], omega0[0], q0[0], t, h=h)
     else:
@@ -531,7 +535,7 @@ def _drift(values: np.ndarray) -> float:
     return float(np.max(np.abs(v - ref) / denom))
 
 
-def _outputs(scene, plan, t, moments, P, rot_P, omega_pr, q_pr, gamma, members, batch, record):
+def _outputs(scene, plan, t, moments, P, omega_pr, q_pr, gamma, members, batch, bound):
     outputs = scene.outputs
     notes = []
     omega_body = omega_pr @ P.T
@@ -586,10 +590,6 @@ def _outputs(scene, plan, t, moments, P, rot_P, omega_pr, q_pr, gamma, members, 
         else:
             notes.append(f"largest tilt per member: {theta.max(axis=1).min():.4g}° … {theta.max(axis=1).max():.4g}°")
         if "top.sleeping_top_threshold" in plan.derive:
-            M = _member_field(scene, members, "mass", batch)
-            g = _member_field(scene, members, "g", batch)
-            l = _member_field(scene, members, "l", batch)
-            bound = _sleeping_threshold(moments, M, g, l, record)
             if bound is not None:
                 w3 = omega_pr[:, 0, 2]
                 ratio = w3**2 / bound
