@@ -320,14 +320,15 @@ def run(scene: Scene, *, progress: bool = False) -> Result:
 
     clock = time.perf_counter()
     t = scene.times
-    rot0 = _initial_rotation(scene, members, batch)
     omega0 = _member_vector(scene, members, "omega", batch)
-    if scene.omega_frame == "space":
-        omega0 = rot0.inv().apply(omega0)
+    q0_pr = rot0_pr = None
+    if scene.omega_frame == "space" or "attitude" in plan.propagate:  # an ω-only body-frame scene needs no attitude
+        rot0 = _initial_rotation(scene, members, batch)
+        if scene.omega_frame == "space":
+            omega0 = rot0.inv().apply(omega0)
+        rot0_pr = rot0 * Rotation.from_matrix(P)
+        q0_pr = rotation_to_quaternion(rot0_pr)
     omega0_pr = omega0 @ P  # rows: (P.T @ ω)ᵀ
-    rot_P = Rotation.from_matrix(P)
-    rot0_pr = rot0 * rot_P
-    q0_pr = rotation_to_quaternion(rot0_pr)
     options = plan.options
     call = options.get("call")
     if batch > 1 and call not in ("free_rigid_body_exact", "free_rigid_body_attitude_exact"):
