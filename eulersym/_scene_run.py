@@ -253,11 +253,11 @@ def _sleeping_threshold(moments, M, g, l, record: list):
         return None
     record.append("top.sleeping_top_threshold")
     expr = getattr(expr, "rhs", expr)
-    values = []
-    for b in range(len(moments)):
-        rule = {symbols.I1: moments[b, 0], symbols.I3: moments[b, 2], symbols.M: M[b], symbols.g: g[b], symbols.l: l[b]}
-        values.append(float(expr.xreplace(rule)))
-    return np.array(values)
+    rows = np.stack([moments[:, 0], moments[:, 2], M, g, l], axis=1)
+    unique, index = np.unique(rows, axis=0, return_inverse=True)  # a sweep rarely varies these: evaluate once each
+    keys = (symbols.I1, symbols.I3, symbols.M, symbols.g, symbols.l)
+    values = np.array([float(expr.xreplace(dict(zip(keys, map(float, row))))) for row in unique])[np.ravel(index)]
+    return values
 
 
 # --------------------------------------------------------------------------------------------------------------
