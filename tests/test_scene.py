@@ -287,6 +287,35 @@ def test_heavy_top_frame_diagonalises_about_e3(rng):
         heavy_top_frame([[2, 0, 0.5], [0, 2, 0], [0.5, 0, 1]])
 
 
+@settings(max_examples=60, deadline=None)
+@given(
+    moments=st.sampled_from([(1.0, 2.0, 3.0), (2.0, 2.0, 1.0), (1.0, 1.0, 1.0)]),
+    outputs=st.lists(st.sampled_from(OUTPUTS), min_size=1, max_size=5, unique=True),
+    heavy=st.booleans(),
+    accuracy=st.sampled_from([1e-4, 1e-8, 1e-12]),
+)
+def test_property_plan_is_consistent(moments, outputs, heavy, accuracy):
+    """Every plan gives a reason for each step; a torque-free plan never touches the top and propagates the
+    attitude exactly when an output needs it; a heavy top never has a closed form."""
+    kwargs = {**FREE, "moments": moments, "outputs": tuple(outputs), "accuracy": accuracy}
+    if heavy:
+        kwargs.update(mass=1.0, l=0.1)
+        if "polhode" in outputs:
+            with pytest.raises(InvalidInput):
+                Scene(**kwargs)
+            return
+    plan = Scene(**kwargs).plan()
+    assert all(step.reason for step in plan.steps + plan.skipped)
+    if heavy:
+        assert plan.regime == "heavy top" and not plan.engine.startswith("closed form")
+        assert plan.kernels == ("heavy_top_euler_poisson",)
+    else:
+        wants = bool({"attitude", "euler_angles"} & set(outputs))
+        assert plan.engine.startswith("closed form") and plan.kernels == ()
+        assert ("attitude" in plan.propagate) == wants
+        assert not any(d.startswith("top.") for d in plan.derive)
+
+
 # ---- sweeps -----------------------------------------------------------------------------------------------------
 
 
@@ -549,6 +578,25 @@ def test_body_torque_spins_up_linearly_and_space_torque_follows_attitude():
     # independent truth: in space, dL/dt = N, so L_space(t) = L_space(0) + N t
     L_space = quaternion_to_rotation(s.attitude).apply(s.omega * np.array([1, 2, 2.5]))
     assert np.allclose(L_space - L_space[0], np.outer(s.t, [0, 0, 0.2]), atol=1e-7)
+
+
+@needs_inertia
+def test_full_tensor_maps_frames(rng):
+    """A tensor Q diag(I) Qᵀ with ω and attitude in its body frame gives Q times the principal-frame answer."""
+    Q = Rotation.random(random_state=np.random.default_rng(3)).as_matrix()
+    I = np.array([1.0, 2.0, 3.0])
+    w = rng.normal(size=3)
+    tensor = Q @ np.diag(I) @ Q.T
+    r = simulate(Scene(tensor=tensor.tolist(), omega=tuple(w), t_end=2, points=21, outputs=("omega", "attitude")))
+    assert r.derivations == ("inertia.principal_axes",)
+    P = r.axes
+    assert np.allclose(P.T @ tensor @ P, np.diag(r.moments), atol=1e-12)
+    ref = simulate(Scene(moments=tuple(r.moments), omega=tuple(P.T @ w), quaternion=tuple(rotation_to_quaternion(Rotation.from_matrix(P))),
+                         t_end=2, points=21, outputs=("omega", "attitude")))
+    assert np.allclose(r.omega, ref.omega @ P.T, atol=1e-12)
+    # the body's attitude: R_body = R_principal Pᵀ
+    R_body = quaternion_to_rotation(r.attitude).as_matrix()
+    assert np.allclose(R_body, quaternion_to_rotation(ref.attitude).as_matrix() @ P.T, atol=1e-12)
 
 
 @needs_inertia
