@@ -459,8 +459,20 @@ def _normalize(obj, argument: str):
         if isinstance(obj, sp.logic.boolalg.BooleanAtom):
             raise InvalidInput(argument, obj, "a formula; an equation that SymPy already evaluated to "
                                               f"{obj} is not one (build it with Eq(..., evaluate=False))")
+        logic = (sp.And, sp.Or, sp.Not, sp.Xor, sp.Implies, sp.Equivalent)
+        if (isinstance(obj, sp.Rel) and not isinstance(obj, sp.Equality)) or isinstance(obj, logic):
+            raise InvalidInput(argument, obj, "an expression, an equation, a vector or a matrix; inequalities and "
+                                              "logic are not compared (compare their sides)")
         return obj
     raise InvalidInput(argument, obj, "a string, a SymPy expression, Eq, Matrix, or a list of them")
+
+
+def _unify_names(obj, known: dict):
+    """Symbols are identified by name: a candidate's ``Symbol('a')`` becomes the target's ``a`` (whatever its
+    assumptions), as the parser does for strings."""
+    symbols = _free_symbols(obj)
+    sub = {s: known[s.name] for s in symbols if isinstance(s, sp.Symbol) and s.name in known and known[s.name] != s}
+    return obj if not sub else _map_scalars(obj, lambda e: e.xreplace(sub))
 
 
 def _describe(obj) -> str:
@@ -936,7 +948,7 @@ def verify(candidate, against, *, points: int = 5, dps: int = 30, seed: int = 0,
     if isinstance(candidate, str):
         cand = (parse_latex if latex else parse)(candidate, known=known, argument="candidate")
     else:
-        cand = candidate
+        cand = _unify_names(_normalize(candidate, "candidate"), known)
     cand = _align(_normalize(cand, "candidate"), target)
 
     equation = isinstance(target, (sp.Equality, list))

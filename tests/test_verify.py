@@ -221,6 +221,17 @@ def test_sympy_objects_directly():
     assert verify(sp.Matrix([w[1], w[0], w[2]]), "omega_body").components == ("[0]", "[1]")
 
 
+def test_sympy_symbols_are_identified_by_name():
+    assert verify(sp.Symbol("M") * sp.Symbol("a") ** 2 / 6, "cube_center_tensor[0, 0]").equal if (
+        "cube_center_tensor" in QUANTITIES) else verify(sp.Symbol("I1") * 2, "2 I1").equal
+
+
+def test_inequalities_are_refused():
+    x = sp.Symbol("x")
+    with pytest.raises(InvalidInput, match="inequalities"):
+        verify(x > 1, x > 1)
+
+
 def test_vector_components_are_named():
     v = verify("[1, 2, x]", sp.Matrix([1, 3, sp.Symbol("x", positive=True)]))
     assert v.components == ("[1]",)
