@@ -298,8 +298,10 @@ class Verdict:
     Examples
     --------
     >>> v = verify("[[1, 0], [0, 2]]", sp.Matrix([[1, 0], [0, 4]]))
-    >>> v.equal, v.exact, v.components, v.diagnosis
-    (False, False, ('[1, 1]',), 'component [1, 1]: a factor 2 missing (½ too many): the candidate is half the right result')
+    >>> v.equal, v.exact, v.components
+    (False, False, ('[1, 1]',))
+    >>> print(v.diagnosis)
+    component [1, 1]: a factor 2 missing (½ too many): the candidate is half the right result
     """
 
     equal: bool
@@ -679,7 +681,8 @@ def _slips(candidate, target, *, term: bool = False) -> list[tuple[str, Callable
     slips: list[tuple[str, Callable]] = []
     if not equation:
         slips += [
-            ("overall sign: the candidate is the negative of the right result", lambda c: _map_scalars(c, lambda e: -e)),
+            ("overall sign: the candidate is the negative of the right result",
+             lambda c: _map_scalars(c, lambda e: -e)),
             ("a factor 2 too many: the candidate is twice the right result",
              lambda c: _map_scalars(c, lambda e: e / 2)),
             ("a factor 2 missing (½ too many): the candidate is half the right result",
