@@ -13,7 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from eulersym import symbols as S
-from eulersym.compare import compare, freeze_functions
+from eulersym.compare import freeze_functions
 from eulersym.errors import InvalidInput, UnsafeExpression
 from eulersym.verify import QUANTITIES, Verdict, cli, resolve, verify
 
