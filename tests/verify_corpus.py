@@ -47,7 +47,13 @@ EULER_2 = "I2 omega2' - (I3 - I1) omega3 omega1 = N2"
 EULER_3 = "I3 omega3' - (I1 - I2) omega1 omega2 = N3"
 
 CASES: tuple[Case, ...] = (
-    # §4.1–4.2 rotation matrices
+    # §4.1 orthogonal transformations
+    Case("dof", "4.1", "3 * 3 - 3", "4.1.dof", True),
+    Case("dof-no-constraints", "4.1", "3 * 3", "4.1.dof", False, None),
+    Case("proper", "4.1", "1", "4.1.proper", True),
+    Case("improper", "4.1", "-1", "4.1.proper", False, "overall sign"),
+    Case("orthogonality", "4.1", "[[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "4.1.orthogonality", True),
+    # §4.2 rotation matrices
     Case("D-written", "4.2", "[[cos(phi), sin(phi), 0], [-sin(phi), cos(phi), 0], [0, 0, 1]]", "D", True),
     Case("D-transposed", "4.2", "[[cos(phi), -sin(phi), 0], [sin(phi), cos(phi), 0], [0, 0, 1]]", "D", False,
          "transposed"),
@@ -113,6 +119,23 @@ CASES: tuple[Case, ...] = (
     Case("precession-rate", "4.5", "omega3 (1 - I3/I1)", "symmetric_precession_rate", True),
     Case("precession-rate-sign", "4.5", "(I3 - I1)/I1 omega3", "symmetric_precession_rate", False,
          "overall sign"),
+    # Example 4.2 intermediate axis
+    Case("growth-rate", "Example 4.2", "omega0 sqrt((I3 - I2)(I2 - I1)/(I1 I3))", "intermediate_axis_growth_rate",
+         True),
+    Case("coefficient-sign", "Example 4.2", "(I3 - I2)(I1 - I2)/(I1 I3) omega0^2", "perturbation_coefficient",
+         False, "overall sign"),
+    # Example 4.3 steady precession
+    Case("roots", "Example 4.3", "[(I3 omega3 - sqrt(I3^2 omega3^2 - 4 I1 M g l cos(theta)))/(2 I1 cos(theta)), "
+         "(I3 omega3 + sqrt(I3^2 omega3^2 - 4 I1 M g l cos(theta)))/(2 I1 cos(theta))]", "precession_rates", True),
+    Case("roots-no-2", "Example 4.3", "[(I3 omega3 - sqrt(I3^2 omega3^2 - 4 I1 M g l cos(theta)))/(I1 cos(theta)), "
+         "(I3 omega3 + sqrt(I3^2 omega3^2 - 4 I1 M g l cos(theta)))/(I1 cos(theta))]", "precession_rates", False,
+         "factor 2 too many"),
+    Case("quadratic", "Example 4.3", "I1 cos(theta) phidot^2 - I3 omega3 phidot + M g l = 0",
+         "steady_precession_condition", True),
+    Case("nutation", "Example 4.3", "I1 thetaddot = I1 phidot^2 sin(theta) cos(theta) - I3 omega3 phidot "
+         "sin(theta) + M g l sin(theta)", "nutation_equation", True),
+    Case("nutation-gravity-sign", "Example 4.3", "I1 thetaddot = I1 phidot^2 sin(theta) cos(theta) - I3 omega3 "
+         "phidot sin(theta) - M g l sin(theta)", "nutation_equation", False, "overall sign"),
     # §4.5 heavy top
     Case("L-top-expanded", "4.5", "1/2 I1 thetadot^2 + 1/2 I1 phidot^2 sin(theta)^2 + 1/2 I3 (phidot^2 "
          "cos(theta)^2 + 2 phidot psidot cos(theta) + psidot^2) - M g l cos(theta)", "lagrangian", True),
