@@ -61,6 +61,9 @@ def test_printer_refuses_unknown_functions_by_name():
         make_printer("scalar").doprint(sp.besselj(0, a))
     with pytest.raises(InvalidInput, match="flavour"):
         make_printer("fortran")
+    for expr in (sp.Max(a, b), sp.Min(a, 1), sp.Heaviside(a)):
+        with pytest.raises(InvalidInput, match=type(expr).__name__):
+            make_printer("batched").doprint(expr)
 
 
 @pytest.mark.parametrize(

@@ -363,6 +363,14 @@ class _Printer(PythonCodePrinter):
     def _print_sign(self, expr):
         raise InvalidInput("function", "sign", "differentiable expressions (no sign)")
 
+    def _refuse(self, expr):
+        raise InvalidInput("function", type(expr).__name__, "smooth expressions that print alike for floats "
+                           "and arrays (no Min, Max, Heaviside or relations)")
+
+    _print_Min = _print_Max = _print_Heaviside = _print_Relational = _refuse
+    _print_StrictLessThan = _print_StrictGreaterThan = _print_LessThan = _print_GreaterThan = _refuse
+    _print_Equality = _print_Unequality = _print_And = _print_Or = _print_Not = _refuse
+
     def _print_Pow(self, expr, rational=False):
         base, exp = expr.base, expr.exp
         if exp == sp.S.Half:
