@@ -32,12 +32,12 @@ Invariants: E = ½ ω·Iω and L² = |Iω|² (conserved only without torque).
 
 import numpy as np
 
-from eulersym.generated._runtime import _as_vector, _prepare_out, _unpack, _wrong_length
+from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, _wrong_length
 
 __all__ = ['rhs', 'jac', 'invariants', 'rhs_batched', 'jac_batched', 'invariants_batched']
 
 
-def rhs(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
+def rhs(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra):
     """rhs(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3) -> list of (domega1/dt, domega2/dt, domega3/dt)
 
     the right-hand side dy/dt
@@ -47,6 +47,8 @@ def rhs(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
         y = (omega1, omega2, omega3): state
         I11, I12, I13, I22, I23, I33, N1, N2, N3
     """
+    if extra:
+        raise _too_many('rhs', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     try:
         omega1, omega2, omega3 = y.tolist()
     except AttributeError:
@@ -81,7 +83,7 @@ def rhs(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
     return [x0*(I12*omega1*omega3 - I12*x24 - I13*x23 + I22*omega2*omega3 + I23*x7 + N1 - x2 - x4 - x6), x24, x23]
 
 
-def jac(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
+def jac(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra):
     """jac(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3) -> list of lists of shape (3, 3)
 
     the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -91,6 +93,8 @@ def jac(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
         y = (omega1, omega2, omega3): state
         I11, I12, I13, I22, I23, I33, N1, N2, N3
     """
+    if extra:
+        raise _too_many('jac', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     try:
         omega1, omega2, omega3 = y.tolist()
     except AttributeError:
@@ -139,7 +143,7 @@ def jac(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
     return [[x0*(-I12*x34 - I13*x33 - x1 + x17), x0*(-I12*x44 - I13*x43 - x39), x0*(-I12*x48 - I13*x47 + x45)], [x34, x44, x48], [x33, x43, x47]]
 
 
-def invariants(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
+def invariants(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra):
     """invariants(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3) -> list of (E, L2)
 
     the invariants E, L2
@@ -149,6 +153,8 @@ def invariants(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
         y = (omega1, omega2, omega3): state
         I11, I12, I13, I22, I23, I33, N1, N2, N3
     """
+    if extra:
+        raise _too_many('invariants', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     try:
         omega1, omega2, omega3 = y.tolist()
     except AttributeError:
@@ -177,7 +183,7 @@ def invariants(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
     return [(0.5)*I11*x16 + (0.5)*I22*x5 + (0.5)*I33*x7 + omega2*x25 + omega3*x29 + omega3*x30, (I11*I11)*x16 + I11*omega2*x26 + (I22*I22)*x5 + I22*omega3*x38 + (I33*I33)*x7 + 2*x1*x41 + x1*x49 + x11*x16 + x11*x5 + x14*x26 + x16*x8 + x20*x31 + x3*x31 + x3*x38 + x41*x49 + x5*x50 + x50*x7 + x7*x8]
 
 
-def rhs_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None):
+def rhs_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra, out=None):
     """rhs_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None) -> ndarray of shape (3,) + batch, rows (domega1/dt, domega2/dt, domega3/dt)
 
     the right-hand side dy/dt
@@ -189,6 +195,8 @@ def rhs_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('rhs', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
     out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
     omega1, omega2, omega3 = y
@@ -233,7 +241,7 @@ def rhs_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None):
     return out
 
 
-def jac_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None):
+def jac_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra, out=None):
     """jac_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None) -> ndarray of shape (3, 3) + batch
 
     the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -245,6 +253,8 @@ def jac_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('jac', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
     out = _prepare_out(out, (3, 3), (np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
     omega1, omega2, omega3 = y
@@ -309,7 +319,7 @@ def jac_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None):
     return out
 
 
-def invariants_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None):
+def invariants_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra, out=None):
     """invariants_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None) -> ndarray of shape (2,) + batch, rows (E, L2)
 
     the invariants E, L2
@@ -321,6 +331,8 @@ def invariants_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None)
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('invariants', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
     out = _prepare_out(out, (2,), (np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
     omega1, omega2, omega3 = y

@@ -32,12 +32,12 @@ overlap the inputs).
 import numpy as np
 from math import cos, sin
 
-from eulersym.generated._runtime import _as_vector, _prepare_out, _unpack, _wrong_length
+from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, _wrong_length
 
 __all__ = ['rhs', 'jac', 'invariants', 'rhs_batched', 'jac_batched', 'invariants_batched']
 
 
-def rhs(t, y, I1, I3, M, g, l):
+def rhs(t, y, I1, I3, M, g, l, *extra):
     """rhs(t, y, I1, I3, M, g, l) -> list of (dphi/dt, dtheta/dt, dpsi/dt, dphidot/dt, dthetadot/dt, dpsidot/dt)
 
     the right-hand side dy/dt
@@ -47,6 +47,8 @@ def rhs(t, y, I1, I3, M, g, l):
         y = (phi, theta, psi, phidot, thetadot, psidot): state
         I1, I3, M, g, l
     """
+    if extra:
+        raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     try:
         phi, theta, psi, phidot, thetadot, psidot = y.tolist()
     except AttributeError:
@@ -85,7 +87,7 @@ def rhs(t, y, I1, I3, M, g, l):
     return [phidot, thetadot, psidot, thetadot*x13, x17*x18, thetadot*x28]
 
 
-def jac(t, y, I1, I3, M, g, l):
+def jac(t, y, I1, I3, M, g, l, *extra):
     """jac(t, y, I1, I3, M, g, l) -> list of lists of shape (6, 6)
 
     the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -95,6 +97,8 @@ def jac(t, y, I1, I3, M, g, l):
         y = (phi, theta, psi, phidot, thetadot, psidot): state
         I1, I3, M, g, l
     """
+    if extra:
+        raise _too_many('jac', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     try:
         phi, theta, psi, phidot, thetadot, psidot = y.tolist()
     except AttributeError:
@@ -138,7 +142,7 @@ def jac(t, y, I1, I3, M, g, l):
     return [[0.0, 0.0, 0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 0.0, 0.0, 1.0], [0.0, x30*(-I3*phidot*x11 + 2*phidot*x29) - x32*x9, 0.0, x30*(I3*x0 - x2), x13, I3*x30], [0.0, x17*x31 + x18*(I3*x11*x16 - x16*x29), 0.0, x18*(-x33 - x4 - x5), 0.0, -I3*phidot*x18], [0.0, -x27*x32 + x30*(-x11*x3 + x11*x33 + x11*x5), 0.0, x30*(x21 + x24 - x25), x28, -x30*x6]]
 
 
-def invariants(t, y, I1, I3, M, g, l):
+def invariants(t, y, I1, I3, M, g, l, *extra):
     """invariants(t, y, I1, I3, M, g, l) -> list of (E, p_phi, p_psi)
 
     the invariants E, p_phi, p_psi
@@ -148,6 +152,8 @@ def invariants(t, y, I1, I3, M, g, l):
         y = (phi, theta, psi, phidot, thetadot, psidot): state
         I1, I3, M, g, l
     """
+    if extra:
+        raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     try:
         phi, theta, psi, phidot, thetadot, psidot = y.tolist()
     except AttributeError:
@@ -174,7 +180,7 @@ def invariants(t, y, I1, I3, M, g, l):
     return [(0.5)*I1*(thetadot*thetadot) + (0.5)*I3*(psidot*psidot) + x0*x14 + x0*x15 + x21*x34 + x25*x34, x19 + x22 + x26, x8]
 
 
-def rhs_batched(t, y, I1, I3, M, g, l, out=None):
+def rhs_batched(t, y, I1, I3, M, g, l, *extra, out=None):
     """rhs_batched(t, y, I1, I3, M, g, l, out=None) -> ndarray of shape (6,) + batch, rows (dphi/dt, dtheta/dt, dpsi/dt, dphidot/dt, dthetadot/dt, dpsidot/dt)
 
     the right-hand side dy/dt
@@ -186,6 +192,8 @@ def rhs_batched(t, y, I1, I3, M, g, l, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     out = _prepare_out(out, (6,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
     phi, theta, psi, phidot, thetadot, psidot = y
@@ -227,7 +235,7 @@ def rhs_batched(t, y, I1, I3, M, g, l, out=None):
     return out
 
 
-def jac_batched(t, y, I1, I3, M, g, l, out=None):
+def jac_batched(t, y, I1, I3, M, g, l, *extra, out=None):
     """jac_batched(t, y, I1, I3, M, g, l, out=None) -> ndarray of shape (6, 6) + batch
 
     the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -239,6 +247,8 @@ def jac_batched(t, y, I1, I3, M, g, l, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('jac', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     out = _prepare_out(out, (6, 6), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
     phi, theta, psi, phidot, thetadot, psidot = y
@@ -320,7 +330,7 @@ def jac_batched(t, y, I1, I3, M, g, l, out=None):
     return out
 
 
-def invariants_batched(t, y, I1, I3, M, g, l, out=None):
+def invariants_batched(t, y, I1, I3, M, g, l, *extra, out=None):
     """invariants_batched(t, y, I1, I3, M, g, l, out=None) -> ndarray of shape (3,) + batch, rows (E, p_phi, p_psi)
 
     the invariants E, p_phi, p_psi
@@ -332,6 +342,8 @@ def invariants_batched(t, y, I1, I3, M, g, l, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
     phi, theta, psi, phidot, thetadot, psidot = y

@@ -31,12 +31,12 @@ overlap the inputs).
 
 import numpy as np
 
-from eulersym.generated._runtime import _as_vector, _prepare_out, _unpack, _wrong_length
+from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, _wrong_length
 
 __all__ = ['rhs', 'jac', 'invariants', 'rhs_batched', 'jac_batched', 'invariants_batched']
 
 
-def rhs(t, y, I1, I2, I3, M, g, l):
+def rhs(t, y, I1, I2, I3, M, g, l, *extra):
     """rhs(t, y, I1, I2, I3, M, g, l) -> list of (domega1/dt, domega2/dt, domega3/dt, dGamma1/dt, dGamma2/dt, dGamma3/dt, dq0/dt, dq1/dt, dq2/dt, dq3/dt)
 
     the right-hand side dy/dt
@@ -46,6 +46,8 @@ def rhs(t, y, I1, I2, I3, M, g, l):
         y = (omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3): state
         I1, I2, I3, M, g, l
     """
+    if extra:
+        raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I2', 'I3', 'M', 'g', 'l'))
     try:
         omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3 = y.tolist()
     except AttributeError:
@@ -69,7 +71,7 @@ def rhs(t, y, I1, I2, I3, M, g, l):
     return [x0*(Gamma2*x3 + omega2*x1 - omega2*x2), x4*(-Gamma1*x3 + I3*omega1*omega3 - omega1*x5), omega1*x7, Gamma2*omega3 - Gamma3*omega2, -Gamma1*omega3 + Gamma3*omega1, Gamma1*omega2 - Gamma2*omega1, -omega1*x8 - omega2*x9 - omega3*x10, -omega2*x10 + omega3*x9 + q0*x11, omega1*x10 - omega3*x8 + q0*x12, -omega1*x9 + omega2*x8 + q0*x13]
 
 
-def jac(t, y, I1, I2, I3, M, g, l):
+def jac(t, y, I1, I2, I3, M, g, l, *extra):
     """jac(t, y, I1, I2, I3, M, g, l) -> list of lists of shape (10, 10)
 
     the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -79,6 +81,8 @@ def jac(t, y, I1, I2, I3, M, g, l):
         y = (omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3): state
         I1, I2, I3, M, g, l
     """
+    if extra:
+        raise _too_many('jac', extra, ('t', 'y', 'I1', 'I2', 'I3', 'M', 'g', 'l'))
     try:
         omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3 = y.tolist()
     except AttributeError:
@@ -112,7 +116,7 @@ def jac(t, y, I1, I2, I3, M, g, l):
     return [[0.0, x0*(x1 + x14), x0*(-I3*omega2 + x15), 0.0, x0*x3, 0.0, 0.0, 0.0, 0.0, 0.0], [x4*(-x14 - x5), 0.0, x4*(I3*omega1 - x16), -x3*x4, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [x7, omega1*x6, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0, -Gamma3, Gamma2, 0.0, omega3, -omega2, 0.0, 0.0, 0.0, 0.0], [Gamma3, 0.0, -Gamma1, -omega3, 0.0, omega1, 0.0, 0.0, 0.0, 0.0], [-Gamma2, Gamma1, 0.0, omega2, -omega1, 0.0, 0.0, 0.0, 0.0, 0.0], [x17, x18, x19, 0.0, 0.0, 0.0, 0.0, x20, x21, x22], [x23, x19, x9, 0.0, 0.0, 0.0, x11, 0.0, x13, x21], [x10, x23, x17, 0.0, 0.0, 0.0, x12, x22, 0.0, x11], [x18, x8, x23, 0.0, 0.0, 0.0, x13, x12, x20, 0.0]]
 
 
-def invariants(t, y, I1, I2, I3, M, g, l):
+def invariants(t, y, I1, I2, I3, M, g, l, *extra):
     """invariants(t, y, I1, I2, I3, M, g, l) -> list of (E, Gamma_norm2, L_dot_Gamma, q_norm2)
 
     the invariants E, Gamma_norm2, L_dot_Gamma, q_norm2
@@ -122,6 +126,8 @@ def invariants(t, y, I1, I2, I3, M, g, l):
         y = (omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3): state
         I1, I2, I3, M, g, l
     """
+    if extra:
+        raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I2', 'I3', 'M', 'g', 'l'))
     try:
         omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3 = y.tolist()
     except AttributeError:
@@ -135,7 +141,7 @@ def invariants(t, y, I1, I2, I3, M, g, l):
     return [Gamma3*x3 + (0.5)*I1*(omega1*omega1) + (0.5)*I2*(omega2*omega2) + (0.5)*I3*(omega3*omega3), (Gamma1*Gamma1) + (Gamma2*Gamma2) + (Gamma3*Gamma3), Gamma1*x16 + Gamma2*x15 + Gamma3*x2, (q0*q0) + (q1*q1) + (q2*q2) + (q3*q3)]
 
 
-def rhs_batched(t, y, I1, I2, I3, M, g, l, out=None):
+def rhs_batched(t, y, I1, I2, I3, M, g, l, *extra, out=None):
     """rhs_batched(t, y, I1, I2, I3, M, g, l, out=None) -> ndarray of shape (10,) + batch, rows (domega1/dt, domega2/dt, domega3/dt, dGamma1/dt, dGamma2/dt, dGamma3/dt, dq0/dt, dq1/dt, dq2/dt, dq3/dt)
 
     the right-hand side dy/dt
@@ -147,6 +153,8 @@ def rhs_batched(t, y, I1, I2, I3, M, g, l, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I2', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'Gamma1', 'Gamma2', 'Gamma3', 'q0', 'q1', 'q2', 'q3'))
     out = _prepare_out(out, (10,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I2, I3, M, g, l,))
     omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3 = y
@@ -196,7 +204,7 @@ def rhs_batched(t, y, I1, I2, I3, M, g, l, out=None):
     return out
 
 
-def jac_batched(t, y, I1, I2, I3, M, g, l, out=None):
+def jac_batched(t, y, I1, I2, I3, M, g, l, *extra, out=None):
     """jac_batched(t, y, I1, I2, I3, M, g, l, out=None) -> ndarray of shape (10, 10) + batch
 
     the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -208,6 +216,8 @@ def jac_batched(t, y, I1, I2, I3, M, g, l, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('jac', extra, ('t', 'y', 'I1', 'I2', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'Gamma1', 'Gamma2', 'Gamma3', 'q0', 'q1', 'q2', 'q3'))
     out = _prepare_out(out, (10, 10), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I2, I3, M, g, l,))
     omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3 = y
@@ -346,7 +356,7 @@ def jac_batched(t, y, I1, I2, I3, M, g, l, out=None):
     return out
 
 
-def invariants_batched(t, y, I1, I2, I3, M, g, l, out=None):
+def invariants_batched(t, y, I1, I2, I3, M, g, l, *extra, out=None):
     """invariants_batched(t, y, I1, I2, I3, M, g, l, out=None) -> ndarray of shape (4,) + batch, rows (E, Gamma_norm2, L_dot_Gamma, q_norm2)
 
     the invariants E, Gamma_norm2, L_dot_Gamma, q_norm2
@@ -358,6 +368,8 @@ def invariants_batched(t, y, I1, I2, I3, M, g, l, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I2', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'Gamma1', 'Gamma2', 'Gamma3', 'q0', 'q1', 'q2', 'q3'))
     out = _prepare_out(out, (4,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I2, I3, M, g, l,))
     omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3 = y

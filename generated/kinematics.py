@@ -25,12 +25,12 @@ overlap the inputs).
 import numpy as np
 from math import cos, sin
 
-from eulersym.generated._runtime import _as_vector, _prepare_out, _unpack, _wrong_length
+from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, _wrong_length
 
 __all__ = ['attitude_matrix', 'omega_body', 'attitude_matrix_batched', 'omega_body_batched']
 
 
-def attitude_matrix(phi, theta, psi):
+def attitude_matrix(phi, theta, psi, *extra):
     """attitude_matrix(phi, theta, psi) -> list of lists of shape (3, 3)
 
     A (3×3), r_body = A @ r_space
@@ -38,6 +38,8 @@ def attitude_matrix(phi, theta, psi):
     Arguments, in order:
         phi, theta, psi
     """
+    if extra:
+        raise _too_many('attitude_matrix', extra, ('phi', 'theta', 'psi'))
     x0 = cos(phi)
     x1 = cos(psi)
     x2 = cos(theta)
@@ -52,7 +54,7 @@ def attitude_matrix(phi, theta, psi):
     return [[x0*x1 - x2*x5, x2*x7 + x6, x9], [-x2*x6 - x7, x0*x1*x2 - x5, x10], [x3*x8, -x0*x8, x2]]
 
 
-def omega_body(phi, theta, psi, phidot, thetadot, psidot):
+def omega_body(phi, theta, psi, phidot, thetadot, psidot, *extra):
     """omega_body(phi, theta, psi, phidot, thetadot, psidot) -> list of (omega1, omega2, omega3)
 
     ω in body components
@@ -60,6 +62,8 @@ def omega_body(phi, theta, psi, phidot, thetadot, psidot):
     Arguments, in order:
         phi, theta, psi, phidot, thetadot, psidot
     """
+    if extra:
+        raise _too_many('omega_body', extra, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     x1 = cos(psi)
     x2 = cos(theta)
     x4 = sin(psi)
@@ -69,7 +73,7 @@ def omega_body(phi, theta, psi, phidot, thetadot, psidot):
     return [phidot*x9 + thetadot*x1, phidot*x10 - thetadot*x4, phidot*x2 + psidot]
 
 
-def attitude_matrix_batched(phi, theta, psi, out=None):
+def attitude_matrix_batched(phi, theta, psi, *extra, out=None):
     """attitude_matrix_batched(phi, theta, psi, out=None) -> ndarray of shape (3, 3) + batch
 
     A (3×3), r_body = A @ r_space
@@ -79,6 +83,8 @@ def attitude_matrix_batched(phi, theta, psi, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('attitude_matrix', extra, ('phi', 'theta', 'psi'))
     out = _prepare_out(out, (3, 3), (np.shape(phi), np.shape(theta), np.shape(psi),), (phi, theta, psi,))
     x0 = np.cos(phi)
     x1 = np.cos(psi)
@@ -110,7 +116,7 @@ def attitude_matrix_batched(phi, theta, psi, out=None):
     return out
 
 
-def omega_body_batched(phi, theta, psi, phidot, thetadot, psidot, out=None):
+def omega_body_batched(phi, theta, psi, phidot, thetadot, psidot, *extra, out=None):
     """omega_body_batched(phi, theta, psi, phidot, thetadot, psidot, out=None) -> ndarray of shape (3,) + batch, rows (omega1, omega2, omega3)
 
     ω in body components
@@ -120,6 +126,8 @@ def omega_body_batched(phi, theta, psi, phidot, thetadot, psidot, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('omega_body', extra, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     out = _prepare_out(out, (3,), (np.shape(phi), np.shape(theta), np.shape(psi), np.shape(phidot), np.shape(thetadot), np.shape(psidot),), (phi, theta, psi, phidot, thetadot, psidot,))
     x1 = np.cos(psi)
     x2 = np.cos(theta)

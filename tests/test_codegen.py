@@ -170,7 +170,7 @@ def test_compile_accepts_functions_of_time():
 
     f = compile_expressions([phi * phi.diff(t)], [phi, phi.diff(t)])
     assert f(2.0, 3.0) == [6.0]
-    assert "def f(phi, phidot)" in f.source
+    assert "def f(phi, phidot, *extra)" in f.source
 
 
 def test_matrix_output_is_nested():

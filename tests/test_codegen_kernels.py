@@ -181,6 +181,11 @@ def test_wrong_state_length_names_the_order(name, rng):
         mod.rhs_batched(0.0, np.ones((len(y) + 1, 4)), *p)
     with pytest.raises(TypeError, match="missing"):
         mod.rhs(0.0, y, *p[:-1])
+    names = ", ".join(a.name for a in build(name).functions[0].arguments)
+    with pytest.raises(InvalidInput, match=rf"order \({names}\)"):
+        mod.rhs(0.0, y, *p, 1.0)
+    with pytest.raises(InvalidInput, match=rf"order \({names}\)"):
+        mod.rhs_batched(0.0, y[:, None], *p, 1.0)
     with pytest.raises(InvalidInput, match="out"):
         mod.rhs_batched(0.0, np.ones((len(y), 4)), *p, out=np.empty((len(y), 5)))
     Y = np.ones((len(y), 4))

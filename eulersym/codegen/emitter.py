@@ -80,7 +80,7 @@ BATCHED_FUNCTIONS: dict[str, str] = {
 }
 
 #: Names an argument may not take in emitted code (they name helpers of the generated modules).
-_RESERVED = {"np", "math", "out", "shape", "InvalidInput"}
+_RESERVED = {"np", "math", "out", "extra", "shape", "InvalidInput"}
 _CSE_PREFIX = "x"
 _Q = '"' * 3
 
@@ -505,12 +505,13 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
     body: list[str] = []
     args = _signature(f)
     if flavour == "scalar":
-        head = f"def {f.name}({args}):"
+        head = f"def {f.name}({args}, *extra):"
         kind = "list" if len(f.out_shape) == 1 else "list of lists"
         doc = [_Q + f"{f.name}({args}) -> {kind} of {_outputs_doc(f)}", ""]
         if f.doc:
             doc += ["    " + f.doc, ""]
         doc += ["    Arguments, in order:"] + ["    " + line for line in _order_doc(f)] + ["    " + _Q]
+        body += _extra_check(f)
         for a in f.arguments:
             if not a.vector:
                 continue
@@ -537,7 +538,7 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
                     for i in range(reduced.rows)]
             body.append("return [" + ", ".join(rows) + "]")
     else:
-        head = f"def {f.name}_batched({args}, out=None):"
+        head = f"def {f.name}_batched({args}, *extra, out=None):"
         doc = [_Q + f"{f.name}_batched({args}, out=None) -> ndarray of shape "
                f"{f.out_shape} + batch" + (f", rows {_outputs_doc(f)}" if f.output_names else ""), ""]
         if f.doc:
@@ -547,6 +548,7 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
         doc += ["    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled",
                 "    and returned.", "    " + _Q]
         shapes = []
+        body += _extra_check(f)
         for a in f.arguments:
             if a.vector:
                 body.append(f"{a.name} = _as_vector({a.name!r}, {a.name}, {a.names!r})")
@@ -626,6 +628,13 @@ def _emit_into(expr, target: str, printer, arrays: set) -> list[str]:
     return [f"{target} = {printer.doprint(expr)}"]
 
 
+def _extra_check(f: FunctionSpec) -> list[str]:
+    """One statement: too many positional arguments raise InvalidInput naming the order (missing ones: Python's
+    own TypeError names them)."""
+    names = tuple(a.name for a in f.arguments)
+    return ["if extra:", f"    raise _too_many({f.name!r}, extra, {names!r})"]
+
+
 def _indices(shape):
     if len(shape) == 1:
         return [(i,) for i in range(shape[0])]
@@ -676,7 +685,8 @@ def check_module(spec: ModuleSpec) -> None:
         check_expressions(list(f.expressions), symbols, what=f"{spec.name}.{f.name}")
 
 
-_RUNTIME_IMPORT = "from eulersym.generated._runtime import _as_vector, _prepare_out, _unpack, _wrong_length"
+_RUNTIME_IMPORT = ("from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, "
+                   "_wrong_length")
 
 
 def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_import: str | None = None) -> str:
