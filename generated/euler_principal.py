@@ -8,7 +8,7 @@
 # Arguments: invariants(t, y, I1, I2, I3, N1, N2, N3); y = (omega1, omega2, omega3)
 """Euler's equations in principal axes with a body torque: I ω̇ = (I ω) × ω + N, I = diag(I1, I2, I3).
 
-Functions (each also as ``<name>_batched(..., out=None)``):
+Functions (each also as ``<name>_batched(..., out=None)`` and ``<name>_flat(...)``):
 
 - ``rhs(t, y, I1, I2, I3, N1, N2, N3)`` → (domega1/dt, domega2/dt, domega3/dt): the right-hand side dy/dt
 - ``jac(t, y, I1, I2, I3, N1, N2, N3)`` → shape (3, 3): the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -25,6 +25,8 @@ Scalar flavour: Python floats and ``math``; returns a new list on every call (sa
 Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once
 per call, and the result is a new array unless ``out=`` is given (written in place, so it may not
 overlap the inputs).
+Flat flavour: ``<name>_flat`` takes every symbol as its own float argument (vectors unpacked, in
+order) and returns a tuple: plain ``math`` on floats, no checks, so ``numba.njit`` compiles it.
 
 Invariants: E = ½ ω·Iω and L² = |Iω|² (conserved only without torque).
 """
@@ -33,7 +35,7 @@ import numpy as np
 
 from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, _wrong_length
 
-__all__ = ['rhs', 'jac', 'invariants', 'rhs_batched', 'jac_batched', 'invariants_batched']
+__all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched']
 
 
 def rhs(t, y, I1, I2, I3, N1, N2, N3, *extra):
@@ -117,6 +119,53 @@ def invariants(t, y, I1, I2, I3, N1, N2, N3, *extra):
     x10 = (omega2*omega2)
     x11 = (omega3*omega3)
     return [(0.5)*I1*x9 + (0.5)*I2*x10 + (0.5)*I3*x11, (I1*I1)*x9 + (I2*I2)*x10 + (I3*I3)*x11]
+
+
+def rhs_flat(t, omega1, omega2, omega3, I1, I2, I3, N1, N2, N3):
+    """rhs_flat(t, omega1, omega2, omega3, I1, I2, I3, N1, N2, N3) -> tuple
+
+    ``rhs`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x0 = 1/I1
+    x1 = I2*omega3
+    x2 = I3*omega3
+    x3 = 1/I2
+    x4 = I1*omega3
+    x5 = 1/I3
+    x6 = I1*omega1
+    x7 = I2*omega2
+    return (x0*(N1 + omega2*x1 - omega2*x2), x3*(N2 + omega1*x2 - omega1*x4), x5*(N3 - omega1*x7 + omega2*x6))
+
+
+def jac_flat(t, omega1, omega2, omega3, I1, I2, I3, N1, N2, N3):
+    """jac_flat(t, omega1, omega2, omega3, I1, I2, I3, N1, N2, N3) -> tuple
+
+    ``jac`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x0 = 1/I1
+    x1 = I2*omega3
+    x2 = I3*omega3
+    x3 = 1/I2
+    x4 = I1*omega3
+    x5 = 1/I3
+    x6 = I1*omega1
+    x7 = I2*omega2
+    x8 = -x2
+    return ((0.0, x0*(x1 + x8), x0*(-I3*omega2 + x7)), (x3*(-x4 - x8), 0.0, x3*(I3*omega1 - x6)), (x5*(I1*omega2 - x7), x5*(-I2*omega1 + x6), 0.0))
+
+
+def invariants_flat(t, omega1, omega2, omega3, I1, I2, I3, N1, N2, N3):
+    """invariants_flat(t, omega1, omega2, omega3, I1, I2, I3, N1, N2, N3) -> tuple
+
+    ``invariants`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x9 = (omega1*omega1)
+    x10 = (omega2*omega2)
+    x11 = (omega3*omega3)
+    return ((0.5)*I1*x9 + (0.5)*I2*x10 + (0.5)*I3*x11, (I1*I1)*x9 + (I2*I2)*x10 + (I3*I3)*x11)
 
 
 def rhs_batched(t, y, I1, I2, I3, N1, N2, N3, *extra, out=None):

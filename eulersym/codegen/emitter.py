@@ -481,7 +481,8 @@ def _outputs_doc(f: FunctionSpec) -> str:
 
 
 def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
-    """Source of one function (``f.name`` for the scalar flavour, ``f.name + "_batched"`` for the batched one).
+    """Source of one function: ``f.name`` (scalar flavour), ``f.name + "_flat"`` (flat: the scalar flavour with
+    vectors unpacked, returning a tuple, numba-compilable) or ``f.name + "_batched"`` (batched).
 
     Examples
     --------
@@ -499,12 +500,27 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
         x0 = a*b
         return [x0, x0 + 1]
     """
-    printer = make_printer(flavour)
+    printer = make_printer("scalar" if flavour == "flat" else flavour)
     reduced = cse.reduced[f.name]
     needed = cse.needed(list(reduced))
     body: list[str] = []
     args = _signature(f)
-    if flavour == "scalar":
+    if flavour == "flat":
+        flat_args = ", ".join(local_name(s) for s in f.symbols)
+        head = f"def {f.name}_flat({flat_args}):"
+        doc = [_Q + f"{f.name}_flat({flat_args}) -> tuple", "",
+               f"    ``{f.name}`` with every vector unpacked and no checks: plain floats and ``math`` only, so",
+               "    ``numba.njit`` compiles it. Returns a new tuple.", "    " + _Q]
+        for sym, expr in needed:
+            body.append(f"{printer.doprint(sym)} = {printer.doprint(expr)}")
+        if len(f.out_shape) == 1:
+            items = [_constant(printer, e) for e in reduced]
+            body.append("return (" + ", ".join(items) + ("," if len(items) == 1 else "") + ")")
+        else:
+            rows = ["(" + ", ".join(_constant(printer, e) for e in reduced.row(i)) + ("," if reduced.cols == 1 else "")
+                    + ")" for i in range(reduced.rows)]
+            body.append("return (" + ", ".join(rows) + ("," if len(rows) == 1 else "") + ")")
+    elif flavour == "scalar":
         head = f"def {f.name}({args}, *extra):"
         kind = "list" if len(f.out_shape) == 1 else "list of lists"
         doc = [_Q + f"{f.name}({args}) -> {kind} of {_outputs_doc(f)}", ""]
@@ -717,6 +733,7 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
         versions = {"eulersym": __version__, "sympy": sp.__version__}
     cse = cse_pass(spec.functions)
     scalar = [emit_function(f, cse, "scalar") for f in spec.functions]
+    flat = [emit_function(f, cse, "flat") for f in spec.functions]
     batched = [emit_function(f, cse, "batched") for f in spec.functions]
     used = set()
     for f in spec.functions:
@@ -737,7 +754,8 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
         header.append(f"# Arguments: {f.name}({_signature(f)})" + "".join(
             f"; {a.name} = ({', '.join(a.names)})" for a in f.arguments if a.vector))
     description = textwrap.fill(spec.description.strip(), width=100, break_on_hyphens=False).split("\n")
-    doc = ['"""' + description[0], *description[1:], "", "Functions (each also as ``<name>_batched(..., out=None)``):", ""]
+    doc = ['"""' + description[0], *description[1:], "",
+           "Functions (each also as ``<name>_batched(..., out=None)`` and ``<name>_flat(...)``):", ""]
     shared = len({_signature(f) for f in spec.functions}) == 1 and any(a.vector for a in spec.functions[0].arguments)
     for f in spec.functions:
         doc.append(f"- ``{f.name}({_signature(f)})`` → {_outputs_doc(f)}" + (f": {f.doc}" if f.doc else ""))
@@ -750,7 +768,9 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
             "``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.",
             "Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once",
             "per call, and the result is a new array unless ``out=`` is given (written in place, so it may not",
-            "overlap the inputs)."]
+            "overlap the inputs).",
+            "Flat flavour: ``<name>_flat`` takes every symbol as its own float argument (vectors unpacked, in",
+            "order) and returns a tuple: plain ``math`` on floats, no checks, so ``numba.njit`` compiles it."]
     for note in spec.notes:
         doc += ["", *textwrap.fill(note, width=100, break_on_hyphens=False).split("\n")]
     doc.append('"""')
@@ -760,8 +780,8 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
     runtime_import = _RUNTIME_IMPORT if runtime_import is None else runtime_import
     if runtime_import:
         imports += ["", runtime_import]
-    all_names = [f.name for f in spec.functions] + [f.name + "_batched" for f in spec.functions]
+    all_names = [f.name + suffix for suffix in ("", "_flat", "_batched") for f in spec.functions]
     parts = header + doc + imports + ["", f"__all__ = {all_names!r}", ""]
-    for src in scalar + batched:
+    for src in scalar + flat + batched:
         parts += ["", src, ""]
     return "\n".join(parts).rstrip("\n") + "\n"
