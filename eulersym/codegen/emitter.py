@@ -278,6 +278,14 @@ class CsePass:
 
     ``replacements`` is the ordered list of ``(symbol, expression)``; ``reduced`` maps each function name to its
     reduced output Matrix; ``index`` maps a CSE symbol to its position.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> x = sp.Symbol("x")
+    >>> p = cse_pass([FunctionSpec("f", (Argument("x", (x,)),), sp.Matrix([sp.sin(x) ** 2, sp.sin(x)]))])
+    >>> p.needed([p.reduced["f"][0]])
+    [(x0, sin(x))]
     """
 
     replacements: tuple
@@ -687,7 +695,17 @@ def input_hash(spec: ModuleSpec) -> str:
 
 
 def check_module(spec: ModuleSpec) -> None:
-    """Refuse a module whose outputs use anything but its arguments, or whose functions clash by name."""
+    """Refuse a module whose outputs use anything but its arguments, or whose functions clash by name.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> x, y = sp.symbols("x y")
+    >>> check_module(ModuleSpec("m", "", "", (FunctionSpec("f", (Argument("x", (x,)),), sp.Matrix([x * y])),)))
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: m.f='y' is not valid: expected no free symbols other than the arguments (x)
+    """
     names = [f.name for f in spec.functions]
     if len(set(names)) != len(names):
         raise InvalidInput("functions", names, "distinct function names")
