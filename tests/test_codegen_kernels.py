@@ -6,6 +6,7 @@ from __future__ import annotations
 import importlib
 import importlib.util
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -374,11 +375,14 @@ def test_generated_modules_import_and_run_without_sympy():
 
 
 def test_generated_modules_run_without_sympy_from_an_installed_wheel(tmp_path):
-    wheels, target, elsewhere = tmp_path / "wheels", tmp_path / "site", tmp_path / "cwd"
+    wheels, target, elsewhere, source = tmp_path / "wheels", tmp_path / "site", tmp_path / "cwd", tmp_path / "src"
     elsewhere.mkdir()
+    # Build from a copy, so that setuptools' build/ folder never lands in the working tree.
+    shutil.copytree(ROOT, source, ignore=shutil.ignore_patterns(".git", ".venv", "build", "*.egg-info", "__pycache__",
+                                                                 ".hypothesis", ".benchmarks", "out*"))
     pip = [sys.executable, "-m", "pip", "-q"]
     isolation = [] if importlib.util.find_spec("setuptools") is None else ["--no-build-isolation"]
-    subprocess.run([*pip, "wheel", "--no-deps", *isolation, "-w", str(wheels), str(ROOT)],
+    subprocess.run([*pip, "wheel", "--no-deps", *isolation, "-w", str(wheels), str(source)],
                    check=True, capture_output=True, cwd=tmp_path)
     wheel = next(wheels.glob("eulersym-*.whl"))
     subprocess.run([*pip, "install", "--no-deps", "--target", str(target), str(wheel)], check=True,
