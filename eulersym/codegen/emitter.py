@@ -1,4 +1,4 @@
-"""The emitter: SymPy expressions → plain Python source, scalar (``math``) and batched (NumPy) flavours.
+"""The emitter: SymPy expressions → plain Python source, scalar/flat (``math``) and batched (NumPy) flavours.
 
 One CSE pass per module
     Every function of a module (right-hand side, Jacobian, invariants, ...) is reduced by a single call of
@@ -10,13 +10,20 @@ Determinism
     Arguments are given in a fixed order by the caller; every other set (the free symbols of an expression, the
     subexpressions a function needs) is sorted by SymPy's ``default_sort_key`` or by CSE index before it is
     printed, and SymPy prints ``Add``/``Mul`` arguments in its canonical order. The bytes therefore do not depend
-    on ``PYTHONHASHSEED`` (tests/test_codegen.py checks this in subprocesses with different seeds).
+    on ``PYTHONHASHSEED`` (tests/test_codegen_sync.py checks this in subprocesses with different seeds).
 
 Printing
     Two printers differ only in a table of function names (as SymPy's own printers do): the scalar flavour
     calls ``math`` functions imported by bare name (a global lookup, cheaper than ``math.sin``), the batched
     flavour calls ``np.<name>``. Small integer powers print as products, ``(x*x)``: for Python floats a product
     is several times cheaper than ``x**2``. A function outside the table is refused by name.
+
+Flavours
+    *scalar* ``f(t, y, *params)``: Python floats and ``math``, returns a new list; *flat* ``f_flat(t, *state,
+    *params)``: the same with vectors unpacked, returning a tuple (numba-compilable); *batched*
+    ``f_batched(t, y, *params, out=None)``: NumPy, outputs written into ``out`` row by row with in-place
+    ufuncs (``np.multiply(a, b, out=...)``, ``+=``, ``*=``), which avoids the temporaries of
+    ``out[i] = <expression>``.
 
 Refusals
     Before anything is printed, :func:`check_expressions` refuses, by name, any ``Derivative``, undefined
