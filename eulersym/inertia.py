@@ -86,6 +86,8 @@ _rho = sp.Dummy("rho", nonnegative=True)
 
 #: Relative slack for floating-point triangle inequalities of principal moments.
 _SLACK = 1e-12
+_NON_NEGATIVE = "moments of inertia >= 0 (a body's principal moments)"
+_TRIANGLE = "principal moments obeying the triangle inequalities I1 + I2 >= I3 (and permutations), as every body's do"
 
 
 # --------------------------------------------------------------------------------------------------- validation
@@ -169,26 +171,20 @@ def _check_moments(argument: str, values: Sequence[Any], given: Any) -> None:
     """Refuse principal moments no body can have: negative, or violating I1 + I2 >= I3 (and permutations)."""
     a, b, c = values
     scale = sp.Add(*[abs(v) if sp.sympify(v).is_number else 0 for v in values]) or 1
-    for m in values:
-        if _violated(m, scale):
-            raise InvalidInput(argument, given, "moments of inertia >= 0 (a body's principal moments)")
-    for p, q, r in ((a, b, c), (b, c, a), (c, a, b)):
-        if _violated(sp.sympify(p) + q - r, scale):
-            raise InvalidInput(argument, given,
-                               "principal moments obeying the triangle inequalities I1 + I2 >= I3 "
-                               "(and permutations), as every body's do")
+    if any(_violated(m, scale) for m in values):
+        raise InvalidInput(argument, given, _NON_NEGATIVE)
+    if any(_violated(sp.sympify(p) + q - r, scale) for p, q, r in ((a, b, c), (b, c, a), (c, a, b))):
+        raise InvalidInput(argument, given, _TRIANGLE)
 
 
 def _check_moments_numeric(argument: str, values: np.ndarray, given: Any) -> None:
     scale = float(np.sum(np.abs(values))) or 1.0
     slack = _SLACK * scale
     if np.any(values < -slack):
-        raise InvalidInput(argument, given, "moments of inertia >= 0 (a body's principal moments)")
+        raise InvalidInput(argument, given, _NON_NEGATIVE)
     a, b, c = values
     if min(a + b - c, b + c - a, c + a - b) < -slack:
-        raise InvalidInput(argument, given,
-                           "principal moments obeying the triangle inequalities I1 + I2 >= I3 "
-                           "(and permutations), as every body's do")
+        raise InvalidInput(argument, given, _TRIANGLE)
 
 
 def _zero(expr: Any) -> bool:
@@ -855,13 +851,21 @@ def principal_axes(I: Any, *, body: bool = True) -> tuple:
     Returns
     -------
     moments : tuple of 3 SymPy expressions, or ndarray (3,)
-        Ascending. (For symbolic moments whose order cannot be decided, the order in which they were found — the
-        diagonal's order for a diagonal tensor.)
+        Ascending. Exact: rationals and radicals where the characteristic polynomial factors; otherwise (an
+        irreducible cubic, three real roots) ``sympy.CRootOf`` objects, real and exact, never complex radicals.
+        For symbolic moments whose order cannot be decided, the order in which they were found (the diagonal's
+        order for a diagonal tensor).
     axes : sympy.Matrix or ndarray (3, 3)
         Orthonormal columns, the principal axes, forming a proper rotation (det = +1; the third column's sign is
         chosen for that, or it is the cross product of the first two). A degenerate moment gets an orthonormal
         basis of its eigenspace; each of the first two columns has its first (SymPy) or largest (NumPy) non-zero
         component positive.
+
+    Raises
+    ------
+    InvalidInput
+        For a non-3×3 or non-symmetric ``I``; with ``body``, for impossible moments; for a symbolic tensor whose
+        characteristic polynomial is an irreducible cubic (no useful closed form: substitute numbers first).
 
     Examples
     --------
