@@ -1078,7 +1078,8 @@ def angular_momentum(I: Any, omega: Any) -> Any:
 
 
 def kinetic_energy(I: Any, omega: Any) -> Any:
-    r"""The rotational kinetic energy :math:`T = \tfrac12 \omega^T I \omega = \tfrac12 \sum_{jk} I_{jk}\omega_j\omega_k`.
+    r"""The rotational kinetic energy (§4.3),
+    :math:`T = \tfrac12 \omega^T I \omega = \tfrac12 \sum_{jk} I_{jk} \omega_j \omega_k`.
 
     Parameters
     ----------
