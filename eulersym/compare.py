@@ -179,37 +179,49 @@ def _trig_atoms(expr):
     return [a for a in expr.atoms(sp.sin, sp.cos, sp.tan, sp.cot)]
 
 
+def _has_denominator(expr) -> bool:
+    return any(p.exp.is_negative for p in expr.atoms(sp.Pow) if p.base.free_symbols)
+
+
 def _trig_polynomial_zero(expr) -> bool | None:
-    """True if ``expr`` is zero as a rational function of sin and cos of its (symbol) arguments; None if n/a."""
-    expr = sp.expand_trig(expr)
+    """True if ``expr`` is zero as a rational function of sin and cos of its (symbol) arguments; None if n/a.
+
+    ``sin x``, ``cos x`` become ring generators ``s_x``, ``c_x`` (lex order, ``s_x`` first) and the numerator is
+    divided by ``{s_x² + c_x² − 1}``, which is already a Gröbner basis (the leading terms ``s_x²`` are coprime): the
+    remainder is zero exactly when the expression vanishes identically.
+    """
     trig = _trig_atoms(expr)
+    if any(not a.args[0].is_Symbol for a in trig):
+        expr = sp.expand(sp.expand_trig(expr))
+        trig = _trig_atoms(expr)
+        if any(not a.args[0].is_Symbol for a in trig):
+            return None
     if not trig:
-        return None
+        return True if expr == 0 else None
     args = sorted({a.args[0] for a in trig}, key=sp.default_sort_key)
-    if not all(arg.is_Symbol for arg in args):
-        return None
-    sub, gens, ideal = {}, [], []
+    sub, pairs = {}, []
     for arg in args:
         s, c = sp.Dummy(f"s_{arg}"), sp.Dummy(f"c_{arg}")
         sub.update({sp.sin(arg): s, sp.cos(arg): c, sp.tan(arg): s / c, sp.cot(arg): c / s})
-        gens += [s, c]
-        ideal.append(s**2 + c**2 - 1)
-    poly_expr = expr.xreplace(sub)
-    if any(a in poly_expr.free_symbols for a in args):  # an angle also appears outside sin/cos
-        others = [a for a in args if a in poly_expr.free_symbols]
-        if any(not poly_expr.is_polynomial(a) for a in others):
-            return None
-    num, _den = sp.fraction(sp.together(poly_expr))
-    num = sp.expand(num)
+        pairs.append((s, c))
+    num = expr.xreplace(sub)
+    if _has_denominator(num):
+        num = sp.expand(sp.fraction(sp.together(num))[0])
     if num == 0:
         return True
-    if not num.is_polynomial(*gens):
+    gens = [g for pair in pairs for g in pair]
+    others = sorted(num.free_symbols - set(gens), key=sp.default_sort_key)
+    for domain in (sp.QQ, sp.EX):
+        try:
+            ring, *xs = sp.ring(gens + others, domain, order="lex")
+            poly = ring.from_expr(num)
+            break
+        except (ValueError, TypeError, sp.polys.polyerrors.PolynomialError, sp.polys.polyerrors.CoercionFailed):
+            continue
+    else:
         return None
-    try:
-        _, remainder = sp.reduced(num, ideal, *gens, order="grevlex")
-    except (sp.PolynomialError, sp.polys.polyerrors.PolificationFailed):
-        return None
-    return sp.expand(remainder) == 0
+    basis = [xs[2 * i] ** 2 + xs[2 * i + 1] ** 2 - 1 for i in range(len(pairs))]
+    return poly.rem(basis) == 0
 
 
 def zero_exact(expr) -> tuple[bool, str]:
@@ -227,6 +239,8 @@ def zero_exact(expr) -> tuple[bool, str]:
     expr = sp.sympify(expr)
     if expr == 0:
         return True, "identical"
+    if expr.atoms(AppliedUndef):
+        expr, _ = freeze_functions(expr)
     expanded = sp.expand(expr)
     if expanded == 0:
         return True, "expand"
@@ -360,7 +374,8 @@ def compare(
 
     # numeric
     rng = random.Random(seed)
-    symbols = sorted(set().union(*(d.free_symbols for d in diffs)) if diffs else set(), key=sp.default_sort_key)
+    symbols = sorted(set().union(*(fa.free_symbols | fb.free_symbols for _, fa, fb in pairs)) if pairs else set(),
+                     key=sp.default_sort_key)
     tolerance = 10.0 ** (-dps / 2)
     differing: list[str] = []
     counterexample = None
@@ -385,11 +400,15 @@ def compare(
         exact_verdict = False
     else:
         exact_verdict = None
-    equal = numeric_ok and exact_verdict is not False
+    # An exact proof is sound; a numeric disagreement with it can only come from evaluation (branch cuts), so the
+    # proof decides and the disagreement is reported in the method.
+    equal = exact_verdict is True or (numeric_ok and exact_verdict is not False)
     numeric_text = f"numeric ({points} points at {dps} digits)"
     if exact_verdict is True:
         how = ", ".join(strategies) if strategies else "identical"
         method = f"exact ({how}) + {numeric_text}"
+        if not numeric_ok:
+            method += f" (numeric evaluation disagreed at {', '.join(differing)}: branch cuts?)"
     elif exact_verdict is False:
         method = f"counterexample found by {numeric_text}"
     else:

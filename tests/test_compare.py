@@ -1,0 +1,98 @@
+"""The comparison engine: exact strategies, numeric counterexamples, shapes, equations up to a factor."""
+
+from __future__ import annotations
+
+import pytest
+import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from eulersym.compare import compare, components, freeze_functions, zero_exact
+from eulersym.errors import InvalidInput
+from eulersym.symbols import I1, I2, eta2, phi, t, theta
+
+x, y = sp.symbols("x y", real=True)
+
+
+@pytest.mark.parametrize(
+    "expr, strategy",
+    [
+        (sp.Integer(0), "identical"),
+        ((x + 1) ** 2 - x**2 - 2 * x - 1, "expand"),
+        (sp.sin(x) ** 2 + sp.cos(x) ** 2 - 1, "trig-polynomial reduction"),
+        (sp.sin(2 * x) - 2 * sp.sin(x) * sp.cos(x), "trig-polynomial reduction"),
+        (sp.tan(x) * sp.cos(x) - sp.sin(x), "trig-polynomial reduction"),
+        (sp.sin(phi) ** 2 * sp.cos(theta) + sp.cos(phi) ** 2 * sp.cos(theta) - sp.cos(theta), "trig-polynomial reduction"),
+    ],
+)
+def test_zero_exact_strategies(expr, strategy):
+    assert zero_exact(expr) == (True, strategy)
+
+
+def test_nonzero_is_not_proven_zero():
+    assert zero_exact(sp.sin(x) - sp.cos(x))[0] is False
+
+
+def test_counterexample_proves_inequality():
+    r = compare(sp.sin(x) ** 2, sp.cos(x) ** 2)
+    assert not r.equal and r.exact is False
+    assert set(r.counterexample) == {"x"}
+    value = r.counterexample["x"]
+    assert abs(sp.sin(value) ** 2 - sp.cos(value) ** 2) > 1e-3
+
+
+def test_matrices_name_the_differing_components():
+    r = compare(sp.Matrix([[x, y], [y, x]]), sp.Matrix([[x, y], [-y, x]]))
+    assert r.differing == ("[1, 0]",)
+
+
+def test_shape_mismatch_is_bad_input():
+    with pytest.raises(InvalidInput, match="same shape"):
+        compare(sp.Matrix([x, y]), x)
+
+
+def test_equations_up_to_a_factor():
+    a = sp.Eq(eta2.diff(t), 0)
+    assert compare(a, sp.Eq(I2 * eta2.diff(t), 0), up_to_factor=True).equal
+    assert not compare(a, sp.Eq(I2 * eta2.diff(t), 0)).equal
+    # a factor that depends on the state is not allowed
+    assert not compare(a, sp.Eq(eta2 * eta2.diff(t), 0), up_to_factor=True).equal
+    assert not compare(sp.Eq(I1 * eta2, 0), sp.Eq(I2 * eta2 + 1, 0), up_to_factor=True).equal
+
+
+def test_functions_of_time_are_frozen():
+    frozen, mapping = freeze_functions(phi.diff(t, 2) + phi.diff(t) * phi)
+    assert frozen == sp.Symbol("phiddot", real=True) + sp.Symbol("phidot", real=True) * sp.Symbol("phi", real=True)
+    assert len(mapping) == 3
+
+
+def test_components_of_nested_objects():
+    assert [label for label, _ in components([sp.Matrix([[1, 2]]), (x, sp.Eq(x, y))])] == [
+        "[0][0, 0]", "[0][0, 1]", "[1][0]", "[1][1]"]
+
+
+def test_bad_options():
+    with pytest.raises(InvalidInput, match="points=0"):
+        compare(x, x, points=0)
+    with pytest.raises(InvalidInput, match="dps=5"):
+        compare(x, x, dps=5)
+    with pytest.raises(InvalidInput, match="expression="):
+        compare(object(), object())
+
+
+rewrites = [
+    lambda e: sp.expand(e),
+    lambda e: sp.factor(e),
+    lambda e: sp.expand_trig(e),
+    lambda e: e.rewrite(sp.tan) if e.has(sp.sin) else e,
+    lambda e: sp.together(e),
+]
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.lists(st.integers(-3, 3), min_size=4, max_size=4), st.sampled_from(rewrites))
+def test_property_rewrites_stay_equal_and_perturbations_differ(coeffs, rewrite):
+    a, b, c, d = coeffs
+    e = a * sp.sin(x) ** 2 + b * sp.cos(x) * sp.sin(y) + c * x**2 + d * sp.cos(2 * x)
+    assert compare(e, rewrite(e)).equal
+    assert not compare(e, e + sp.sin(x) / 7).equal

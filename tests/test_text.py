@@ -1,0 +1,66 @@
+"""Every closed form of the text is derived and proven equal; a corrupted entry is caught."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+import sympy as sp
+
+from eulersym import text
+from eulersym.errors import InvalidInput
+
+IDS = list(text.CLOSED_FORMS)
+
+
+def test_every_section_is_covered():
+    sections = {e.section for e in text.CLOSED_FORMS.values()}
+    assert sections == set(text.SECTIONS)
+    for e in text.CLOSED_FORMS.values():
+        assert e.statement and e.derivation
+
+
+@pytest.mark.parametrize("entry_id", IDS)
+def test_closed_form_is_derived_equal_exactly(entry_id):
+    result = text.check(entry_id)
+    assert result.status == "equal", (entry_id, result.how)
+    assert result.exact is True
+    assert "numeric" in result.how  # shown both exactly and at random 30-digit points
+
+
+@pytest.mark.parametrize("entry_id", ["4.2.omega_body", "4.1.orthogonality", "4.2.D"])
+def test_a_corrupted_text_entry_is_caught(entry_id, monkeypatch):
+    entry = text.CLOSED_FORMS[entry_id]
+    wrong = entry.expression.xreplace({sp.sin(text.phi): sp.cos(text.phi)}) if entry_id == "4.2.D" else None
+    if wrong is None:
+        wrong = entry.expression + sp.ones(*entry.expression.shape) * sp.Rational(1, 10**6)
+    monkeypatch.setitem(text.CLOSED_FORMS, entry_id, dataclasses.replace(entry, expression=wrong))
+    result = text.check(entry_id)
+    assert result.status == "differs"
+    assert result.comparison.counterexample is not None
+
+
+def test_a_missing_derivation_is_pending_and_a_raising_one_is_an_error(monkeypatch):
+    entry = text.CLOSED_FORMS["4.1.dof"]
+    monkeypatch.setitem(text.CLOSED_FORMS, "4.1.dof", dataclasses.replace(
+        entry, _derive=text._call("eulersym.rotation:no_such_function")))
+    assert text.check("4.1.dof").status == "pending"
+
+    def boom():
+        raise RuntimeError("bad derivation")
+
+    monkeypatch.setitem(text.CLOSED_FORMS, "4.1.dof", dataclasses.replace(entry, _derive=boom))
+    assert text.check("4.1.dof").status == "error"
+
+
+def test_unknown_id_and_section_are_bad_input():
+    with pytest.raises(InvalidInput, match="id='4.9.nope'"):
+        text.check("4.9.nope")
+    with pytest.raises(InvalidInput, match="section='4.9'"):
+        text.check_all("4.9")
+
+
+def test_report_prints_text_derived_and_verdict(capsys):
+    text.report("4.2", latex=True)
+    out = capsys.readouterr().out
+    assert "§4.2" in out and "\\sin" in out and "EQUAL" in out
