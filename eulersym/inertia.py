@@ -580,6 +580,17 @@ def _uniform(M: Any, region: Region, origin_shift: Any = None) -> sp.Matrix:
     return tensor(density, region)
 
 
+#: Positive placeholders: each body is derived once in these (cached), then the caller's values are substituted,
+#: so numbers stay exact (or are rounded once) and new symbols or numbers cost only a substitution.
+_PLACEHOLDERS = tuple(sp.Dummy(f"p{i}", positive=True) for i in range(4))
+
+
+def _instantiate(builder: Any, values: Sequence[Any], *options: Any) -> sp.Matrix:
+    """``builder(*placeholders, *options)`` with the placeholders replaced by ``values``."""
+    placeholders = _PLACEHOLDERS[: len(values)]
+    return sp.Matrix(builder(*placeholders, *options).xreplace(dict(zip(placeholders, values))))
+
+
 def _minus_center(region: Region) -> tuple:
     return tuple(-c for c in center_of_mass(1, region))
 
@@ -613,7 +624,7 @@ def cuboid(M: Any, a: Any, b: Any, c: Any, origin: str = "center") -> sp.Matrix:
     Matrix([[M*b**2/12 + M*c**2/12, M*a**2/12 + M*c**2/12, M*a**2/12 + M*b**2/12]])
     """
     args = (_positive("M", M), _positive("a", a), _positive("b", b), _positive("c", c))
-    return sp.Matrix(_cuboid(*args, choice("origin", origin, _BOX_ORIGINS)))
+    return _instantiate(_cuboid, args, choice("origin", origin, _BOX_ORIGINS))
 
 
 def cube(M: Any, a: Any, origin: str = "center") -> sp.Matrix:
@@ -633,7 +644,8 @@ def cube(M: Any, a: Any, origin: str = "center") -> sp.Matrix:
     -M*a**2/4
     """
     M, a = _positive("M", M), _positive("a", a)
-    return sp.Matrix(_cuboid(M, a, a, a, choice("origin", origin, _BOX_ORIGINS)))
+    origin = choice("origin", origin, _BOX_ORIGINS)
+    return _instantiate(lambda mass_, edge, o: _cuboid(mass_, edge, edge, edge, o), (M, a), origin)
 
 
 @functools.lru_cache(maxsize=64)
@@ -651,7 +663,7 @@ def sphere(M: Any, R: Any) -> sp.Matrix:
     >>> sphere(M, R)[0, 0]
     2*M*R**2/5
     """
-    return sp.Matrix(_sphere(_positive("M", M), _positive("R", R)))
+    return _instantiate(_sphere, (_positive("M", M), _positive("R", R)))
 
 
 _CYLINDER_ORIGINS = ("center", "base")
@@ -679,7 +691,7 @@ def cylinder(M: Any, R: Any, h: Any, origin: str = "center") -> sp.Matrix:
     Matrix([[M*R**2/4 + M*h**2/12, M*R**2/4 + M*h**2/12, M*R**2/2]])
     """
     M, R, h = _positive("M", M), _positive("R", R), _positive("h", h)
-    return sp.Matrix(_cylinder(M, R, h, choice("origin", origin, _CYLINDER_ORIGINS)))
+    return _instantiate(_cylinder, (M, R, h), choice("origin", origin, _CYLINDER_ORIGINS))
 
 
 _CONE_ORIGINS = ("apex", "center")
@@ -709,7 +721,7 @@ def cone(M: Any, R: Any, h: Any, origin: str = "apex") -> sp.Matrix:
     3*M*R**2/20 + 3*M*h**2/80
     """
     M, R, h = _positive("M", M), _positive("R", R), _positive("h", h)
-    return sp.Matrix(_cone(M, R, h, choice("origin", origin, _CONE_ORIGINS)))
+    return _instantiate(_cone, (M, R, h), choice("origin", origin, _CONE_ORIGINS))
 
 
 @functools.lru_cache(maxsize=64)
@@ -727,7 +739,7 @@ def ellipsoid(M: Any, a: Any, b: Any, c: Any) -> sp.Matrix:
     >>> ellipsoid(M, a, b, c)[0, 0]
     M*b**2/5 + M*c**2/5
     """
-    return sp.Matrix(_ellipsoid(_positive("M", M), _positive("a", a), _positive("b", b), _positive("c", c)))
+    return _instantiate(_ellipsoid, (_positive("M", M), _positive("a", a), _positive("b", b), _positive("c", c)))
 
 
 _ROD_ORIGINS = ("center", "end")
@@ -757,7 +769,7 @@ def rod(M: Any, L: Any, origin: str = "center") -> sp.Matrix:
     L**2*M/3
     """
     M, L = _positive("M", M), _positive("L", L)
-    return sp.Matrix(_rod(M, L, choice("origin", origin, _ROD_ORIGINS)))
+    return _instantiate(_rod, (M, L), choice("origin", origin, _ROD_ORIGINS))
 
 
 def point_masses(masses: Iterable[tuple]) -> sp.Matrix:
