@@ -15,7 +15,6 @@
 # %%
 from __future__ import annotations
 
-import argparse
 import sys
 
 import sympy as sp
@@ -23,17 +22,9 @@ import sympy as sp
 from eulersym.compare import compare
 from eulersym.rotation import degrees_of_freedom, euler_matrix, is_rotation
 from eulersym.symbols import phi, psi, theta
+from eulersym.text import derivation_printer
 
-parser = argparse.ArgumentParser(description="§4.1 derived")
-parser.add_argument("--latex", action="store_true", help="print results as LaTeX")
-args = parser.parse_args(sys.argv[1:] if __name__ == "__main__" else [])
-
-
-def show(label: str, expr) -> None:
-    """Print one derived result (plain text, or LaTeX with --latex)."""
-    text = sp.latex(expr) if args.latex else (sp.sstr(expr.tolist()) if isinstance(expr, sp.MatrixBase)
-                                              else sp.sstr(expr))
-    print(f"{label}:\n    {text}")
+args, show = derivation_printer("§4.1 derived", sys.argv[1:] if __name__ == "__main__" else [])
 
 
 # %% [markdown]
