@@ -59,6 +59,8 @@ CASES: tuple[Case, ...] = (
          "transposed"),
     Case("C-transposed", "4.2", "[[1, 0, 0], [0, cos(theta), -sin(theta)], [0, sin(theta), cos(theta)]]", "C",
          False, "transposed", ("[1, 2]", "[2, 1]")),
+    Case("C-latex-as-printed", "4.2", r"\begin{pmatrix} 1 & 0 & 0 \\ 0 & \cos \theta & \sin \theta \\ 0 & -\sin "
+         r"\theta & \cos \theta \end{pmatrix}", "C", True, latex=True),
     Case("B-unicode", "4.2", "[[cos ψ, sin ψ, 0], [−sin ψ, cos ψ, 0], [0, 0, 1]]", "B", True),
     Case("A-product", "4.2", A_ZXZ, "A", True),
     Case("A-zyz", "4.2", A_ZYZ, "A", False, "'zyz'"),
