@@ -524,6 +524,11 @@ def _equation_factor(dc, dt):
     ft, _ = freeze_functions(dt, mapping)
     if ft == 0:
         return None
+    # cheap screen first: is fc/ft the same number wherever only the state varies? If not, there is no factor
+    # and no symbolic cancellation is spent on it.
+    probe = _Probe([ft], fc.free_symbols | ft.free_symbols, mapping, seed=0, proportional=True)
+    if probe.usable and not probe.matches([fc]):
+        return None
     ratio = sp.cancel(sp.together(fc / ft))
     state = _state_symbols(mapping)
     if ratio.free_symbols & state and sp.count_ops(ratio) <= 200:
