@@ -1,14 +1,16 @@
 """Verify a hand derivation: is this formula right, and if not, where does it go wrong?
 
 ``verify(candidate, against)`` parses the candidate safely (:mod:`eulersym.parsing`, no ``eval``), resolves the
-target (a SymPy object, a formula, or the name of a derived quantity in :data:`QUANTITIES`) and decides with
-:func:`eulersym.compare.compare`:
+target (a SymPy object, a formula, or the name of a derived quantity in :data:`QUANTITIES`) and decides with the
+comparison engine :mod:`eulersym.compare`, cheapest first:
 
-- **exact** — the difference simplifies to zero (expand, trig-polynomial reduction, bounded simplify), within a
-  time budget (``budget`` seconds, default 2; POSIX main thread: an interval timer stops the attempt);
-- **numeric** — otherwise, or in addition, evaluation at ``points`` seeded random points with ``dps`` digits
-  (mpmath) of the difference itself, which must stay within ``10**(-dps/2)`` (relative to the difference when it
-  exceeds 1). A point where it does not is a counterexample.
+1. **numeric** — the difference itself is evaluated with mpmath at ``points`` seeded random points with ``dps``
+   digits (``compare(..., exact=False)``); it must stay within ``10**(-dps/2)`` (relative to the difference when
+   that exceeds 1). A point where it does not is a counterexample: inequality is proved (``exact=False``);
+2. **exact** — otherwise every component of the difference is simplified to zero by
+   :func:`eulersym.compare.zero_exact` (expand, trig-polynomial reduction, bounded simplify) within a time budget
+   (``budget`` seconds, default 2; an interval timer stops the attempt: POSIX, main thread). Proved: ``exact=True``;
+   not proved within the budget: the verdict is numeric only (``exact=None``), and the method says so.
 
 Equations compare ``lhs − rhs`` up to a non-zero factor free of the state variables (angles, rates, ω, t): the
 factor is ``cancel(candidate / target)``, and it must hold no state variable. Vectors and matrices compare
