@@ -336,6 +336,13 @@ def test_unsafe_candidates(candidate):
         verify(candidate, "omega_body[0]")
 
 
+@pytest.mark.parametrize("against", ["__import__('os').system('x')", "os.system", "A.__class__", "A[0][1]",
+                                     "9**9**9", "lambda: A"])
+def test_unsafe_against(against):
+    with pytest.raises(InvalidInput):
+        verify("x", against)
+
+
 def test_shape_mismatch():
     with pytest.raises(InvalidInput, match="like the target"):
         verify("[1, 2]", "A")
