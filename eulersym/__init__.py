@@ -32,6 +32,7 @@ _SUBMODULES = (
     "text",
     "compare",
     "verify",
+    "parsing",
     "codegen",
     "numerics",
     "scene",

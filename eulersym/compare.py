@@ -273,15 +273,20 @@ def _random_point(symbols, rng: random.Random) -> dict:
 
 
 def _evaluate(expr, point: dict, dps: int):
+    """``expr`` at ``point`` as an mpmath number with ``dps + 10`` digits (NaN when it has no numeric value).
+
+    SymPy's evalf is adaptive: a sum whose terms cancel is re-evaluated at higher precision, so a small difference
+    of large terms keeps its digits.
+    """
     import mpmath
 
+    subs = {s: sp.Float(repr(v), dps + 10) for s, v in point.items()}
+    value = sp.sympify(expr).xreplace(subs).evalf(dps + 10)
+    if not value.is_number or value.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
+        return mpmath.mpf("nan")
     with mpmath.workdps(dps + 10):
-        subs = {s: sp.Float(repr(v), dps + 10) for s, v in point.items()}
-        value = sp.sympify(expr).xreplace(subs).evalf(dps + 10)
-        try:
-            return complex(value)
-        except TypeError:
-            return complex("nan")
+        re, im = (mpmath.mpf(str(part)) for part in value.as_real_imag())
+        return mpmath.mpc(re, im)
 
 
 def _proportionality_factor(fa, fb, states) -> sp.Expr | None:
@@ -313,7 +318,8 @@ def compare(
     points : int, optional
         Number of random points for the numeric test (seeded by ``seed``).
     dps : int, optional
-        Decimal digits of the numeric evaluation; the relative tolerance is ``10**(-dps/2)``.
+        Decimal digits of the numeric test; expressions are evaluated with ``dps + 10`` digits and a difference
+        counts when it exceeds ``10**(5 - dps)`` relative to ``max(1, |a|, |b|)``.
     exact : bool, optional
         Try exact simplification to zero (default). With ``exact=False`` only the numeric test runs.
     up_to_factor : bool, optional
@@ -376,7 +382,7 @@ def compare(
     rng = random.Random(seed)
     symbols = sorted(set().union(*(fa.free_symbols | fb.free_symbols for _, fa, fb in pairs)) if pairs else set(),
                      key=sp.default_sort_key)
-    tolerance = 10.0 ** (-dps / 2)
+    tolerance = 10.0 ** (5 - dps)  # relative; evaluation runs at dps + 10 digits
     differing: list[str] = []
     counterexample = None
     for _ in range(points):
@@ -384,9 +390,11 @@ def compare(
         for (label, fa, fb), d in zip(pairs, diffs):
             if d == 0:
                 continue
+            delta = abs(_evaluate(d, point, dps))  # the difference itself: evalf keeps cancelling digits
+            if delta <= tolerance:
+                continue
             va, vb = _evaluate(fa, point, dps), _evaluate(fb, point, dps)
             scale = max(1.0, abs(va), abs(vb))
-            delta = abs(va - vb)
             if not (delta <= tolerance * scale):  # NaN counts as a difference
                 if label not in differing:
                     differing.append(label)

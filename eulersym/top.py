@@ -517,8 +517,16 @@ def precession_limits(theta=theta, omega3=omega3) -> tuple:
             raise InvalidInput("omega3", spin, "a non-zero real spin")
         if sp.sympify(spin).is_zero or (not is_symbolic(spin) and float(spin) == 0):
             raise InvalidInput("omega3", spin, "a non-zero spin (the slow precession M g l/(I3 omega3) divides by it)")
+    leads = _precession_limits(_theta_value(theta))
+    if spin is _OMEGA3:
+        return leads
+    return tuple(lead.xreplace({_OMEGA3: sp.sympify(spin)}) for lead in leads)
+
+
+@functools.lru_cache(maxsize=32)
+def _precession_limits(value) -> tuple:
+    """The series of :func:`precession_limits` for one θ (a pure derivation, cached)."""
     eps = sp.Symbol("epsilon", positive=True)
-    value = _theta_value(theta)
     cosine = sp.cos(value)
     frozen = {} if cosine.is_number else {cosine: sp.Dummy("c", real=True)}
     thaw = {v: k for k, v in frozen.items()}
@@ -529,8 +537,7 @@ def precession_limits(theta=theta, omega3=omega3) -> tuple:
         terms = [term.as_coeff_exponent(eps) for term in sp.Add.make_args(series)]
         order = min(exponent for _, exponent in terms)
         lead = sp.Add(*(coefficient for coefficient, exponent in terms if exponent == order)) * eps**order
-        lead = sp.factor(lead).xreplace(thaw).xreplace({eps: 1 / _OMEGA3})
-        out.append(lead if spin is _OMEGA3 else lead.xreplace({_OMEGA3: sp.sympify(spin)}))
+        out.append(sp.factor(lead).xreplace(thaw).xreplace({eps: 1 / _OMEGA3}))
     return tuple(out)
 
 

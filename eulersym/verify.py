@@ -1114,7 +1114,7 @@ def cli(argv: list[str]) -> int:
     --------
     >>> cli(["2*sin(x)*cos(x)", "--against", "sin(2*x)"])
     EQUAL
-      method:         exact (...) + numeric (5 points at 30 digits, |difference| <= 1e-15)
+      method:         exact (...) + numeric (5 points at 30 digits, |difference| <= 1e-25)
     0
     """
     parser = argparse.ArgumentParser(

@@ -200,8 +200,8 @@ def test_verdict_is_a_frozen_dataclass_with_the_documented_fields():
 def test_method_states_points_digits_and_tolerance():
     v = verify("x + 1", "x + 2", points=7, dps=40)
     assert not v.equal and v.exact is False
-    assert "7 points at 40 digits" in v.method and "1e-20" in v.method
-    assert v.points == 7 and v.dps == 40 and v.tolerance == pytest.approx(1e-20)
+    assert "7 points at 40 digits" in v.method and "1e-35" in v.method
+    assert v.points == 7 and v.dps == 40 and v.tolerance == pytest.approx(1e-35)
 
 
 def test_to_dict_is_json_ready_and_report_readable():
