@@ -95,7 +95,7 @@ def lambdify_module(kind: str):
 
 
 def mp_reference_omega(I, w0, ts, dps=40):
-    """ω(t) from mpmath's elliptic functions, every constant formed at ``dps`` digits from the exact floats.
+    """ω(t) from mpmath's elliptic functions, every constant formed at ``dps`` digits (more when m_c is tiny).
 
     Independent of :mod:`eulersym.numerics.exact`'s arithmetic: m from mpmath (1 − m_c is exact at this precision),
     u0 from ``mpmath.ellipf`` of the amplitude, sn/cn/dn from ``mpmath.ellipfun``; the (a, b, c) frame chosen by
@@ -108,6 +108,13 @@ def mp_reference_omega(I, w0, ts, dps=40):
     """
     import mpmath as mp
 
+    with mp.workdps(30):  # the working precision must resolve 1 − m = m_c and the small discriminants
+        If = [mp.mpf(float(x)) for x in I]
+        w = [mp.mpf(float(x)) for x in w0]
+        lsq = sum(If[i] ** 2 * w[i] ** 2 for i in range(3))
+        disc = [abs(sum(If[i] * (If[i] - If[k]) * w[i] ** 2 for i in range(3))) / lsq for k in range(3)]
+        tiny = min([d for d in disc if d > 0] or [mp.mpf(1)])
+        dps = int(dps + max(0, -2 * mp.log10(tiny)))
     with mp.workdps(dps):
         If = [mp.mpf(float(x)) for x in I]
         w = [mp.mpf(float(x)) for x in w0]

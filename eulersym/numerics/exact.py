@@ -62,9 +62,9 @@ __all__ = [
 # ----------------------------------------------------------------------------------------------------------------
 # Jacobi elliptic functions with the complementary parameter as input
 # ----------------------------------------------------------------------------------------------------------------
-def _agm_landen(mc: float) -> tuple[tuple[float, ...], tuple[float, ...], float]:
-    """AGM sequence a₀ = 1, b₀ = √m_c; returns (a's, b's, AGM). Requires 0 < m_c."""
-    a, b = 1.0, math.sqrt(mc)
+def _agm_landen(rootmc: float) -> tuple[tuple[float, ...], tuple[float, ...], float]:
+    """AGM sequence a₀ = 1, b₀ = √m_c; returns (a's, b's, AGM). Requires 0 < √m_c ≤ 1."""
+    a, b = 1.0, rootmc
     avals, bvals = [], []
     for _ in range(64):
         avals.append(a)
@@ -98,7 +98,7 @@ def complete_elliptic_k(mc: float) -> float:
     mc = float(mc)
     if not (0.0 < mc <= 1.0):
         raise InvalidInput("mc", mc, "a complementary parameter 0 < mc <= 1")
-    return math.pi / (2.0 * _agm_landen(mc)[2])
+    return math.pi / (2.0 * _agm_landen(math.sqrt(mc))[2])
 
 
 def _sncndn_reduced(x: np.ndarray, avals, bvals, agm: float):
@@ -124,7 +124,7 @@ def _sncndn_reduced(x: np.ndarray, avals, bvals, agm: float):
     return sn, cn, dn
 
 
-def jacobi_sncndn(u, mc):
+def jacobi_sncndn(u, mc, *, rootmc=None):
     """Jacobi elliptic functions ``sn(u|m), cn(u|m), dn(u|m)`` with the complementary parameter ``mc = 1 − m``.
 
     Accurate to a few ulp (absolute) for every ``0 ≤ mc ≤ 1`` including ``mc`` down to 1e-300 and ``mc = 0``
@@ -141,6 +141,8 @@ def jacobi_sncndn(u, mc):
         Arguments.
     mc : float
         Complementary parameter ``0 <= mc <= 1``.
+    rootmc : float, optional
+        ``√m_c`` when known more precisely than ``mc`` itself (m_c below the smallest double, ~1e-308).
 
     Returns
     -------
@@ -164,9 +166,10 @@ def jacobi_sncndn(u, mc):
         raise InvalidInput("mc", mc, "a complementary parameter 0 <= mc <= 1")
     if not np.all(np.isfinite(u)):
         raise InvalidInput("u", u, "finite arguments")
-    if mc == 0.0:
+    rootmc = math.sqrt(mc) if rootmc is None else float(rootmc)
+    if rootmc == 0.0:
         return np.tanh(u), 1.0 / np.cosh(u), 1.0 / np.cosh(u)
-    avals, bvals, agm = _agm_landen(mc)
+    avals, bvals, agm = _agm_landen(rootmc)
     K = math.pi / (2.0 * agm)
     r = np.mod(np.abs(u), 4.0 * K)  # sn is odd, cn and dn even: reduce |u| so small arguments stay exact
     upper = r >= 2.0 * K
@@ -180,7 +183,6 @@ def jacobi_sncndn(u, mc):
     z = np.where(near, K - x, x)
     z = np.maximum(z, 0.0)
     sz, cz, dz = _sncndn_reduced(z, avals, bvals, agm)
-    rootmc = math.sqrt(mc)
     sn = np.where(near, cz / dz, sz)
     cn = np.where(near, rootmc * sz / dz, cz)
     dn = np.where(near, rootmc / dz, dz)
@@ -249,6 +251,7 @@ class _Elliptic:
     lam: float
     u0: float
     mc: float
+    rootmc: float  # √m_c, kept separately: m_c may underflow while √m_c does not
     K: float  # inf on the separatrix
     L: float
     n: float  # characteristic of the φ integral
@@ -268,6 +271,16 @@ class _Constant:
 
 def _fr(x: float) -> Fraction:
     return Fraction(float(x))
+
+
+def _sqrt_fraction(x: Fraction) -> float:
+    """√x as a double, also when x itself is below the double range (its square root is not)."""
+    if x == 0:
+        return 0.0
+    f = float(x)
+    if f > 1e-300:
+        return math.sqrt(f)
+    return math.exp(0.5 * (math.log(x.numerator) - math.log(x.denominator)))
 
 
 def _setup(I: tuple[float, float, float], w: np.ndarray):
@@ -318,14 +331,20 @@ def _setup(I: tuple[float, float, float], w: np.ndarray):
     tot = xa + xb
     cn0 = math.copysign(math.sqrt(xa / tot), wa * sa)
     sn0 = math.copysign(math.sqrt(xb / tot), wb * B)
-    delta2 = float((xa + mc * xb) / tot)
-    F = sn0 * float(elliprf(cn0 * cn0, delta2, 1.0)) if sn0 != 0 else 0.0
+    delta2 = (xa + mc * xb) / tot  # cn0² + m_c sn0² = dn0², exactly
+    if sn0 == 0:
+        F = 0.0
+    elif float(delta2) > 1e-300:
+        F = sn0 * float(elliprf(cn0 * cn0, float(delta2), 1.0))
+    else:  # cn0 and m_c below double range: R_F(x, y, 1) = ln(4 / (√x + √y)) + O(x ln x)
+        F = sn0 * math.log(4.0 / (abs(cn0) + _sqrt_fraction(delta2)))
     mcf = float(mc)
+    rootmc = _sqrt_fraction(mc)
     if sep:
         K = math.inf
         u0 = F
     else:
-        K = complete_elliptic_k(mcf)
+        K = math.pi / (2.0 * _agm_landen(rootmc)[2])
         u0 = F if cn0 >= 0 else (math.copysign(2.0 * K, sn0 if sn0 != 0 else 1.0) - F)
     n = float(Ic * (Ib - Ia) / (Ia * (Ic - Ib)))
     return _Elliptic(
@@ -336,6 +355,7 @@ def _setup(I: tuple[float, float, float], w: np.ndarray):
         lam=lam,
         u0=u0,
         mc=mcf,
+        rootmc=rootmc,
         K=K,
         L=math.sqrt(float(lsq)),
         n=n,
@@ -363,7 +383,7 @@ def _omega(sol, w, t):
         out[:, j] = s * w[i] + c * w[j]
         return out
     u = sol.lam * t + sol.u0
-    sn, cn, dn = jacobi_sncndn(u, sol.mc)
+    sn, cn, dn = jacobi_sncndn(u, sol.mc, rootmc=sol.rootmc)
     A, B, C = sol.amp
     out = np.empty((t.size, 3))
     for k, val in enumerate((A * cn, B * sn, C * dn)):
@@ -449,12 +469,18 @@ def _perm_quaternion(idx, signs):
 def _phi_integral(sol, u):
     """W(u) = ∫₀ᵘ ds / (1 + n sn² s), via Carlson R_F, R_J and quasi-periodicity over 2K."""
     n = sol.n
+    rn = math.sqrt(n)
+
+    def hyperbolic(x):  # the m = 1 limit, exact on the separatrix
+        return (x + rn * np.arctan(rn * np.tanh(x))) / (1.0 + n)
+
     if math.isinf(sol.K):
-        rn = math.sqrt(n)
-        return (u + rn * np.arctan(rn * np.tanh(u))) / (1.0 + n)
+        return hyperbolic(u)
     K, mc = sol.K, sol.mc
     j = np.round(u / (2.0 * K))
     r = u - 2.0 * K * j  # [-K, K]
+    if mc < 1e-280:  # m_c below double range: the m = 1 limit over each half period, error O(√m_c)
+        return 2.0 * j * hyperbolic(K) + hyperbolic(r)
     s, c, _ = jacobi_sncndn(np.abs(r), mc)
     c = np.abs(c)
     c2 = c * c
@@ -468,7 +494,7 @@ def _phi_integral(sol, u):
 def _invariable_quaternion(sol, t):
     """q_inv(t): active rotation (a, b, c) frame → invariable frame (ẑ ∥ L), and ω_abc."""
     u = sol.lam * t + sol.u0
-    sn, cn, dn = jacobi_sncndn(u, sol.mc)
+    sn, cn, dn = jacobi_sncndn(u, sol.mc, rootmc=sol.rootmc)
     A, B, C = sol.amp
     Ia, Ib, Ic = sol.moments
     L = sol.L
