@@ -75,9 +75,9 @@ def _free(s, tau, i1inv, nu_coef):
     # ω_b = ν e3: m, Γ and q turn about e3
     half = 0.5 * tau * nu_coef * m2
     c, sn = math.cos(half), math.sin(half)
-    C, S = c * c - sn * sn, 2.0 * sn * c
-    m0, m1 = C * m0 + S * m1, C * m1 - S * m0
-    g0, g1 = C * g0 + S * g1, C * g1 - S * g0
+    # rotation by −2·half about e3 in increment form (C − 1 = −2 s², S = 2 s c): round-off ∝ the increment
+    m0, m1 = m0 - 2.0 * sn * (sn * m0 - c * m1), m1 - 2.0 * sn * (sn * m1 + c * m0)
+    g0, g1 = g0 - 2.0 * sn * (sn * g0 - c * g1), g1 - 2.0 * sn * (sn * g1 + c * g0)
     q0, q1, q2, q3 = q0 * c - q3 * sn, q1 * c + q2 * sn, q2 * c - q1 * sn, q3 * c + q0 * sn
     return (m0, m1, m2, g0, g1, g2, q0, q1, q2, q3)
 

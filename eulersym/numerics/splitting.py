@@ -53,24 +53,25 @@ def _flow1(s, tau, inv, cos, sin):
     m1, m2, m3, q0, q1, q2, q3 = s
     half = 0.5 * tau * m1 * inv[0]
     c, sn = cos(half), sin(half)
-    C, S = c * c - sn * sn, 2.0 * sn * c
-    return (m1, C * m2 + S * m3, C * m3 - S * m2, q0 * c - q1 * sn, q1 * c + q0 * sn, q2 * c + q3 * sn, q3 * c - q2 * sn)
+    # increment form of the rotation by 2·half (C − 1 = −2 s², S = 2 s c): round-off ∝ the increment, not |m|
+    a, b = 2.0 * sn * (sn * m2 - c * m3), 2.0 * sn * (sn * m3 + c * m2)
+    return (m1, m2 - a, m3 - b, q0 * c - q1 * sn, q1 * c + q0 * sn, q2 * c + q3 * sn, q3 * c - q2 * sn)
 
 
 def _flow2(s, tau, inv, cos, sin):
     m1, m2, m3, q0, q1, q2, q3 = s
     half = 0.5 * tau * m2 * inv[1]
     c, sn = cos(half), sin(half)
-    C, S = c * c - sn * sn, 2.0 * sn * c
-    return (C * m1 - S * m3, m2, S * m1 + C * m3, q0 * c - q2 * sn, q1 * c - q3 * sn, q2 * c + q0 * sn, q3 * c + q1 * sn)
+    a, b = 2.0 * sn * (sn * m1 + c * m3), 2.0 * sn * (sn * m3 - c * m1)
+    return (m1 - a, m2, m3 - b, q0 * c - q2 * sn, q1 * c - q3 * sn, q2 * c + q0 * sn, q3 * c + q1 * sn)
 
 
 def _flow3(s, tau, inv, cos, sin):
     m1, m2, m3, q0, q1, q2, q3 = s
     half = 0.5 * tau * m3 * inv[2]
     c, sn = cos(half), sin(half)
-    C, S = c * c - sn * sn, 2.0 * sn * c
-    return (C * m1 + S * m2, C * m2 - S * m1, m3, q0 * c - q3 * sn, q1 * c + q2 * sn, q2 * c - q1 * sn, q3 * c + q0 * sn)
+    a, b = 2.0 * sn * (sn * m1 - c * m2), 2.0 * sn * (sn * m2 + c * m1)
+    return (m1 - a, m2 - b, m3, q0 * c - q3 * sn, q1 * c + q2 * sn, q2 * c - q1 * sn, q3 * c + q0 * sn)
 
 
 def _strang(s, h, inv, cos=math.cos, sin=math.sin):
