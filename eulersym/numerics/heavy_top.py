@@ -26,6 +26,7 @@ import math
 import numpy as np
 
 from eulersym.errors import InvalidInput
+from eulersym.numerics.exact import _unit_quaternion
 from eulersym.numerics.splitting import YOSHIDA_GAMMA, output_steps
 from eulersym.numerics.trajectory import Trajectory
 from eulersym.validation import choice, finite_array, moments, positive
@@ -140,11 +141,7 @@ def integrate_heavy_top(I, M, g, l, omega0, q0, t, *, h=None, method="strang"):
     M, g, l = (float(positive(name, v)) for name, v in (("M", M), ("g", g), ("l", l)))
     method = choice("method", method, HEAVY_TOP_METHODS)
     w0 = finite_array("omega0", omega0, shape=(3,))
-    qq = finite_array("q0", q0, shape=(4,))
-    nq = float(np.sqrt(np.sum(qq * qq)))
-    if abs(nq - 1.0) > 1e-6:
-        raise InvalidInput("q0", q0, "a unit quaternion (q0, q1, q2, q3), scalar first, |q| = 1")
-    qq = qq / nq
+    qq = _unit_quaternion(q0)
     tt = finite_array("t", t, shape=(None,))
     if tt.size == 0:
         raise InvalidInput("t", t, "at least one output time")

@@ -30,6 +30,7 @@ import math
 import numpy as np
 
 from eulersym.errors import InvalidInput
+from eulersym.numerics.exact import _unit_quaternion
 from eulersym.numerics.trajectory import Trajectory
 from eulersym.validation import choice, finite_array, moments
 
@@ -217,14 +218,6 @@ def output_steps(t, h):
     return counts, dt / counts
 
 
-def _unit_q(q0):
-    q = finite_array("q0", q0, shape=(4,))
-    n = float(np.sqrt(np.sum(q * q)))
-    if abs(n - 1.0) > 1e-6:
-        raise InvalidInput("q0", q0, "a unit quaternion (q0, q1, q2, q3), scalar first, |q| = 1")
-    return q / n
-
-
 def default_step(I, omega0, t):
     """The step used when ``h=None``: 1/64 of the fastest rotation period, capped by the output spacing."""
     w = float(np.max(np.abs(omega0))) * max(I) / min(I)
@@ -277,7 +270,7 @@ def integrate_free_body(I, omega0, q0, t, *, method="dmv4", h=None, check_body=T
     I = tuple(float(x) for x in moments("I", I, body=check_body))
     method = choice("method", method, FREE_BODY_METHODS)
     w0 = finite_array("omega0", omega0, shape=(3,))
-    qq = _unit_q(q0)
+    qq = _unit_quaternion(q0)
     tt = finite_array("t", t, shape=(None,))
     if tt.size == 0:
         raise InvalidInput("t", t, "at least one output time")
