@@ -41,7 +41,7 @@ def long_run_drift(method, n_steps, *, h=0.01, I=I123, omega0=W_STD, samples=200
     Examples
     --------
     >>> r = long_run_drift("strang", 1000)
-    >>> r["l2_all"] < 1e-13
+    >>> bool(r["l2_all"] < 1e-13)
     True
     """
     from eulersym.numerics import integrate_free_body, integrate_ivp, invariants as iv
@@ -83,7 +83,7 @@ def oracle_accuracy_suite(n_cases=24, seed=20261121, t_max=40.0):
     Examples
     --------
     >>> err, mc = oracle_accuracy_suite(3, t_max=5.0)
-    >>> err < 1e-13
+    >>> bool(err < 1e-13)
     True
     """
     from eulersym.bench.workprecision import mp_reference_omega

@@ -95,7 +95,41 @@ def _renormalise(s):
     return (m0, m1, m2, g0, g1, g2, q0 * r, q1 * r, q2 * r, q3 * r)
 
 
-def integrate_heavy_top(I, M, g, l, omega0, q0, t, *, h=None, method="strang"):
+def _run_top(state, counts, steps, subs, i1inv, nu_coef, mgl):
+    """The stepping loop (plain Python; compiled unchanged by numba in :mod:`eulersym.numerics._fast`)."""
+    out = np.full((len(counts) + 1, 10), np.nan)
+    s = (state[0], state[1], state[2], state[3], state[4], state[5], state[6], state[7], state[8], state[9])
+    for k in range(10):
+        out[0, k] = s[k]
+    kicks = 0
+    for i in range(len(counts)):
+        hk = steps[i]
+        for _ in range(counts[i]):
+            for gam in subs:
+                tau = gam * hk
+                s = _kick(s, 0.5 * tau, mgl)
+                s = _free(s, tau, i1inv, nu_coef)
+                s = _kick(s, 0.5 * tau, mgl)
+                kicks += 1
+            s = _renormalise(s)
+        for k in range(10):
+            out[i + 1, k] = s[k]
+    return out, kicks
+
+
+def _fast_runner(fast):
+    if fast is False:
+        return None
+    from eulersym.numerics import _fast
+
+    if not _fast.available():
+        if fast:
+            raise InvalidInput("fast", fast, "numba installed (pip install 'eulersym[fast]'), or fast=False/None")
+        return None
+    return _fast.heavy_top_runner()
+
+
+def integrate_heavy_top(I, M, g, l, omega0, q0, t, *, h=None, method="strang", fast=None):
     """Integrate the heavy symmetric top with a non-singular splitting in the Euler–Poisson form.
 
     Parameters
@@ -115,6 +149,8 @@ def integrate_heavy_top(I, M, g, l, omega0, q0, t, *, h=None, method="strang"):
         periods, capped by the output spacing).
     method : {"strang", "yoshida4"}
         Order 2 (Strang) or its order-4 triple-jump composition.
+    fast : bool or None, optional
+        Compiled loop with numba (the ``fast`` extra): None = when installed, True = required, False = plain Python.
 
     Returns
     -------
@@ -157,19 +193,11 @@ def integrate_heavy_top(I, M, g, l, omega0, q0, t, *, h=None, method="strang"):
     state = tuple(float(x) for x in (I[0] * w0[0], I[1] * w0[1], I[2] * w0[2], *gamma0, *qq))
     i1inv, nu_coef = 1.0 / I[0], 1.0 / I[2] - 1.0 / I[0]
     subs = (1.0,) if method == "strang" else YOSHIDA_GAMMA
-    out = np.empty((tt.size, 10))
-    out[0] = state
-    kicks = 0
-    for k, (n, hk) in enumerate(zip(counts.tolist(), steps.tolist())):
-        for _ in range(n):
-            for gam in subs:
-                tau = gam * hk
-                state = _kick(state, 0.5 * tau, mgl)
-                state = _free(state, tau, i1inv, nu_coef)
-                state = _kick(state, 0.5 * tau, mgl)
-                kicks += 1
-            state = _renormalise(state)
-        out[k + 1] = state
+    runner = _fast_runner(fast)
+    if runner is not None:
+        out, kicks = runner(state, counts, steps, subs, i1inv, nu_coef, mgl)
+    else:
+        out, kicks = _run_top(state, counts.tolist(), steps.tolist(), subs, i1inv, nu_coef, mgl)
     if not np.all(np.isfinite(out)):
         raise InvalidInput("h", h, "a step small enough for a finite solution")
     inv = np.array([1.0 / I[0], 1.0 / I[1], 1.0 / I[2]])
