@@ -28,6 +28,8 @@ Problems
 
 Baselines (same run): ``solve_ivp`` RK45, DOP853, LSODA, Radau over right-hand sides obtained the usual way —
 SymPy → ``lambdify`` — from :func:`eulersym.dynamics.euler_equations` / ``euler_poisson_equations``.
+eulersym's geometric methods run as plain Python (route ``eulersym``) and, when numba is installed (the ``fast``
+extra), compiled (route ``numba``; the first, compiling call is the warm-up).
 """
 
 from __future__ import annotations
@@ -278,6 +280,9 @@ def run_problem(p: Problem, *, repeats=3, max_seconds=60.0, log=print):
         spread = float(np.max(np.abs(ref - np.hstack([check.omega, check.gamma]))))
         ref_note = f"DOP853 rtol 1e-13 (differs from yoshida4 at h=5e-4 by {spread:.1e})"
     log(f"\n== {p.name}: I={p.I} omega0={p.omega0} T={p.T:g}; reference: {ref_note}")
+    from eulersym.numerics import _fast
+
+    routes = [("eulersym", False)] + ([("numba", True)] if _fast.available() else [])
 
     def record(method, route, setting, fn):
         row = dict(problem=p.name, method=method, route=route, setting=setting, time_s="", error="", energy_drift="",
@@ -302,21 +307,23 @@ def run_problem(p: Problem, *, repeats=3, max_seconds=60.0, log=print):
 
     if p.kind == "free":
         record("oracle", "eulersym", "exact", lambda: free_rigid_body_exact(p.I, p.omega0, ts, check_body=p.check_body))
-        for method in p.geometric:
-            for h in p.hs:
-                r = record(method, "eulersym", f"h={h:g}", lambda m=method, h=h: integrate_free_body(
-                    p.I, p.omega0, q0, ts, method=m, h=h, check_body=p.check_body))
-                if r["time_s"] and float(r["time_s"]) > max_seconds:
-                    break
+        for route, fast in routes:
+            for method in p.geometric:
+                for h in p.hs:
+                    r = record(method, route, f"h={h:g}", lambda m=method, h=h, fast=fast: integrate_free_body(
+                        p.I, p.omega0, q0, ts, method=m, h=h, check_body=p.check_body, fast=fast))
+                    if r["time_s"] and float(r["time_s"]) > max_seconds:
+                        break
         mod = lambdify_module("euler_principal")
         y0, params = list(p.omega0), p.I
     else:
-        for method in p.geometric:
-            for h in p.hs:
-                r = record(method, "eulersym", f"h={h:g}", lambda m=method, h=h: integrate_heavy_top(
-                    p.I, M, g, l, p.omega0, q0, ts, h=h, method=m))
-                if r["time_s"] and float(r["time_s"]) > max_seconds:
-                    break
+        for route, fast in routes:
+            for method in p.geometric:
+                for h in p.hs:
+                    r = record(method, route, f"h={h:g}", lambda m=method, h=h, fast=fast: integrate_heavy_top(
+                        p.I, M, g, l, p.omega0, q0, ts, h=h, method=m, fast=fast))
+                    if r["time_s"] and float(r["time_s"]) > max_seconds:
+                        break
         y0 = [*p.omega0, *gamma0, *q0]
     for method in p.baselines:
         for rtol in p.rtols:
@@ -347,7 +354,8 @@ def summarise(rows, log=print):
                 f"energy drift {float(base['energy_drift']):.1e}, invariant drift {float(base['invariant_drift']):.1e}")
             for label, pred in (
                 ("oracle", lambda r: r["method"] == "oracle"),
-                ("geometric", lambda r: r["route"] == "eulersym" and r["method"] != "oracle"),
+                ("geometric, pure Python", lambda r: r["route"] == "eulersym" and r["method"] != "oracle"),
+                ("geometric, numba (fast extra)", lambda r: r["route"] == "numba"),
             ):
                 best = _best(pr, lambda r, pred=pred: pred(r) and float(r["error"]) <= target)
                 if best is None:
