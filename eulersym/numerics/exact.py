@@ -106,7 +106,7 @@ def _sncndn_reduced(x: np.ndarray, avals, bvals, agm: float):
     v = x * agm
     s = np.sin(v)
     co = np.cos(v)
-    zero = s == 0.0
+    zero = v < 1e-150  # sn x = x, cn x = dn x = 1 to within x² (and cot v would overflow)
     s_safe = np.where(zero, 1.0, s)
     a = co / s_safe
     c = agm * a
@@ -118,7 +118,7 @@ def _sncndn_reduced(x: np.ndarray, avals, bvals, agm: float):
         a = c / ai
     sn = 1.0 / np.sqrt(c * c + 1.0)
     cn = c * sn
-    sn = np.where(zero, 0.0, sn)
+    sn = np.where(zero, x, sn)
     cn = np.where(zero, 1.0, cn)
     dn = np.where(zero, 1.0, dn)
     return sn, cn, dn
