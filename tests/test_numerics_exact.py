@@ -105,7 +105,7 @@ def test_random_suite_against_mpmath(rng):
             eps = {1: 3e-9, 2: 1e-8}.get(case, 10.0 ** -rng.uniform(1, 8.5))
             w = _near_separatrix_start(I, eps, rng)
         mcs.append(_mc_of(I, w))
-        ts = rng.uniform(-20, 40, 5)
+        ts = rng.uniform(-1e3, 1e4, 5)
         got = free_rigid_body_exact(I, w, ts)
         want = mp_reference_omega(I, w, ts)
         L = math.sqrt(np.sum((I * w) ** 2))
