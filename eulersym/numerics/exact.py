@@ -22,9 +22,9 @@ Every D and every ratio is computed in exact rational arithmetic from the binary
 once, so ``m_c`` has full relative accuracy however close the start is to the separatrix (``m_c`` is never formed
 as ``1 − m``). The phase ``u = λ t + u0`` is reduced modulo the period 4K in double-double arithmetic, with λ, u0
 and 4K from mpmath at 40 digits (K = π / (2 AGM(1, √m_c))), so the error does not grow with the number of
-periods. ``sn, cn, dn`` are evaluated by :func:`jacobi_sncndn`, which takes ``m_c`` as its input, and uses Bulirsch's descending Landen (AGM) recurrence on
-[0, K/2] and the exact quarter-period reflection (``sn(K − y) = cd y`` …) on [K/2, K]. The phase ``u0`` comes from
-Carlson's ``R_F``. On the separatrix (m_c = 0) the closed forms ``sn = tanh``, ``cn = dn = sech`` are used; a
+periods. ``sn, cn, dn`` are evaluated by :func:`jacobi_sncndn`, which takes ``m_c`` as its input, and uses
+Bulirsch's descending Landen (AGM) recurrence on [0, K/2] and the exact quarter-period reflection
+(``sn(K − y) = cd y`` …) on [K/2, K]. The phase ``u0`` comes from Carlson's ``R_F``. On the separatrix (m_c = 0) the closed forms ``sn = tanh``, ``cn = dn = sech`` are used; a
 symmetric body (two equal moments) and a spherical one use trigonometric / constant forms.
 
 Attitude: Euler angles (φ, θ, ψ) of the (a, b, c) frame relative to the invariable frame whose ẑ is L give
