@@ -380,11 +380,13 @@ def _plot(rows, path):
     fig, axes = plt.subplots(2, len(names), figsize=(4 * len(names), 7), squeeze=False)
     for j, name in enumerate(names):
         pr = [r for r in rows if r["problem"] == name and r["status"] == "ok"]
-        for method in dict.fromkeys(r["method"] for r in pr):
-            pts = sorted((float(r["time_s"]), float(r["error"]), float(r["energy_drift"])) for r in pr if r["method"] == method)
+        for method, route in dict.fromkeys((r["method"], r["route"]) for r in pr):
+            pts = [(float(r["time_s"]), float(r["error"]), float(r["energy_drift"]))
+                   for r in pr if (r["method"], r["route"]) == (method, route)]  # in order of refinement
+            label = f"{method} ({route})" if route != "eulersym" else method
             x = [max(a, 1e-7) for a, _, _ in pts]
-            axes[0, j].loglog(x, [max(b, 1e-17) for _, b, _ in pts], "o-", label=method)
-            axes[1, j].loglog(x, [max(c, 1e-17) for _, _, c in pts], "o-", label=method)
+            axes[0, j].loglog(x, [max(b, 1e-17) for _, b, _ in pts], "o-", label=label)
+            axes[1, j].loglog(x, [max(c, 1e-17) for _, _, c in pts], "o-", label=label)
         axes[0, j].set_title(name)
         axes[1, j].set_xlabel("time [s]")
     axes[0, 0].set_ylabel("max error")
