@@ -363,7 +363,8 @@ def summarise(rows, log=print):
                         log(f"      {label}: no run reached error {target:.1e}")
                     continue
                 ratio = float(base["time_s"]) / max(float(best["time_s"]), 1e-9)
-                log(f"      {label} {best['method']} {best['setting']}: {float(best['time_s']):.3g} s, error "
+                what = f"{label} {best['method']} {best['setting']}" if best["method"] != "oracle" else label
+                log(f"      {what}: {float(best['time_s']):.3g} s, error "
                     f"{float(best['error']):.2e}, energy drift {float(best['energy_drift']):.1e}, invariant drift "
                     f"{float(best['invariant_drift']):.1e} -> {ratio:.3g}x faster")
 
