@@ -379,6 +379,10 @@ def _plot(rows, path):
         return False
     names = list(dict.fromkeys(r["problem"] for r in rows))
     fig, axes = plt.subplots(2, len(names), figsize=(4 * len(names), 7), squeeze=False)
+    series = list(dict.fromkeys((r["method"], r["route"]) for r in rows if r["status"] == "ok"))
+    palette = plt.get_cmap("tab20")
+    colour = {key: palette(k % 20) for k, key in enumerate(series)}  # the same colour in every panel
+    handles = {}
     for j, name in enumerate(names):
         pr = [r for r in rows if r["problem"] == name and r["status"] == "ok"]
         for method, route in dict.fromkeys((r["method"], r["route"]) for r in pr):
@@ -386,14 +390,15 @@ def _plot(rows, path):
                    for r in pr if (r["method"], r["route"]) == (method, route)]  # in order of refinement
             label = f"{method} ({route})" if route != "eulersym" else method
             x = [max(a, 1e-7) for a, _, _ in pts]
-            axes[0, j].loglog(x, [max(b, 1e-17) for _, b, _ in pts], "o-", label=label)
-            axes[1, j].loglog(x, [max(c, 1e-17) for _, _, c in pts], "o-", label=label)
+            (line,) = axes[0, j].loglog(x, [max(b, 1e-17) for _, b, _ in pts], "o-", color=colour[(method, route)])
+            axes[1, j].loglog(x, [max(c, 1e-17) for _, _, c in pts], "o-", color=colour[(method, route)])
+            handles[label] = line
         axes[0, j].set_title(name)
         axes[1, j].set_xlabel("time [s]")
     axes[0, 0].set_ylabel("max error")
     axes[1, 0].set_ylabel("relative energy drift")
-    axes[0, -1].legend(fontsize=7)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0, 0.88, 1))
+    fig.legend(list(handles.values()), list(handles), loc="center right", fontsize=8)
     fig.savefig(path, dpi=110)
     return True
 
