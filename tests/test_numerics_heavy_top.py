@@ -101,6 +101,7 @@ def test_sleeping_threshold_within_one_percent():
         {"h": 0.0},
         {"h": 1e3},
         {"method": "rk4"},
+        {"fast": 2.5},
     ],
 )
 def test_bad_input(kwargs):

@@ -82,6 +82,7 @@ def test_output_steps():
         {"q0": (2.0, 0.0, 0.0, 0.0)},
         {"I": (1.0, 1.0, 3.0)},
         {"h": 5.0, "omega0": (1e3, 1e3, 1e3), "method": "dmv2"},
+        {"fast": "yes"},
     ],
 )
 def test_bad_input(kwargs):

@@ -118,6 +118,8 @@ def _run_top(state, counts, steps, subs, i1inv, nu_coef, mgl):
 
 
 def _fast_runner(fast):
+    if not (fast is None or isinstance(fast, bool)):
+        raise InvalidInput("fast", fast, "None (numba when installed), True or False")
     if fast is False:
         return None
     from eulersym.numerics import _fast
@@ -183,8 +185,8 @@ def integrate_heavy_top(I, M, g, l, omega0, q0, t, *, h=None, method="strang", f
         raise InvalidInput("t", t, "at least one output time")
     mgl = M * g * l
     if h is None:
-        fast = max(float(np.max(np.abs(w0))), I[2] * abs(float(w0[2])) / I[0], math.sqrt(mgl / I[0]))
-        h = 2 * math.pi / (32 * fast)
+        fastest = max(float(np.max(np.abs(w0))), I[2] * abs(float(w0[2])) / I[0], math.sqrt(mgl / I[0]))
+        h = 2 * math.pi / (32 * fastest)
         if tt.size > 1:
             h = min(h, float(np.min(np.diff(tt))))
     counts, steps = output_steps(tt, h)

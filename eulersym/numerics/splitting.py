@@ -235,6 +235,8 @@ def _run_rk4(state, counts, steps, inv):
 
 def _fast_runner(fast):
     """The numba-compiled loop, or None for the plain-Python one (``fast``: None = if installed)."""
+    if not (fast is None or isinstance(fast, bool)):
+        raise InvalidInput("fast", fast, "None (numba when installed), True or False")
     if fast is False:
         return None
     from eulersym.numerics import _fast
