@@ -786,6 +786,14 @@ class Result:
         Kernel evaluations (0 for a closed form).
     notes : tuple of str
         Facts for the report (turning points, the sleeping-top threshold, ...).
+
+    Examples
+    --------
+    >>> r = simulate(Scene(moments=(1, 2, 3), omega=(0.1, 1, 0.2), t_end=4, points=5, outputs=("omega", "polhode")))
+    >>> r.t.tolist(), r.omega.shape, r.attitude is None, r.propagated
+    ([0.0, 1.0, 2.0, 3.0, 4.0], (5, 3), True, ('omega',))
+    >>> bool(np.allclose(r.polhode, r.omega))  # principal moments given: the body frame is the principal frame
+    True
     """
 
     t: np.ndarray
