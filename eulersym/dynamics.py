@@ -39,6 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from eulersym import inertia as _inertia
 from eulersym.errors import CheckFailed, InvalidInput
 from eulersym.symbols import (
     Gamma1,
@@ -80,6 +81,7 @@ __all__ = [
     "euler_equations",
     "euler_poisson_equations",
     "symmetric_precession_rate",
+    "symmetric_transverse_equation",
     "torque_free_symmetric_solution",
     "linearized_euler_equations",
     "perturbation_coefficient",
@@ -90,6 +92,7 @@ __all__ = [
     "energy_ellipsoid",
     "inertia_ellipsoid",
     "invariable_plane_distance",
+    "herpolhode_radius_squared",
     "polhode",
     "free_body_elliptic_solution",
     "separatrix_solution",
@@ -348,7 +351,7 @@ def rotating_frame_derivative(G_body, omega=_OMEGA) -> sp.Matrix:
 
 @functools.lru_cache(maxsize=64)
 def _euler_lhs(inertia: sp.ImmutableMatrix) -> tuple:
-    L = inertia * _OMEGA  # body components of L = I·ω
+    L = _inertia.angular_momentum(inertia, _OMEGA)  # body components of L = I·ω
     return tuple(sp.expand(c) for c in rotating_frame_derivative(L, _OMEGA))
 
 
@@ -468,6 +471,33 @@ def symmetric_precession_rate() -> sp.Expr:
     if sp.expand(rates[1] + rate * omega1) != 0:
         raise CheckFailed("torque-free symmetric body: ω̇2 = −Ω ω1 does not follow")
     return rate
+
+
+@functools.lru_cache(maxsize=1)
+def symmetric_transverse_equation() -> sp.Eq:
+    """``ω̈1 + Ω_prec² ω1 = 0``: the torque-free symmetric body's ω1 is a harmonic oscillator (§4.5.1).
+
+    Derived by differentiating ``ω̇1`` (from :func:`euler_equations` with ``I2 = I1``, ``N = 0``) once more and
+    substituting ``ω̇2`` and ``ω̇3 = 0`` from the same equations.
+
+    Returns
+    -------
+    sympy.Eq
+        ``Eq(ω̈1 + Ω² ω1, 0)`` with ``Ω = (I1 − I3)/I1 · ω3``.
+
+    Examples
+    --------
+    >>> symmetric_transverse_equation()
+    Eq(Derivative(omega1(t), (t, 2)) + (I1 - I3)**2*omega1(t)*omega3(t)**2/I1**2, 0)
+    """
+    eqs = euler_equations((I1, I1, I3), (0, 0, 0))
+    derivatives = [w.diff(t) for w in _OMEGA]
+    rates = dict(zip(derivatives, _solve_linear([e.lhs - e.rhs for e in eqs], derivatives)))
+    second = sp.expand(rates[derivatives[0]].diff(t).xreplace(rates))
+    restoring = sp.factor(-second / omega1)
+    if restoring.has(omega2, *derivatives):
+        raise CheckFailed(f"ω̈1 is not proportional to ω1: {second}")
+    return sp.Eq(omega1.diff(t, 2) + restoring * omega1, 0, evaluate=False)
 
 
 def torque_free_symmetric_solution(amplitude=AMPLITUDE, phase=PHASE, spin=SPIN) -> tuple:
@@ -733,15 +763,14 @@ def intermediate_axis_growth_rate(I1=_symbols.I1, I2=_symbols.I2, I3=_symbols.I3
 
 
 def energy(I=_PRINCIPAL, omega=_OMEGA) -> sp.Expr:
-    """Rotational kinetic energy ``T = ½ ωᵀ I ω`` (body components).
+    """Rotational kinetic energy ``T = ½ ωᵀ I ω`` (body components; :func:`eulersym.inertia.kinetic_energy`, expanded).
 
     Examples
     --------
     >>> energy()
     I1*omega1(t)**2/2 + I2*omega2(t)**2/2 + I3*omega3(t)**2/2
     """
-    w = _vector3("omega", omega)
-    return sp.expand((w.T * _inertia_matrix(I) * w)[0, 0] / 2)
+    return sp.expand(_inertia.kinetic_energy(_inertia_matrix(I), _vector3("omega", omega)))
 
 
 def angular_momentum_squared(I=_PRINCIPAL, omega=_OMEGA) -> sp.Expr:
@@ -752,7 +781,7 @@ def angular_momentum_squared(I=_PRINCIPAL, omega=_OMEGA) -> sp.Expr:
     >>> angular_momentum_squared()
     I1**2*omega1(t)**2 + I2**2*omega2(t)**2 + I3**2*omega3(t)**2
     """
-    L = _inertia_matrix(I) * _vector3("omega", omega)
+    L = _inertia.angular_momentum(_inertia_matrix(I), _vector3("omega", omega))
     return sp.expand(L.dot(L))
 
 
@@ -819,6 +848,26 @@ def invariable_plane_distance(I=_PRINCIPAL, omega=_OMEGA, *, scale: str = "omega
     return distance
 
 
+def herpolhode_radius_squared(I=_PRINCIPAL, omega=_OMEGA) -> sp.Expr:
+    """Squared distance of ω's tip from the foot of the perpendicular on the invariable plane (the herpolhode).
+
+    ω = (its component along L̂) + (its component in the plane); the first is the constant
+    :func:`invariable_plane_distance` ``d = 2T/|L|``, so the herpolhode — the curve the tip of ω traces on the fixed
+    invariable plane — has radius ``r`` with ``r² = |ω|² − d²``. It varies only through ``|ω|²`` along the motion,
+    between the extremes of ``|ω|²`` on the polhode: the herpolhode stays in an annulus.
+
+    Examples
+    --------
+    >>> from eulersym.compare import compare
+    >>> r2 = herpolhode_radius_squared()
+    >>> w2 = sum(w**2 for w in _OMEGA)
+    >>> compare(r2 + invariable_plane_distance()**2, w2).exact
+    True
+    """
+    w = sp.Matrix(_vector3("omega", omega))
+    return sp.expand(w.dot(w)) - invariable_plane_distance(I, w) ** 2
+
+
 def _ordered_about(values, energy_value, l2_value, about):
     """Pick the axis the polhode encircles; axis 2 must be intermediate for these formulas."""
     a, b, c = values
@@ -828,12 +877,15 @@ def _ordered_about(values, energy_value, l2_value, about):
             raise InvalidInput("I", values, "moments with axis 2 intermediate (I1 < I2 < I3 or I1 > I2 > I3)")
         lo, hi = sorted((2 * energy_value * a, 2 * energy_value * c))
         if not lo <= l2_value <= hi:
-            raise InvalidInput("L2", l2_value, f"a value in [2 E I_min, 2 E I_max] = [{lo:g}, {hi:g}]")
+            raise InvalidInput("L2", l2_value, f"a value in [2 E I_min, 2 E I_max] = [{float(lo):g}, {float(hi):g}]")
         side = l2_value - 2 * energy_value * b
-        if about is None:
-            if side == 0:
-                raise InvalidInput("L2", l2_value, "L2 != 2 E I2 (that is the separatrix: use separatrix_solution)")
-            about = 3 if (side > 0) == (c > a) else 1
+        if side == 0:
+            raise InvalidInput("L2", l2_value, "L2 != 2 E I2 (that is the separatrix: use separatrix_solution)")
+        encircled = 3 if (side > 0) == (c > a) else 1
+        if about is not None and about != encircled:
+            raise InvalidInput("about", about, f"{encircled}: with these E and L2 the polhode encircles axis "
+                               f"{encircled} (L2 {'>' if side > 0 else '<'} 2 E I2)")
+        about = encircled
     if about is None:
         about = 3
     if isinstance(about, bool) or about not in (1, 3):

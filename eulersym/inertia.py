@@ -907,10 +907,10 @@ def _principal_axes_numpy(mat: np.ndarray, body: bool) -> tuple:
     return moments, Q
 
 
-def _decided_order(values: list) -> list:
+def _decided_order(values: list, approx: dict | None = None) -> list:
     """Indices sorting ``values`` ascending where the comparisons can be decided; stable otherwise."""
     if all(v.is_number for v in values):
-        return sorted(range(len(values)), key=lambda i: complex(values[i].evalf(30)).real)
+        return sorted(range(len(values)), key=lambda i: complex(values[i].xreplace(approx or {}).evalf(30)).real)
 
     def cmp(i: int, j: int) -> int:
         diff = values[i] - values[j]
@@ -919,12 +919,36 @@ def _decided_order(values: list) -> list:
     return sorted(range(len(values)), key=functools.cmp_to_key(cmp))
 
 
-def _first_nonzero_positive(v: sp.Matrix) -> sp.Matrix:
+def _first_nonzero_positive(v: sp.Matrix, approx: dict | None = None) -> sp.Matrix:
     for c in v:
         if c == 0 or c.is_zero:
             continue
+        if c.is_number and c.is_negative is None:  # e.g. polynomials in CRootOf: 30 digits decide
+            value = complex(c.xreplace(approx or {}).evalf(30)).real
+            if abs(value) < 1e-25:
+                continue
+            return -v if value < 0 else v
         return -v if c.is_negative else v
     return v
+
+
+def _simple_eigenvector(N: sp.MatrixBase, root: Any, approx: dict) -> sp.Matrix:
+    """Unit eigenvector of ``N`` for a simple eigenvalue ``root`` (exact, e.g. a CRootOf): the cross product of
+    two rows of N − root·1, the pair chosen with the largest cross product (evaluated with ``approx``, the roots
+    to 30 digits)."""
+    K = sp.Matrix(N) - root * sp.eye(3)
+    candidates = [K[i, :].T.cross(K[j, :].T).applyfunc(sp.expand) for i, j in ((0, 1), (0, 2), (1, 2))]
+    v = max(candidates, key=lambda u: float(sum(abs(complex(e.xreplace(approx).evalf(30))) ** 2 for e in u)))
+    norm2 = sp.expand(v.dot(v))
+    if isinstance(root, sp.CRootOf):  # reduce polynomials in the root modulo its minimal polynomial
+        t = sp.Dummy("t")
+        minimal = root.poly.as_expr(t)
+
+        def reduce(e: Any) -> Any:
+            return sp.rem(sp.expand(e.xreplace({root: t})), minimal, t).xreplace({t: root})
+
+        v, norm2 = v.applyfunc(reduce), reduce(norm2)
+    return v / sp.sqrt(norm2)
 
 
 def _rational_denominator_lcm(v: sp.Matrix) -> sp.Integer:
@@ -967,21 +991,32 @@ def _principal_axes_sympy(mat: sp.ImmutableMatrix) -> tuple:
     if scale == 0 or not (scale.is_positive or scale.is_negative):
         scale = sp.Integer(1)
     unit = mat.applyfunc(lambda e: sp.cancel(e / scale))
-    pairs = []  # (eigenvalue of unit, orthonormal basis of its eigenspace)
-    for value, _mult, basis in sp.Matrix(unit).eigenvects():
-        pairs.append((sp.radsimp(value), _orthonormal_basis(basis)))
+    charpoly = sp.Matrix(unit).charpoly()  # a PurePoly in one variable
+    if any(f.degree() == 3 for f, _ in sp.factor_list(charpoly)[1]):
+        # Three distinct roots of an irreducible cubic: no useful radicals (casus irreducibilis).
+        if unit.free_symbols:
+            raise InvalidInput("I", mat, "a tensor whose principal moments have a closed form (a characteristic "
+                                         "polynomial that factors, e.g. a symmetric body); for a general "
+                                         "symbolic tensor substitute numbers, or pass a NumPy array")
+        roots = [sp.CRootOf(charpoly, i, radicals=False) for i in range(3)]  # real, ascending
+        approx = {root: root.evalf(30) for root in roots}
+        pairs = [(root, [_simple_eigenvector(unit, root, approx)]) for root in roots]
+    else:
+        approx = {}
+        pairs = []  # (eigenvalue of unit, orthonormal basis of its eigenspace)
+        for value, _mult, basis in sp.Matrix(unit).eigenvects():
+            pairs.append((sp.radsimp(value), _orthonormal_basis(basis)))
     values = [v for v, vecs in pairs for _ in vecs]
     vectors = [vec for _, vecs in pairs for vec in vecs]
     if len(values) != 3:  # pragma: no cover - sympy could not split the characteristic polynomial
         raise InvalidInput("I", mat, "a symmetric tensor whose eigenvectors SymPy can find exactly; "
                                      "pass a NumPy array for a numeric answer")
     moments = [sp.expand(scale * v) for v in values]
-    order = _decided_order(values) if scale.is_positive else _decided_order(moments)
-    e1, e2, e3 = (_first_nonzero_positive(vectors[i]) for i in order)
+    order = _decided_order(values, approx) if scale.is_positive else _decided_order(moments, approx)
+    e1, e2, e3 = (_first_nonzero_positive(vectors[i], approx) for i in order)
     Q = sp.Matrix.hstack(e1, e2, e3)
-    det = Q.det()
-    if det.is_number:  # exactly ±1 (orthonormal columns), so 30 digits decide the sign
-        if complex(det.evalf(30)).real < 0:
+    if not Q.free_symbols:  # det Q is exactly ±1 (orthonormal columns), so 30 digits decide the sign
+        if complex(Q.xreplace(approx).evalf(30).det()).real < 0:
             Q[:, 2] = -e3
     else:  # symbolic: the third axis as the cross product of the first two, proper by construction
         Q[:, 2] = e1.cross(e2).applyfunc(sp.radsimp)

@@ -31,8 +31,8 @@ import numbers
 import numpy as np
 import sympy as sp
 
-from eulersym.dynamics import energy as _kinetic_energy
 from eulersym.errors import CheckFailed, InvalidInput, SingularConfiguration
+from eulersym.inertia import kinetic_energy as _kinetic_energy
 from eulersym.kinematics import omega_body
 from eulersym.symbols import I1, I3, M, g, l, omega3, phi, psi, t, theta
 from eulersym.validation import is_symbolic, moments, positive

@@ -286,6 +286,27 @@ def test_principal_axes_irrational_eigenvectors():
     np.testing.assert_allclose(np.abs(Q_np), np.abs(np.array(Q.evalf(), dtype=float)), atol=1e-12)
 
 
+def test_principal_axes_irreducible_cubic_is_exact_and_real():
+    # characteristic polynomial λ³ − 18λ² + 101λ − 170, irreducible over Q with three real roots
+    I = sp.Matrix([[5, 1, 2], [1, 6, -1], [2, -1, 7]])
+    moments, Q = principal_axes(I)
+    assert all(isinstance(m, sp.CRootOf) for m in moments)  # exact real roots, no complex radicals
+    m_np, Q_np = np.linalg.eigh(np.array(I, dtype=float))
+    np.testing.assert_allclose([float(m) for m in moments], m_np, rtol=1e-13)
+    approx = {m: m.evalf(40) for m in moments}  # each root once, to 40 digits
+    Q30, m30 = Q.xreplace(approx).evalf(30), sp.diag(*[approx[m] for m in moments])
+    np.testing.assert_allclose(np.array(Q30.T * Q30, dtype=float), np.eye(3), atol=1e-25)
+    assert abs(float(Q30.det()) - 1) < 1e-25
+    np.testing.assert_allclose(np.array(Q30 * m30 * Q30.T, dtype=float), np.array(I, dtype=float), atol=1e-25)
+    assert (I * Q30 - Q30 * m30).norm() < 1e-25  # each column an eigenvector
+
+
+def test_general_symbolic_tensor_is_refused_not_hung():
+    A, B, C, D, E, F = sp.symbols("A B C D E F", positive=True)
+    _raises(principal_axes, sp.Matrix([[A, D, E], [D, B, F], [E, F, C]]), argument="I",
+            expected_text="closed form")
+
+
 def test_principal_axes_numpy_degenerate(rng):
     I = np.array(cube(1, 1, origin="corner"), dtype=float)
     moments, Q = principal_axes(I)

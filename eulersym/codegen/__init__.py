@@ -1,0 +1,46 @@
+"""Code generation: the kernel catalogue, the emitter, ``eulersym generate [--check]`` and the ad-hoc route.
+
+- :data:`CATALOGUE` — module name → derivation, inputs (in order), outputs (:mod:`eulersym.codegen.catalogue`);
+- :func:`emit_module` — one CSE pass, scalar (``math``) and batched (NumPy) flavours
+  (:mod:`eulersym.codegen.emitter`);
+- :func:`generate`, :func:`check`, :func:`cli` — write generated/ or compare it with a fresh generation
+  (:mod:`eulersym.codegen.generate`, whose docstring explains what ``--check`` compares across SymPy versions);
+- :func:`compile_expressions` — the same emitter for any expression list, compiled on the fly.
+
+Examples
+--------
+>>> import sympy as sp
+>>> x = sp.Symbol("x")
+>>> compile_expressions([x**2 + 1], [x])(3.0)
+[10.0]
+"""
+
+from __future__ import annotations
+
+from eulersym.codegen.adhoc import compile_expressions
+from eulersym.codegen.catalogue import CATALOGUE, Kernel, available, build, first_order
+from eulersym.codegen.emitter import (
+    Argument,
+    FunctionSpec,
+    ModuleSpec,
+    check_expressions,
+    emit_module,
+)
+from eulersym.codegen.generate import check, cli, generate
+
+__all__ = [
+    "CATALOGUE",
+    "Kernel",
+    "available",
+    "build",
+    "first_order",
+    "Argument",
+    "FunctionSpec",
+    "ModuleSpec",
+    "check_expressions",
+    "emit_module",
+    "compile_expressions",
+    "generate",
+    "check",
+    "cli",
+]

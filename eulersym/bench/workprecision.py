@@ -1,0 +1,412 @@
+"""Work-precision: error and invariant drift against run time, eulersym's methods vs solve_ivp on the lambdify route.
+
+``eulersym bench workprecision [--quick] [--out DIR] [--repeats N] [--max-seconds S]``
+
+In the style of Hairer–Wanner and SciML's DiffEqDevTools: every method runs at several step sizes or tolerances;
+each point is the minimum of several timed runs after a warm-up (runs longer than one second are timed once);
+failed runs are recorded with their reason, not dropped. Errors are the maximum absolute error of ω (and Γ for
+the top) over the output times, against the exact oracle (validated against 30-digit mpmath) or, for the heavy
+top, a tight DOP853 reference cross-checked by the order-4 splitting at a small step. Separate columns/panels give
+the drift of the invariants (relative energy and L² or |Γ|², L·Γ).
+
+Problems
+--------
+``free_T100``, ``free_T10000``
+    Free body I = (1, 2, 3), ω0 = (1, 0.5, 0.2) (off the separatrix), T = 100 and 10⁴ (10³ with ``--quick``).
+``separatrix``
+    I = (1, 2, 3), ω0 = (1e-6, 1, 1e-6): 1e-6 off the intermediate axis (m_c ≈ 1e-12), T = 100.
+``rigidode``
+    Krogh's ``rigidode`` (MATLAB's demo): y1' = y2 y3, y2' = −y1 y3, y3' = −0.51 y1 y2, y(0) = (0, 1, 1),
+    T = 12; exact solution (sn, cn, dn)(t | m = 0.51). It is Euler's equations for any moments with I3 > I1 > I2
+    after scaling yᵢ = sᵢ ωᵢ; here I = (1.5, 1, 2), s from the coefficients.
+``eulr``
+    Hairer–Wanner's EULR, *torque-free variant*: I = (0.5, 2, 3) (not a physical body: 0.5 + 2 < 3, allowed),
+    y(0) = (1, 0, 0.9), T = 20 (the original adds the torque 0.25 sin²t on y3 for 3π ≤ t ≤ 4π; omitted so that the
+    exact oracle is the reference).
+``heavy_top``
+    I = (1, 1, 2), M g l = 4.905, tilted 0.3 rad, ω0 = (0.5, 0.2, 10), T = 100.
+
+Baselines (same run): ``solve_ivp`` RK45, DOP853, LSODA, Radau over right-hand sides obtained the usual way —
+SymPy → ``lambdify`` — from :func:`eulersym.dynamics.euler_equations` / ``euler_poisson_equations``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import os
+import time
+import types
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["main", "lambdify_module", "mp_reference_omega", "run_problem", "PROBLEMS"]
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# The lambdify route (what a user does without eulersym's kernels)
+# ----------------------------------------------------------------------------------------------------------------
+def lambdify_module(kind: str):
+    """A kernel-like module ``rhs(t, y, *params)``, ``jac(...)`` built with SymPy's ``lambdify``.
+
+    ``kind="euler_principal"``: y = ω, params (I1, I2, I3), from ``dynamics.euler_equations`` with zero torque.
+    ``kind="heavy_top_euler_poisson"``: y = (ω, Γ, q), params (I1, I2, I3, M, g, l), from
+    ``dynamics.euler_poisson_equations`` and ``kinematics.quaternion_rate``.
+
+    Examples
+    --------
+    >>> mod = lambdify_module("euler_principal")
+    >>> [float(v) for v in mod.rhs(0.0, [1.0, 1.0, 1.0], 1.0, 2.0, 3.0)]
+    [-1.0, 1.0, -0.3333333333333333]
+    """
+    import sympy as sp
+
+    from eulersym import dynamics, kinematics
+    from eulersym import symbols as S
+
+    W = [S.omega1, S.omega2, S.omega3]
+    if kind == "euler_principal":
+        eqs = dynamics.euler_equations(torque=(0, 0, 0))
+        sol = sp.solve([e.lhs - e.rhs for e in eqs], [w.diff(S.t) for w in W], dict=True)[0]
+        rhs = [sol[w.diff(S.t)] for w in W]
+        state, params = W, [S.I1, S.I2, S.I3]
+    elif kind == "heavy_top_euler_poisson":
+        G = [S.Gamma1, S.Gamma2, S.Gamma3]
+        Q = [S.q0, S.q1, S.q2, S.q3]
+        wdot, gdot = dynamics.euler_poisson_equations()
+        qdot = kinematics.quaternion_rate(Q, W)
+        rhs = [*wdot, *gdot, *qdot]
+        state, params = W + G + Q, [S.I1, S.I2, S.I3, S.M, S.g, S.l]
+    else:
+        raise ValueError(kind)
+    plain = [sp.Symbol(f"y{k}") for k in range(len(state))]
+    freeze = dict(zip(state, plain))
+    rhs = [sp.sympify(r).xreplace(freeze) for r in rhs]
+    jac = sp.Matrix(rhs).jacobian(plain)
+    f = sp.lambdify((S.t, plain, params), rhs, "numpy")
+    j = sp.lambdify((S.t, plain, params), jac, "numpy")
+    return types.SimpleNamespace(
+        __name__=kind,
+        rhs=lambda t, y, *p: f(t, y, p),
+        jac=lambda t, y, *p: j(t, y, p),
+    )
+
+
+def mp_reference_omega(I, w0, ts, dps=40):
+    """ω(t) from mpmath's elliptic functions, every constant formed at ``dps`` digits from the exact floats.
+
+    Independent of :mod:`eulersym.numerics.exact`'s arithmetic: m from mpmath (1 − m_c is exact at this precision),
+    u0 from ``mpmath.ellipf`` of the amplitude, sn/cn/dn from ``mpmath.ellipfun``; the (a, b, c) frame chosen by
+    the sign of L² − 2E·I_mid as in the module docstring of :mod:`eulersym.numerics.exact`.
+
+    Examples
+    --------
+    >>> mp_reference_omega((1.0, 2.0, 3.0), (1.0, 0.5, 0.2), [0.0])
+    array([[1. , 0.5, 0.2]])
+    """
+    import mpmath as mp
+
+    with mp.workdps(dps):
+        If = [mp.mpf(float(x)) for x in I]
+        w = [mp.mpf(float(x)) for x in w0]
+        two_e = sum(If[i] * w[i] ** 2 for i in range(3))
+        lsq = sum(If[i] ** 2 * w[i] ** 2 for i in range(3))
+        lo, mid, hi = sorted(range(3), key=lambda k: If[k])
+        idx = (lo, mid, hi) if lsq - two_e * If[mid] >= 0 else (hi, mid, lo)
+        a, b, c = idx
+        sgn = [1, 1, 1] if (b - a) % 3 == 1 else [1, -1, 1]
+        Ia, Ib, Ic = If[a], If[b], If[c]
+        wa, wb, wc = sgn[0] * w[a], sgn[1] * w[b], sgn[2] * w[c]
+        A = mp.sqrt((two_e * Ic - lsq) / (Ia * (Ic - Ia)))
+        C = mp.sqrt((lsq - two_e * Ia) / (Ic * (Ic - Ia))) * mp.sign(wc)
+        lam = mp.sqrt((Ic - Ib) * (lsq - two_e * Ia) / (Ia * Ib * Ic))
+        B = (Ic - Ia) * C * A / (lam * Ib)
+        m = (Ib - Ia) * (two_e * Ic - lsq) / ((Ic - Ib) * (lsq - two_e * Ia))
+        u0 = mp.ellipf(mp.atan2(wb / B, wa / A), m)
+        out = []
+        for tv in ts:
+            u = lam * mp.mpf(float(tv)) + u0
+            vals = [A * mp.ellipfun("cn", u, m), B * mp.ellipfun("sn", u, m), C * mp.ellipfun("dn", u, m)]
+            row = [0.0, 0.0, 0.0]
+            for k in range(3):
+                row[idx[k]] = float(sgn[k] * vals[k])
+            out.append(row)
+        return np.array(out)
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# Problems
+# ----------------------------------------------------------------------------------------------------------------
+@dataclass
+class Problem:
+    name: str
+    kind: str  # "free" or "top"
+    I: tuple
+    omega0: tuple
+    T: float
+    n_out: int = 11
+    check_body: bool = True
+    scale: tuple = (1.0, 1.0, 1.0)  # report y = scale * ω (rigidode)
+    top: tuple = ()  # (M, g, l, q0)
+    hs: tuple = ()
+    rtols: tuple = (1e-6, 1e-8, 1e-10, 1e-12)
+    baselines: tuple = ("RK45", "DOP853", "LSODA", "Radau")
+    geometric: tuple = ("strang", "yoshida4", "dmv2", "dmv4", "dmv6")
+    notes: list = field(default_factory=list)
+
+
+def _rigidode_scaling():
+    I1, I2, I3 = 1.5, 1.0, 2.0
+    a1, a2, a3 = (I2 - I3) / I1, (I3 - I1) / I2, (I1 - I2) / I3
+    s3 = math.sqrt(-a1 * a2)
+    s1 = -math.sqrt(a2 * a3 / 0.51)
+    s2 = math.sqrt(-a1 * a3 / 0.51)
+    return (I1, I2, I3), (s1, s2, s3)
+
+
+def PROBLEMS(quick: bool):
+    """The benchmark problems (see the module docstring); ``quick`` shortens T = 10⁴ to 10³ and thins the grids."""
+    (Ir, sr) = _rigidode_scaling()
+    y0 = (0.0, 1.0, 1.0)
+    hs_free = (0.1, 0.05, 0.02) if quick else (0.2, 0.1, 0.05, 0.02, 0.01, 0.005)
+    rt = (1e-6, 1e-8, 1e-10) if quick else (1e-6, 1e-8, 1e-10, 1e-12)
+    long_T = 1e3 if quick else 1e4
+    tilt = 0.3
+    return [
+        Problem("free_T100", "free", (1.0, 2.0, 3.0), (1.0, 0.5, 0.2), 100.0, hs=hs_free, rtols=rt),
+        Problem(
+            f"free_T{int(long_T)}",
+            "free",
+            (1.0, 2.0, 3.0),
+            (1.0, 0.5, 0.2),
+            long_T,
+            hs=(0.1, 0.05) if quick else (0.1, 0.05, 0.02),
+            rtols=(1e-10,) if quick else (1e-8, 1e-10, 1e-12),
+            baselines=("DOP853",) if quick else ("RK45", "DOP853"),
+            geometric=("dmv4", "dmv6"),
+        ),
+        Problem("separatrix", "free", (1.0, 2.0, 3.0), (1e-6, 1.0, 1e-6), 100.0, hs=hs_free, rtols=rt),
+        Problem(
+            "rigidode", "free", Ir, tuple(y / s for y, s in zip(y0, sr)), 12.0, scale=sr, hs=hs_free, rtols=rt
+        ),
+        Problem("eulr", "free", (0.5, 2.0, 3.0), (1.0, 0.0, 0.9), 20.0, check_body=False, hs=hs_free, rtols=rt),
+        Problem(
+            "heavy_top",
+            "top",
+            (1.0, 1.0, 2.0),
+            (0.5, 0.2, 10.0),
+            100.0,
+            top=(1.0, 9.81, 0.5, (math.cos(tilt / 2), math.sin(tilt / 2), 0.0, 0.0)),
+            hs=(0.02, 0.01, 0.005, 0.002) if quick else (0.02, 0.01, 0.005, 0.002, 0.001),
+            rtols=rt,
+            geometric=("strang", "yoshida4"),
+        ),
+    ]
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# Running
+# ----------------------------------------------------------------------------------------------------------------
+def _timed(fn, repeats):
+    """(result, seconds): min of ``repeats`` runs after a warm-up; a run longer than 1 s is timed once."""
+    t0 = time.perf_counter()
+    out = fn()
+    first = time.perf_counter() - t0
+    if first > 1.0 or repeats <= 1:
+        return out, first
+    best = math.inf
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t0)
+    return out, best
+
+
+def _free_reference(p: Problem, ts):
+    """40-digit mpmath truth: Jacobi functions for rigidode, :func:`mp_reference_omega` otherwise."""
+    if p.name == "rigidode":
+        import mpmath as mp
+
+        with mp.workdps(40):
+            m = mp.mpf(0.51)  # the binary double the ODE uses
+            y = [[float(mp.ellipfun(f, mp.mpf(float(x)), m)) for f in ("sn", "cn", "dn")] for x in ts]
+        return np.array(y) / np.asarray(p.scale)
+    return mp_reference_omega(p.I, p.omega0, ts)
+
+
+def _invariant_drift(p: Problem, omega, gamma=None):
+    from eulersym.numerics import invariants as iv
+
+    if p.kind == "free":
+        e = iv.energy(p.I, omega)
+        l2 = iv.angular_momentum_squared(p.I, omega)
+        return float(np.max(np.abs(e / e[0] - 1))), float(np.max(np.abs(l2 / l2[0] - 1)))
+    M, g, l, _ = p.top
+    e = iv.heavy_top_energy(p.I, M, g, l, omega, gamma)
+    lg = iv.momentum_vertical(p.I, omega, gamma)
+    return float(np.max(np.abs(e / e[0] - 1))), float(np.max(np.abs(lg - lg[0]) / max(abs(lg[0]), 1e-300)))
+
+
+def run_problem(p: Problem, *, repeats=3, max_seconds=60.0, log=print):
+    """Run every method of ``p`` at every setting; returns a list of row dicts (CSV columns)."""
+    from eulersym.numerics import free_rigid_body_exact, integrate_free_body, integrate_heavy_top, integrate_ivp
+
+    ts = np.linspace(0.0, p.T, p.n_out)
+    rows = []
+    if p.kind == "free":
+        ref = _free_reference(p, ts)
+        ref_note = "40-digit mpmath elliptic functions"
+        q0 = (1.0, 0.0, 0.0, 0.0)
+    else:
+        M, g, l, q0 = p.top
+        a, b, c, d = q0
+        gamma0 = (2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d)
+        mod = lambdify_module("heavy_top_euler_poisson")
+        params = (*p.I, M, g, l)
+        tight = integrate_ivp(mod, [*p.omega0, *gamma0, *q0], ts, params, method="DOP853", rtol=1e-13, atol=1e-14)
+        check = integrate_heavy_top(p.I, M, g, l, p.omega0, q0, ts, h=5e-4, method="yoshida4")
+        ref = np.hstack([tight.omega, tight.gamma])
+        spread = float(np.max(np.abs(ref - np.hstack([check.omega, check.gamma]))))
+        ref_note = f"DOP853 rtol 1e-13 (differs from yoshida4 at h=5e-4 by {spread:.1e})"
+    log(f"\n== {p.name}: I={p.I} omega0={p.omega0} T={p.T:g}; reference: {ref_note}")
+
+    def record(method, route, setting, fn):
+        row = dict(problem=p.name, method=method, route=route, setting=setting, time_s="", error="", energy_drift="",
+                   invariant_drift="", n_calls="", status="ok")
+        try:
+            tr, secs = _timed(fn, repeats)
+            if isinstance(tr, np.ndarray):  # the oracle
+                omega, gamma, calls = tr, None, 0
+            else:
+                omega, gamma, calls = tr.omega, tr.gamma, tr.n_rhs_calls
+            got = omega if p.kind == "free" else np.hstack([omega, gamma])
+            err = float(np.max(np.abs((got - ref) * (np.asarray(p.scale) if p.kind == "free" else 1.0))))
+            de, dl = _invariant_drift(p, omega, gamma)
+            row.update(time_s=f"{secs:.6g}", error=f"{err:.3e}", energy_drift=f"{de:.3e}", invariant_drift=f"{dl:.3e}",
+                       n_calls=str(calls))
+        except Exception as exc:  # noqa: BLE001 - a failed run is a data point
+            row["status"] = f"failed: {type(exc).__name__}: {exc}"[:200]
+        rows.append(row)
+        log(f"  {method:<10} {route:<9} {setting:<10} t={row['time_s'] or '-':>10} err={row['error'] or '-':>10} "
+            f"dE={row['energy_drift'] or '-':>10} dInv={row['invariant_drift'] or '-':>10} {row['status'] if row['status'] != 'ok' else ''}")
+        return row
+
+    if p.kind == "free":
+        record("oracle", "eulersym", "exact", lambda: free_rigid_body_exact(p.I, p.omega0, ts, check_body=p.check_body))
+        for method in p.geometric:
+            for h in p.hs:
+                r = record(method, "eulersym", f"h={h:g}", lambda m=method, h=h: integrate_free_body(
+                    p.I, p.omega0, q0, ts, method=m, h=h, check_body=p.check_body))
+                if r["time_s"] and float(r["time_s"]) > max_seconds:
+                    break
+        mod = lambdify_module("euler_principal")
+        y0, params = list(p.omega0), p.I
+    else:
+        for method in p.geometric:
+            for h in p.hs:
+                r = record(method, "eulersym", f"h={h:g}", lambda m=method, h=h: integrate_heavy_top(
+                    p.I, M, g, l, p.omega0, q0, ts, h=h, method=m))
+                if r["time_s"] and float(r["time_s"]) > max_seconds:
+                    break
+        y0 = [*p.omega0, *gamma0, *q0]
+    for method in p.baselines:
+        for rtol in p.rtols:
+            r = record(method, "lambdify", f"rtol={rtol:g}", lambda m=method, rtol=rtol: integrate_ivp(
+                mod, y0, ts, params, method=m, rtol=rtol, atol=rtol * 1e-2))
+            if r["time_s"] and float(r["time_s"]) > max_seconds:
+                break
+    return rows
+
+
+def _best(rows, pred):
+    ok = [r for r in rows if r["status"] == "ok" and pred(r)]
+    return min(ok, key=lambda r: float(r["time_s"])) if ok else None
+
+
+def summarise(rows, log=print):
+    """Print each floor's figure beside its baseline (ratios from the same run).
+
+    For every DOP853 run (the strongest baseline here), the cheapest oracle run and the cheapest geometric run with
+    an error no worse than DOP853's, and the time ratio.
+    """
+    log("\n== summary: eulersym at an error no worse than solve_ivp DOP853 (lambdify route), same run")
+    for name in dict.fromkeys(r["problem"] for r in rows):
+        pr = [r for r in rows if r["problem"] == name]
+        for base in (r for r in pr if r["method"] == "DOP853" and r["status"] == "ok"):
+            target = float(base["error"])
+            log(f"  {name}: DOP853 {base['setting']}: {float(base['time_s']):.3g} s, error {target:.2e}, "
+                f"energy drift {float(base['energy_drift']):.1e}, invariant drift {float(base['invariant_drift']):.1e}")
+            for label, pred in (
+                ("oracle", lambda r: r["method"] == "oracle"),
+                ("geometric", lambda r: r["route"] == "eulersym" and r["method"] != "oracle"),
+            ):
+                best = _best(pr, lambda r, pred=pred: pred(r) and float(r["error"]) <= target)
+                if best is None:
+                    if any(pred(r) for r in pr):
+                        log(f"      {label}: no run reached error {target:.1e}")
+                    continue
+                ratio = float(base["time_s"]) / max(float(best["time_s"]), 1e-9)
+                log(f"      {label} {best['method']} {best['setting']}: {float(best['time_s']):.3g} s, error "
+                    f"{float(best['error']):.2e}, energy drift {float(best['energy_drift']):.1e}, invariant drift "
+                    f"{float(best['invariant_drift']):.1e} -> {ratio:.3g}x faster")
+
+
+def _plot(rows, path):
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return False
+    names = list(dict.fromkeys(r["problem"] for r in rows))
+    fig, axes = plt.subplots(2, len(names), figsize=(4 * len(names), 7), squeeze=False)
+    for j, name in enumerate(names):
+        pr = [r for r in rows if r["problem"] == name and r["status"] == "ok"]
+        for method in dict.fromkeys(r["method"] for r in pr):
+            pts = sorted((float(r["time_s"]), float(r["error"]), float(r["energy_drift"])) for r in pr if r["method"] == method)
+            x = [max(a, 1e-7) for a, _, _ in pts]
+            axes[0, j].loglog(x, [max(b, 1e-17) for _, b, _ in pts], "o-", label=method)
+            axes[1, j].loglog(x, [max(c, 1e-17) for _, _, c in pts], "o-", label=method)
+        axes[0, j].set_title(name)
+        axes[1, j].set_xlabel("time [s]")
+    axes[0, 0].set_ylabel("max error")
+    axes[1, 0].set_ylabel("relative energy drift")
+    axes[0, -1].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    return True
+
+
+def main(argv) -> int:
+    """``eulersym bench workprecision``: run, write CSV (and PNG with matplotlib), print the summary."""
+    ap = argparse.ArgumentParser(prog="eulersym bench workprecision", description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="shorter spans, fewer settings, fewer timed runs")
+    ap.add_argument("--out", default=".", help="folder for workprecision.csv / workprecision.png")
+    ap.add_argument("--repeats", type=int, default=None, help="timed runs per point after the warm-up")
+    ap.add_argument("--max-seconds", type=float, default=None, help="stop refining a method past this run time "
+                    "(default 5 s with --quick, 60 s otherwise)")
+    ap.add_argument("--only", default=None, help="comma-separated problem names")
+    args = ap.parse_args(argv)
+    repeats = args.repeats if args.repeats is not None else (3 if args.quick else 5)
+    problems = PROBLEMS(args.quick)
+    if args.only:
+        keep = set(args.only.split(","))
+        problems = [p for p in problems if p.name in keep]
+    rows = []
+    for p in problems:
+        limit = args.max_seconds if args.max_seconds is not None else (5.0 if args.quick else 60.0)
+        rows.extend(run_problem(p, repeats=repeats, max_seconds=limit))
+    os.makedirs(args.out, exist_ok=True)
+    csv_path = os.path.join(args.out, "workprecision.csv")
+    with open(csv_path, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    summarise(rows)
+    print(f"\nCSV: {csv_path}")
+    png = os.path.join(args.out, "workprecision.png")
+    print(f"PNG: {png}" if _plot(rows, png) else "PNG: skipped (install the 'plot' extra: matplotlib)")
+    return 0
