@@ -38,11 +38,9 @@ import difflib
 import math
 import numbers
 import os
-import sys
 import tomllib
 from dataclasses import dataclass, field
 from importlib import resources
-from types import MappingProxyType
 from typing import Any, Mapping
 
 import numpy as np

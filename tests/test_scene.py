@@ -25,22 +25,6 @@ from eulersym._scene_run import dop853_batched, quaternion_to_rotation, rotate_t
 BUNDLED = ("tennis-racket", "symmetric-precession", "heavy-top-nutation", "sleeping-top-above", "sleeping-top-below", "cube-diagonal")
 
 
-def _has(module: str, *names: str) -> bool:
-    try:
-        mod = importlib.import_module(module)
-    except ImportError:
-        return False
-    return all(hasattr(mod, n) for n in names)
-
-
-HAVE_NUMERICS = _has("eulersym.numerics", "free_rigid_body_exact", "free_rigid_body_attitude_exact", "integrate_ivp", "integrate_heavy_top", "invariants")
-HAVE_KERNELS = all(_has(f"eulersym.generated.{m}", "rhs_batched") for m in ("euler_principal", "free_body_quaternion", "heavy_top_euler_poisson"))
-HAVE_INERTIA = _has("eulersym.inertia", "cube", "principal_axes")
-HAVE_TOP = _has("eulersym.top", "sleeping_top_threshold")
-needs_numerics = pytest.mark.skipif(not HAVE_NUMERICS, reason="eulersym.numerics (issue 5) has not landed on this branch yet")
-needs_kernels = pytest.mark.skipif(not (HAVE_NUMERICS and HAVE_KERNELS), reason="eulersym.numerics and the generated kernels (issues 4, 5) have not landed yet")
-needs_inertia = pytest.mark.skipif(not (HAVE_NUMERICS and HAVE_INERTIA), reason="eulersym.inertia (issue 2) or numerics has not landed yet")
-
 FREE = dict(moments=(1.0, 2.0, 3.0), omega=(0.1, 1.0, 0.2), t_end=5.0, points=101)
 TOP = dict(moments=(1.2e-3, 1.2e-3, 4e-4), mass=0.5, l=0.04, euler=(0.0, 0.5, 0.0), omega=(0.0, 0.0, 150.0), t_end=0.3, points=301)
 
@@ -436,7 +420,6 @@ def test_cli_plot_without_matplotlib_says_so(tmp_path, capsys):
 # ---- runs (need numerics and kernels) --------------------------------------------------------------------------
 
 
-@needs_numerics
 def test_torque_free_omega_only_matches_independent_integration_and_propagates_no_attitude(monkeypatch):
     numerics = importlib.import_module("eulersym.numerics")
 
@@ -454,7 +437,6 @@ def test_torque_free_omega_only_matches_independent_integration_and_propagates_n
     assert result.drift["energy"] < 1e-12 and result.drift["L2"] < 1e-12
 
 
-@needs_kernels
 def test_asked_for_dop853_agrees_with_the_closed_form():
     exact = simulate(Scene(**{**FREE, "outputs": ("omega",)}))
     ivp = simulate(Scene(**{**FREE, "outputs": ("omega",), "method": "DOP853", "accuracy": 1e-11}))
@@ -465,7 +447,6 @@ def test_asked_for_dop853_agrees_with_the_closed_form():
     assert np.max(np.abs(swept.omega[0] - exact.omega)) < 1e-8
 
 
-@needs_numerics
 def test_symmetric_closed_form_precesses_at_the_derived_rate():
     """ω⊥ turns at Ω = (I1 − I3)/I1 ω3: checked by the phase of ω1 + iω2 (the rate is recomputed here)."""
     I1, I3, w3 = 2.0, 1.0, 5.0
@@ -476,7 +457,6 @@ def test_symmetric_closed_form_precesses_at_the_derived_rate():
     assert np.allclose(result.omega[:, 2], w3, rtol=1e-13)
 
 
-@needs_numerics
 def test_attitude_outputs_and_euler_angles():
     scene = Scene(moments=(2.0, 2.0, 1.0), omega=(0.3, 0.0, 5.0), euler=(0.2, 0.5, 0.1), t_end=3.0, points=61,
                   outputs=("omega", "attitude", "euler_angles", "invariants"))
@@ -490,14 +470,13 @@ def test_attitude_outputs_and_euler_angles():
     back = Rotation.from_euler("ZXZ", r.euler_angles).as_matrix()
     assert np.allclose(back, quaternion_to_rotation(r.attitude).as_matrix(), atol=1e-10)
     assert r.drift["L_space_deviation"] < 1e-10
-    # cross-check of the convention with eulersym.rotation where it has landed
-    rotation = pytest.importorskip("eulersym.rotation")
-    if hasattr(rotation, "euler_matrix"):
-        A = np.array(rotation.euler_matrix(0.2, 0.5, 0.1), dtype=float)
-        assert np.allclose(A, quaternion_to_rotation(r.attitude[0]).as_matrix().T, atol=1e-12)
+    # the convention agrees with eulersym.rotation's A = B(psi) C(theta) D(phi)
+    from eulersym.rotation import euler_matrix
+
+    A = np.array(euler_matrix(0.2, 0.5, 0.1), dtype=float)
+    assert np.allclose(A, quaternion_to_rotation(r.attitude[0]).as_matrix().T, atol=1e-12)
 
 
-@needs_numerics
 def test_omega_in_space_components():
     rot = Rotation.from_euler("ZXZ", [0.3, 0.4, 0.5])
     w_space = np.array([0.2, -0.1, 1.0])
@@ -509,7 +488,6 @@ def _subprocess(code: str) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, timeout=120)
 
 
-@needs_numerics
 def test_torque_free_run_imports_no_sympy_and_nothing_of_the_top():
     proc = _subprocess("""
         import sys
@@ -524,7 +502,6 @@ def test_torque_free_run_imports_no_sympy_and_nothing_of_the_top():
     assert "ok (1001, 3)" in proc.stdout
 
 
-@needs_kernels
 def test_heavy_top_conserves_invariants_and_nutates():
     r = simulate(Scene(**TOP, outputs=("omega", "euler_angles", "invariants"), accuracy=1e-10))
     assert r.plan.regime == "heavy top" and "gamma" in r.propagated
@@ -537,7 +514,6 @@ def test_heavy_top_conserves_invariants_and_nutates():
     assert np.allclose(np.cos(theta), r.gamma[:, 2], atol=1e-8)  # Γ3 = cos θ
 
 
-@needs_kernels
 def test_heavy_top_splitting_agrees_with_dop853():
     a = simulate(Scene(**TOP, outputs=("omega",), accuracy=1e-4))
     b = simulate(Scene(**TOP, outputs=("omega",), accuracy=1e-10))
@@ -546,18 +522,15 @@ def test_heavy_top_splitting_agrees_with_dop853():
     assert np.max(np.abs(a.omega - b.omega)) / scale < 1e-2
 
 
-@needs_kernels
 def test_sleeping_tops_above_stay_and_below_fall():
     above = simulate(load("sleeping-top-above"))
     below = simulate(load("sleeping-top-below"))
     tilt = lambda r: np.degrees(np.arccos(np.clip(r.gamma[:, 2], -1, 1))).max()  # noqa: E731
     assert tilt(above) < 10 and tilt(below) > 15
-    if HAVE_TOP:
-        assert "top.sleeping_top_threshold" in above.derivations
-        assert any("above" in n for n in above.notes) and any("below" in n for n in below.notes)
+    assert "top.sleeping_top_threshold" in above.derivations
+    assert any("above" in n for n in above.notes) and any("below" in n for n in below.notes)
 
 
-@needs_kernels
 def test_sweep_equals_looped_single_runs():
     base = {**TOP, "t_end": 0.2, "points": 21, "accuracy": 1e-9, "outputs": ("omega",)}
     sweep = simulate(Scene(**{**base, "omega": (0, 0, [100.0, 150.0]), "euler": (0, [0.3, 0.5], 0)}))
@@ -568,7 +541,6 @@ def test_sweep_equals_looped_single_runs():
         assert np.max(np.abs(single.omega - sweep.omega[b])) / w3 < 1e-6
 
 
-@needs_kernels
 def test_body_torque_spins_up_linearly_and_space_torque_follows_attitude():
     r = simulate(Scene(moments=(1, 1, 2), omega=(0, 0, 1), torque=(0, 0, 0.5), t_end=2, points=21, outputs=("omega",)))
     assert np.allclose(r.omega[:, 2], 1 + 0.25 * r.t, rtol=1e-7)  # I3 ω̇3 = N3 with ω1 = ω2 = 0
@@ -580,7 +552,6 @@ def test_body_torque_spins_up_linearly_and_space_torque_follows_attitude():
     assert np.allclose(L_space - L_space[0], np.outer(s.t, [0, 0, 0.2]), atol=1e-7)
 
 
-@needs_inertia
 def test_full_tensor_maps_frames(rng):
     """A tensor Q diag(I) Qᵀ with ω and attitude in its body frame gives Q times the principal-frame answer."""
     Q = Rotation.random(random_state=np.random.default_rng(3)).as_matrix()
@@ -599,7 +570,6 @@ def test_full_tensor_maps_frames(rng):
     assert np.allclose(R_body, quaternion_to_rotation(ref.attitude).as_matrix() @ P.T, atol=1e-12)
 
 
-@needs_inertia
 def test_cube_diagonal_derives_inertia_and_keeps_omega_on_the_diagonal():
     r = simulate(load("cube-diagonal"))
     assert r.derivations == ("inertia.cube", "inertia.principal_axes")
@@ -611,18 +581,12 @@ def test_cube_diagonal_derives_inertia_and_keeps_omega_on_the_diagonal():
     assert r.plan.engine == "closed form: trigonometric"
 
 
-@needs_numerics
 @pytest.mark.parametrize("name", BUNDLED)
 def test_bundled_scenes_run(name):
-    if name == "cube-diagonal" and not HAVE_INERTIA:
-        pytest.skip("eulersym.inertia has not landed")
-    if load(name).regime == "heavy top" and not HAVE_KERNELS:
-        pytest.skip("generated heavy-top kernels have not landed")
     r = simulate(load(name))
     assert np.all(np.isfinite(r.omega)) and "timings" in r.report()
 
 
-@needs_numerics
 def test_cli_writes_npz_and_csv(tmp_path, capsys):
     npz, csv = tmp_path / "out.npz", tmp_path / "out.csv"
     assert _main("tennis-racket", "-o", str(npz)) == 0
@@ -635,7 +599,6 @@ def test_cli_writes_npz_and_csv(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.csv", "out.npz"]
 
 
-@needs_numerics
 def test_cli_plot_writes_png(tmp_path):
     pytest.importorskip("matplotlib")
     path = tmp_path / "racket.png"
@@ -644,7 +607,6 @@ def test_cli_plot_writes_png(tmp_path):
     assert oct(path.stat().st_mode & 0o777) != oct(0o600)
 
 
-@needs_kernels
 def test_sweep_csv_has_member_columns(tmp_path):
     r = simulate(Scene(**{**TOP, "t_end": 0.05, "points": 3, "omega": (0, 0, [100.0, 120.0]), "outputs": ("omega",), "accuracy": 1e-6}))
     path = tmp_path / "sweep.csv"
