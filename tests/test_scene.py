@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import importlib
 import math
-import os
 import subprocess
 import sys
 import textwrap
@@ -17,7 +16,7 @@ from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
 from eulersym.errors import InvalidInput
-from eulersym.scene import OUTPUTS, Plan, Result, Scene, Sweep, bundled, cli, load, simulate
+from eulersym.scene import OUTPUTS, Plan, Result, Scene, Sweep, bundled, load, simulate
 from eulersym._scene_io import _atomic, save
 from eulersym._scene_plan import classify_moments, heavy_top_frame, make_plan
 from eulersym._scene_run import dop853_batched, quaternion_to_rotation, rotate_to_body, rotation_to_quaternion
