@@ -106,6 +106,7 @@ def bench_sweep(members: int = 100_000, loop: int = 40, accuracy: float = 1e-6, 
                 outputs=("omega",), accuracy=accuracy, name="sleeping-top-sweep")
     sweep = Scene(**base, omega=(0.0, 0.0, {"start": 60.0, "stop": 95.0, "num": n_spin}),
                   euler=(0.0, {"start": 0.005, "stop": 0.05, "num": n_tilt}, 0.0))
+    simulate(Scene(**base, omega=(0.0, 0.0, [60.0, 95.0]), euler=(0.0, [0.005, 0.05], 0.0)))  # warm-up (imports)
     start = time.perf_counter()
     result = simulate(sweep)
     t_sweep = time.perf_counter() - start
