@@ -143,6 +143,15 @@ _TOML_LAYOUT: dict[str, dict[str, Any]] = {
 }
 
 
+#: Scene keyword → where it lives in a TOML file (for messages about keys a file lacks).
+_TOML_PATHS = {
+    target: (f"{section}.{key}" if section else key)
+    for section, keys in _TOML_LAYOUT.items()
+    for key, target in keys.items()
+    if isinstance(target, str)
+}
+
+
 def _did_you_mean(key: str, valid) -> str:
     valid = sorted(valid)
     close = difflib.get_close_matches(key, valid, n=1, cutoff=0.5)
@@ -405,6 +414,8 @@ class Scene:
                 raise InvalidInput(where[exc.argument], exc.value, exc.expected) from None
             if base in where:
                 raise InvalidInput(where[base] + rest, exc.value, exc.expected) from None
+            if base in _TOML_PATHS:  # a key the file lacks: name where it would go
+                raise InvalidInput(_TOML_PATHS[base] + rest, exc.value, exc.expected) from None
             raise
 
     # ---- derived facts (pure) -----------------------------------------------------------------------------
