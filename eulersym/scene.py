@@ -18,6 +18,28 @@ upward vertical is ``Gamma = A @ (0, 0, 1)``, and ``Gamma3 = cos(theta)``. A piv
 Sweeps: wherever a scene takes a number it may take a list of numbers or a range ``{start, stop, num}`` instead;
 the members are the outer product of all swept values, run in one vectorised pass on the batched kernels.
 
+The TOML layout (every key optional unless marked; ``eulersym simulate --list`` names bundled examples to copy)::
+
+    name = "my-scene"                    # and description = "..."
+    [body]                               # exactly one of: moments | tensor | shape (+ mass and dimensions)
+    moments = [I1, I2, I3]               # or tensor = [[..], [..], [..]]
+    shape = "cone"                       # cube, cuboid, sphere, cylinder, cone, ellipsoid
+    mass = 0.5                           # with a, b, c, R, h as the shape needs, and origin = "apex" ...
+    [pivot]                              # a heavy top: centre of mass at l e3 above the pivot
+    l = 0.04                             # required in [pivot]
+    g = 9.81
+    [torque]                             # a constant torque: body = [..] or space = [..]
+    [initial]
+    omega = [w1, w2, w3]                 # required; or omega_space = [..]
+    euler = [phi, theta, psi]            # and convention = "zxz"; or quaternion = [..]; or axis = [..], angle = ..
+    [time]
+    end = 10.0                           # required, > 0
+    points = 1001
+    [output]
+    want = ["omega", "invariants"]       # omega, attitude, euler_angles, invariants, polhode
+    accuracy = 1e-8
+    method = "auto"                      # auto, closed-form, splitting, DOP853, RK45, Radau, LSODA
+
 Examples
 --------
 >>> scene = Scene(moments=(1.0, 2.0, 3.0), omega=(0.01, 1.0, 0.01), t_end=10.0, outputs=("omega",))

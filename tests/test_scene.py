@@ -523,9 +523,16 @@ def test_torque_free_run_imports_no_sympy_and_nothing_of_the_top():
         assert r.derivations == (), r.derivations
         assert 'eulersym.top' not in sys.modules and 'eulersym.dynamics' not in sys.modules
         print('ok', r.omega.shape)
+        # a tilted heavy top and a torqued body need no derivation either: no SymPy
+        top = simulate(Scene(moments=(1.0, 1.0, 0.5), mass=1.0, l=0.1, euler=(0, 0.5, 0), omega=(0, 0, 20.0),
+                             t_end=0.2, points=11, outputs=('omega', 'euler_angles', 'invariants')))
+        torqued = simulate(Scene(moments=(1, 2, 3), torque=(0, 0, 1), torque_frame='space', omega=(0, 0, 1), t_end=1,
+                                 points=11, outputs=('omega', 'attitude')))
+        assert top.derivations == () and torqued.derivations == ()
+        print('ok too')
     """)
     assert proc.returncode == 0, proc.stderr
-    assert "ok (1001, 3)" in proc.stdout
+    assert "ok (1001, 3)" in proc.stdout and "ok too" in proc.stdout
 
 
 def test_heavy_top_conserves_invariants_and_nutates():
