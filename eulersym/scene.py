@@ -57,6 +57,7 @@ from __future__ import annotations
 
 import dataclasses
 import difflib
+import functools
 import math
 import numbers
 import os
@@ -458,7 +459,7 @@ class Scene:
             return "torque"
         return "torque-free"
 
-    @property
+    @functools.cached_property
     def sweeps(self) -> tuple:
         """``((label, Sweep), ...)`` for every swept number, in field order.
 
