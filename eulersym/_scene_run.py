@@ -352,7 +352,7 @@ def run(scene: Scene, *, progress: bool = False) -> Result:
     if batch > 1 and call not in ("free_rigid_body_exact", "free_rigid_body_attitude_exact"):
         call = "batched"
     motion = _MOTIONS[plan.regime]
-    omega_pr, q_pr, gamma, n_calls = motion(scene, plan, call, t, moments, omega0_pr, q0_pr, rot0_pr, members, batch, bar)
+    omega_pr, q_pr, gamma, n_calls = motion(scene, plan, call, t, moments, omega0_pr, q0_pr, rot0_pr, members, batch, bar, P)
     timings["motion"] = time.perf_counter() - clock
     bar.stage("integrated", 0.9)
 
@@ -395,7 +395,7 @@ def _member_field_vec(scene, members, k, batch):
 # ---- torque-free ---------------------------------------------------------------------------------------------
 
 
-def _torque_free(scene, plan, call, t, moments, omega0, q0, rot0, members, batch, bar):
+def _torque_free(scene, plan, call, t, moments, omega0, q0, rot0, members, batch, bar, P):
     numerics = importlib.import_module("eulersym.numerics")
     wants_q = "attitude" in plan.propagate
     n = len(t)
@@ -459,7 +459,7 @@ def _normalise(q):
 # ---- heavy top ----------------------------------------------------------------------------------------------
 
 
-def _heavy_top(scene, plan, call, t, moments, omega0, q0, rot0, members, batch, bar):
+def _heavy_top(scene, plan, call, t, moments, omega0, q0, rot0, members, batch, bar, P):
     numerics = importlib.import_module("eulersym.numerics")
     gen = importlib.import_module("eulersym.generated.heavy_top_euler_poisson")
     M = _member_field(scene, members, "mass", batch)
@@ -499,12 +499,14 @@ def _heavy_top_step(scene, I, M, g, l, omega0, t):
 # ---- torque -------------------------------------------------------------------------------------------------
 
 
-def _torqued(scene, plan, call, t, moments, omega0, q0, rot0, members, batch, bar):
+def _torqued(scene, plan, call, t, moments, omega0, q0, rot0, members, batch, bar, P):
     numerics = importlib.import_module("eulersym.numerics")
     euler = importlib.import_module("eulersym.generated.euler_principal")
     wants_q = "attitude" in plan.propagate
     space = scene.torque_frame == "space"
     N = _member_vector(scene, members, "torque", batch)
+    if not space:
+        N = N @ P  # body-fixed torque in principal components, Pᵀ N
     I = [moments[:, k] for k in range(3)]
     params = (*I, N[:, 0], N[:, 1], N[:, 2])
     if wants_q:

@@ -603,6 +603,15 @@ def test_full_tensor_maps_frames(rng):
     assert np.allclose(R_body, quaternion_to_rotation(ref.attitude).as_matrix() @ P.T, atol=1e-12)
 
 
+def test_full_tensor_with_a_body_torque_maps_the_torque():
+    Q = Rotation.random(random_state=np.random.default_rng(5)).as_matrix()
+    tensor = Q @ np.diag([1.0, 2.0, 2.5]) @ Q.T
+    N, w = np.array([0.1, -0.2, 0.3]), np.array([0.3, 0.1, -0.2])
+    r = simulate(Scene(tensor=tensor.tolist(), torque=tuple(N), omega=tuple(w), t_end=2, points=11, outputs=("omega",), accuracy=1e-11))
+    ref = solve_ivp(lambda t, y: np.linalg.solve(tensor, np.cross(tensor @ y, y) + N), (0, 2), w, t_eval=r.t, rtol=1e-12, atol=1e-14)
+    assert np.allclose(r.omega, ref.y.T, atol=1e-8)
+
+
 def test_cube_diagonal_derives_inertia_and_keeps_omega_on_the_diagonal():
     r = simulate(load("cube-diagonal"))
     assert r.derivations == ("inertia.cube", "inertia.principal_axes")
