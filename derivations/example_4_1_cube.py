@@ -16,24 +16,15 @@
 # %%
 from __future__ import annotations
 
-import argparse
 import sys
 
 import sympy as sp
 
 from eulersym.compare import compare
 from eulersym.inertia import Region, cube, parallel_axis, principal_axes, tensor, x, y, z
+from eulersym.text import derivation_printer
 
-parser = argparse.ArgumentParser(description=__doc__)
-parser.add_argument("--latex", action="store_true", help="print results as LaTeX")
-args = parser.parse_args(sys.argv[1:] if __name__ == "__main__" else [])
-
-
-def show(label: str, expr) -> None:
-    """Print one derived result (plain text, or LaTeX with --latex)."""
-    text = sp.latex(expr) if args.latex else (sp.sstr(expr.tolist()) if isinstance(expr, sp.MatrixBase)
-                                              else sp.sstr(expr))
-    print(f"{label}:\n    {text}")
+args, show = derivation_printer(__doc__, sys.argv[1:] if __name__ == "__main__" else [])
 
 
 M, a = sp.symbols("M a", positive=True)

@@ -16,7 +16,6 @@
 # %%
 from __future__ import annotations
 
-import argparse
 import sys
 
 import numpy as np
@@ -30,17 +29,9 @@ from eulersym.dynamics import (
     steady_rotation_stability,
 )
 from eulersym.symbols import I1, I2, I3, omega0
+from eulersym.text import derivation_printer
 
-parser = argparse.ArgumentParser(description="Example 4.2 derived")
-parser.add_argument("--latex", action="store_true", help="print results as LaTeX")
-args = parser.parse_args(sys.argv[1:] if __name__ == "__main__" else [])
-
-
-def show(label: str, expr) -> None:
-    """Print one derived result (plain text, or LaTeX with --latex)."""
-    text = sp.latex(expr) if args.latex else (sp.sstr(expr.tolist()) if isinstance(expr, sp.MatrixBase)
-                                              else sp.sstr(expr))
-    print(f"{label}:\n    {text}")
+args, show = derivation_printer("Example 4.2 derived", sys.argv[1:] if __name__ == "__main__" else [])
 
 
 # %% [markdown]

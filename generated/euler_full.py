@@ -9,7 +9,7 @@
 """Euler's equations with a full (symmetric) inertia tensor and a body torque: I ω̇ = (I ω) × ω + N, I
 = [[I11, I12, I13], [I12, I22, I23], [I13, I23, I33]] (the tensor's entries, body axes).
 
-Functions (each also as ``<name>_batched(..., out=None)``):
+Functions (each also as ``<name>_batched(..., out=None)`` and ``<name>_flat(...)``):
 
 - ``rhs(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3)`` → (domega1/dt, domega2/dt, domega3/dt): the right-hand side dy/dt
 - ``jac(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3)`` → shape (3, 3): the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -26,18 +26,20 @@ Scalar flavour: Python floats and ``math``; returns a new list on every call (sa
 Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once
 per call, and the result is a new array unless ``out=`` is given (written in place, so it may not
 overlap the inputs).
+Flat flavour: ``<name>_flat`` takes every symbol as its own float argument (vectors unpacked, in
+order) and returns a tuple: plain ``math`` on floats, no checks, so ``numba.njit`` compiles it.
 
 Invariants: E = ½ ω·Iω and L² = |Iω|² (conserved only without torque).
 """
 
 import numpy as np
 
-from eulersym.generated._runtime import _as_vector, _prepare_out, _unpack, _wrong_length
+from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, _wrong_length
 
-__all__ = ['rhs', 'jac', 'invariants', 'rhs_batched', 'jac_batched', 'invariants_batched']
+__all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched']
 
 
-def rhs(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
+def rhs(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra):
     """rhs(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3) -> list of (domega1/dt, domega2/dt, domega3/dt)
 
     the right-hand side dy/dt
@@ -47,6 +49,8 @@ def rhs(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
         y = (omega1, omega2, omega3): state
         I11, I12, I13, I22, I23, I33, N1, N2, N3
     """
+    if extra:
+        raise _too_many('rhs', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     try:
         omega1, omega2, omega3 = y.tolist()
     except AttributeError:
@@ -81,7 +85,7 @@ def rhs(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
     return [x0*(I12*omega1*omega3 - I12*x24 - I13*x23 + I22*omega2*omega3 + I23*x7 + N1 - x2 - x4 - x6), x24, x23]
 
 
-def jac(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
+def jac(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra):
     """jac(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3) -> list of lists of shape (3, 3)
 
     the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -91,6 +95,8 @@ def jac(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
         y = (omega1, omega2, omega3): state
         I11, I12, I13, I22, I23, I33, N1, N2, N3
     """
+    if extra:
+        raise _too_many('jac', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     try:
         omega1, omega2, omega3 = y.tolist()
     except AttributeError:
@@ -139,7 +145,7 @@ def jac(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
     return [[x0*(-I12*x34 - I13*x33 - x1 + x17), x0*(-I12*x44 - I13*x43 - x39), x0*(-I12*x48 - I13*x47 + x45)], [x34, x44, x48], [x33, x43, x47]]
 
 
-def invariants(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
+def invariants(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra):
     """invariants(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3) -> list of (E, L2)
 
     the invariants E, L2
@@ -149,6 +155,8 @@ def invariants(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
         y = (omega1, omega2, omega3): state
         I11, I12, I13, I22, I23, I33, N1, N2, N3
     """
+    if extra:
+        raise _too_many('invariants', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     try:
         omega1, omega2, omega3 = y.tolist()
     except AttributeError:
@@ -177,7 +185,117 @@ def invariants(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3):
     return [(0.5)*I11*x16 + (0.5)*I22*x5 + (0.5)*I33*x7 + omega2*x25 + omega3*x29 + omega3*x30, (I11*I11)*x16 + I11*omega2*x26 + (I22*I22)*x5 + I22*omega3*x38 + (I33*I33)*x7 + 2*x1*x41 + x1*x49 + x11*x16 + x11*x5 + x14*x26 + x16*x8 + x20*x31 + x3*x31 + x3*x38 + x41*x49 + x5*x50 + x50*x7 + x7*x8]
 
 
-def rhs_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None):
+def rhs_flat(t, omega1, omega2, omega3, I11, I12, I13, I22, I23, I33, N1, N2, N3):
+    """rhs_flat(t, omega1, omega2, omega3, I11, I12, I13, I22, I23, I33, N1, N2, N3) -> tuple
+
+    ``rhs`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x0 = 1/I11
+    x1 = I13*omega2
+    x2 = omega1*x1
+    x3 = I33*omega3
+    x4 = omega2*x3
+    x5 = (omega2*omega2)
+    x6 = I23*x5
+    x7 = (omega3*omega3)
+    x8 = (I13*I13)
+    x9 = I12*x0
+    x10 = -I13*x9 + I23
+    x11 = (I12*I12)
+    x12 = 1/(I22 - x0*x11)
+    x13 = 1/(I33 - x0*x8 - (x10*x10)*x12)
+    x14 = I22*omega2
+    x15 = I23*omega3
+    x16 = (omega1*omega1)
+    x17 = I12*omega3
+    x18 = I23*x7 + N1 + omega1*x17 + omega3*x14 - x2 - x4 - x6
+    x19 = I13*x0
+    x20 = I11*omega3
+    x21 = -I13*x16 + I13*x7 - I23*omega1*omega2 - I33*omega1*omega3 - N2 + omega1*x20 + omega2*x17 + x18*x9
+    x22 = x10*x12
+    x23 = x13*(I11*omega1*omega2 - I12*x16 + I12*x5 + I13*omega2*omega3 + N3 - omega1*x14 - omega1*x15 - x18*x19 + x21*x22)
+    x24 = x12*(-x10*x23 - x21)
+    return (x0*(I12*omega1*omega3 - I12*x24 - I13*x23 + I22*omega2*omega3 + I23*x7 + N1 - x2 - x4 - x6), x24, x23)
+
+
+def jac_flat(t, omega1, omega2, omega3, I11, I12, I13, I22, I23, I33, N1, N2, N3):
+    """jac_flat(t, omega1, omega2, omega3, I11, I12, I13, I22, I23, I33, N1, N2, N3) -> tuple
+
+    ``jac`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x0 = 1/I11
+    x1 = I13*omega2
+    x3 = I33*omega3
+    x8 = (I13*I13)
+    x9 = I12*x0
+    x10 = -I13*x9 + I23
+    x11 = (I12*I12)
+    x12 = 1/(I22 - x0*x11)
+    x13 = 1/(I33 - x0*x8 - (x10*x10)*x12)
+    x14 = I22*omega2
+    x15 = I23*omega3
+    x17 = I12*omega3
+    x19 = I13*x0
+    x20 = I11*omega3
+    x22 = x10*x12
+    x25 = I12*omega1
+    x26 = 2*x25
+    x27 = -x1
+    x28 = x17 + x27
+    x29 = I23*omega2
+    x30 = I13*omega1
+    x31 = 2*x30
+    x32 = x28*x9
+    x33 = x13*(I11*omega2 - x14 - x15 - x19*x28 - x22*(-x20 + x29 + x3 + x31 - x32) - x26)
+    x34 = x12*(2*I13*omega1 + I23*omega2 - x10*x33 - x20 + x3 - x32)
+    x35 = I11*omega1
+    x36 = I13*omega3
+    x37 = I12*omega2
+    x38 = 2*x29
+    x39 = -I22*omega3 + x3 + x30 + x38
+    x40 = -x39
+    x41 = I23*omega1
+    x42 = x17 + x40*x9 - x41
+    x43 = x13*(-I22*omega1 - x19*x40 + x22*x42 + x35 + x36 + 2*x37)
+    x44 = x12*(-x10*x43 - x42)
+    x45 = -I33*omega2 + x14 + 2*x15 + x25
+    x46 = -I33*omega1 + x35 + 2*x36 + x37 + x45*x9
+    x47 = x13*(-x19*x45 + x22*x46 - x27 - x41)
+    x48 = x12*(-x10*x47 - x46)
+    return ((x0*(-I12*x34 - I13*x33 - x1 + x17), x0*(-I12*x44 - I13*x43 - x39), x0*(-I12*x48 - I13*x47 + x45)), (x34, x44, x48), (x33, x43, x47))
+
+
+def invariants_flat(t, omega1, omega2, omega3, I11, I12, I13, I22, I23, I33, N1, N2, N3):
+    """invariants_flat(t, omega1, omega2, omega3, I11, I12, I13, I22, I23, I33, N1, N2, N3) -> tuple
+
+    ``invariants`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x1 = I13*omega2
+    x3 = I33*omega3
+    x5 = (omega2*omega2)
+    x7 = (omega3*omega3)
+    x8 = (I13*I13)
+    x11 = (I12*I12)
+    x14 = I22*omega2
+    x16 = (omega1*omega1)
+    x17 = I12*omega3
+    x20 = I11*omega3
+    x25 = I12*omega1
+    x26 = 2*x25
+    x29 = I23*omega2
+    x30 = I13*omega1
+    x31 = 2*x30
+    x38 = 2*x29
+    x41 = I23*omega1
+    x49 = 2*x17
+    x50 = (I23*I23)
+    return ((0.5)*I11*x16 + (0.5)*I22*x5 + (0.5)*I33*x7 + omega2*x25 + omega3*x29 + omega3*x30, (I11*I11)*x16 + I11*omega2*x26 + (I22*I22)*x5 + I22*omega3*x38 + (I33*I33)*x7 + 2*x1*x41 + x1*x49 + x11*x16 + x11*x5 + x14*x26 + x16*x8 + x20*x31 + x3*x31 + x3*x38 + x41*x49 + x5*x50 + x50*x7 + x7*x8)
+
+
+def rhs_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra, out=None):
     """rhs_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None) -> ndarray of shape (3,) + batch, rows (domega1/dt, domega2/dt, domega3/dt)
 
     the right-hand side dy/dt
@@ -189,6 +307,8 @@ def rhs_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('rhs', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
     out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
     omega1, omega2, omega3 = y
@@ -233,7 +353,7 @@ def rhs_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None):
     return out
 
 
-def jac_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None):
+def jac_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra, out=None):
     """jac_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None) -> ndarray of shape (3, 3) + batch
 
     the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -245,6 +365,8 @@ def jac_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('jac', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
     out = _prepare_out(out, (3, 3), (np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
     omega1, omega2, omega3 = y
@@ -309,7 +431,7 @@ def jac_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None):
     return out
 
 
-def invariants_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None):
+def invariants_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra, out=None):
     """invariants_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None) -> ndarray of shape (2,) + batch, rows (E, L2)
 
     the invariants E, L2
@@ -321,6 +443,8 @@ def invariants_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out=None)
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('invariants', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
     out = _prepare_out(out, (2,), (np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
     omega1, omega2, omega3 = y

@@ -8,7 +8,7 @@
 # Arguments: invariants(t, y, I1, I2, I3, N1, N2, N3); y = (omega1, omega2, omega3)
 """Euler's equations in principal axes with a body torque: I ω̇ = (I ω) × ω + N, I = diag(I1, I2, I3).
 
-Functions (each also as ``<name>_batched(..., out=None)``):
+Functions (each also as ``<name>_batched(..., out=None)`` and ``<name>_flat(...)``):
 
 - ``rhs(t, y, I1, I2, I3, N1, N2, N3)`` → (domega1/dt, domega2/dt, domega3/dt): the right-hand side dy/dt
 - ``jac(t, y, I1, I2, I3, N1, N2, N3)`` → shape (3, 3): the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -25,18 +25,20 @@ Scalar flavour: Python floats and ``math``; returns a new list on every call (sa
 Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once
 per call, and the result is a new array unless ``out=`` is given (written in place, so it may not
 overlap the inputs).
+Flat flavour: ``<name>_flat`` takes every symbol as its own float argument (vectors unpacked, in
+order) and returns a tuple: plain ``math`` on floats, no checks, so ``numba.njit`` compiles it.
 
 Invariants: E = ½ ω·Iω and L² = |Iω|² (conserved only without torque).
 """
 
 import numpy as np
 
-from eulersym.generated._runtime import _as_vector, _prepare_out, _unpack, _wrong_length
+from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, _wrong_length
 
-__all__ = ['rhs', 'jac', 'invariants', 'rhs_batched', 'jac_batched', 'invariants_batched']
+__all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched']
 
 
-def rhs(t, y, I1, I2, I3, N1, N2, N3):
+def rhs(t, y, I1, I2, I3, N1, N2, N3, *extra):
     """rhs(t, y, I1, I2, I3, N1, N2, N3) -> list of (domega1/dt, domega2/dt, domega3/dt)
 
     the right-hand side dy/dt
@@ -46,6 +48,8 @@ def rhs(t, y, I1, I2, I3, N1, N2, N3):
         y = (omega1, omega2, omega3): state
         I1, I2, I3, N1, N2, N3
     """
+    if extra:
+        raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I2', 'I3', 'N1', 'N2', 'N3'))
     try:
         omega1, omega2, omega3 = y.tolist()
     except AttributeError:
@@ -63,7 +67,7 @@ def rhs(t, y, I1, I2, I3, N1, N2, N3):
     return [x0*(N1 + omega2*x1 - omega2*x2), x3*(N2 + omega1*x2 - omega1*x4), x5*(N3 - omega1*x7 + omega2*x6)]
 
 
-def jac(t, y, I1, I2, I3, N1, N2, N3):
+def jac(t, y, I1, I2, I3, N1, N2, N3, *extra):
     """jac(t, y, I1, I2, I3, N1, N2, N3) -> list of lists of shape (3, 3)
 
     the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -73,6 +77,8 @@ def jac(t, y, I1, I2, I3, N1, N2, N3):
         y = (omega1, omega2, omega3): state
         I1, I2, I3, N1, N2, N3
     """
+    if extra:
+        raise _too_many('jac', extra, ('t', 'y', 'I1', 'I2', 'I3', 'N1', 'N2', 'N3'))
     try:
         omega1, omega2, omega3 = y.tolist()
     except AttributeError:
@@ -91,7 +97,7 @@ def jac(t, y, I1, I2, I3, N1, N2, N3):
     return [[0.0, x0*(x1 + x8), x0*(-I3*omega2 + x7)], [x3*(-x4 - x8), 0.0, x3*(I3*omega1 - x6)], [x5*(I1*omega2 - x7), x5*(-I2*omega1 + x6), 0.0]]
 
 
-def invariants(t, y, I1, I2, I3, N1, N2, N3):
+def invariants(t, y, I1, I2, I3, N1, N2, N3, *extra):
     """invariants(t, y, I1, I2, I3, N1, N2, N3) -> list of (E, L2)
 
     the invariants E, L2
@@ -101,6 +107,8 @@ def invariants(t, y, I1, I2, I3, N1, N2, N3):
         y = (omega1, omega2, omega3): state
         I1, I2, I3, N1, N2, N3
     """
+    if extra:
+        raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I2', 'I3', 'N1', 'N2', 'N3'))
     try:
         omega1, omega2, omega3 = y.tolist()
     except AttributeError:
@@ -113,7 +121,54 @@ def invariants(t, y, I1, I2, I3, N1, N2, N3):
     return [(0.5)*I1*x9 + (0.5)*I2*x10 + (0.5)*I3*x11, (I1*I1)*x9 + (I2*I2)*x10 + (I3*I3)*x11]
 
 
-def rhs_batched(t, y, I1, I2, I3, N1, N2, N3, out=None):
+def rhs_flat(t, omega1, omega2, omega3, I1, I2, I3, N1, N2, N3):
+    """rhs_flat(t, omega1, omega2, omega3, I1, I2, I3, N1, N2, N3) -> tuple
+
+    ``rhs`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x0 = 1/I1
+    x1 = I2*omega3
+    x2 = I3*omega3
+    x3 = 1/I2
+    x4 = I1*omega3
+    x5 = 1/I3
+    x6 = I1*omega1
+    x7 = I2*omega2
+    return (x0*(N1 + omega2*x1 - omega2*x2), x3*(N2 + omega1*x2 - omega1*x4), x5*(N3 - omega1*x7 + omega2*x6))
+
+
+def jac_flat(t, omega1, omega2, omega3, I1, I2, I3, N1, N2, N3):
+    """jac_flat(t, omega1, omega2, omega3, I1, I2, I3, N1, N2, N3) -> tuple
+
+    ``jac`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x0 = 1/I1
+    x1 = I2*omega3
+    x2 = I3*omega3
+    x3 = 1/I2
+    x4 = I1*omega3
+    x5 = 1/I3
+    x6 = I1*omega1
+    x7 = I2*omega2
+    x8 = -x2
+    return ((0.0, x0*(x1 + x8), x0*(-I3*omega2 + x7)), (x3*(-x4 - x8), 0.0, x3*(I3*omega1 - x6)), (x5*(I1*omega2 - x7), x5*(-I2*omega1 + x6), 0.0))
+
+
+def invariants_flat(t, omega1, omega2, omega3, I1, I2, I3, N1, N2, N3):
+    """invariants_flat(t, omega1, omega2, omega3, I1, I2, I3, N1, N2, N3) -> tuple
+
+    ``invariants`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x9 = (omega1*omega1)
+    x10 = (omega2*omega2)
+    x11 = (omega3*omega3)
+    return ((0.5)*I1*x9 + (0.5)*I2*x10 + (0.5)*I3*x11, (I1*I1)*x9 + (I2*I2)*x10 + (I3*I3)*x11)
+
+
+def rhs_batched(t, y, I1, I2, I3, N1, N2, N3, *extra, out=None):
     """rhs_batched(t, y, I1, I2, I3, N1, N2, N3, out=None) -> ndarray of shape (3,) + batch, rows (domega1/dt, domega2/dt, domega3/dt)
 
     the right-hand side dy/dt
@@ -125,6 +180,8 @@ def rhs_batched(t, y, I1, I2, I3, N1, N2, N3, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I2', 'I3', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
     out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I1, I2, I3, N1, N2, N3,))
     omega1, omega2, omega3 = y
@@ -151,7 +208,7 @@ def rhs_batched(t, y, I1, I2, I3, N1, N2, N3, out=None):
     return out
 
 
-def jac_batched(t, y, I1, I2, I3, N1, N2, N3, out=None):
+def jac_batched(t, y, I1, I2, I3, N1, N2, N3, *extra, out=None):
     """jac_batched(t, y, I1, I2, I3, N1, N2, N3, out=None) -> ndarray of shape (3, 3) + batch
 
     the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -163,6 +220,8 @@ def jac_batched(t, y, I1, I2, I3, N1, N2, N3, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('jac', extra, ('t', 'y', 'I1', 'I2', 'I3', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
     out = _prepare_out(out, (3, 3), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I1, I2, I3, N1, N2, N3,))
     omega1, omega2, omega3 = y
@@ -199,7 +258,7 @@ def jac_batched(t, y, I1, I2, I3, N1, N2, N3, out=None):
     return out
 
 
-def invariants_batched(t, y, I1, I2, I3, N1, N2, N3, out=None):
+def invariants_batched(t, y, I1, I2, I3, N1, N2, N3, *extra, out=None):
     """invariants_batched(t, y, I1, I2, I3, N1, N2, N3, out=None) -> ndarray of shape (2,) + batch, rows (E, L2)
 
     the invariants E, L2
@@ -211,6 +270,8 @@ def invariants_batched(t, y, I1, I2, I3, N1, N2, N3, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I2', 'I3', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
     out = _prepare_out(out, (2,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I1, I2, I3, N1, N2, N3,))
     omega1, omega2, omega3 = y

@@ -9,7 +9,7 @@
 """The torque-free rigid body with its attitude as a unit quaternion (scalar first): Euler's equations
 I ω̇ = (I ω) × ω and q̇ = ½ q ⊗ (0, ω_body).
 
-Functions (each also as ``<name>_batched(..., out=None)``):
+Functions (each also as ``<name>_batched(..., out=None)`` and ``<name>_flat(...)``):
 
 - ``rhs(t, y, I1, I2, I3)`` → (domega1/dt, domega2/dt, domega3/dt, dq0/dt, dq1/dt, dq2/dt, dq3/dt): the right-hand side dy/dt
 - ``jac(t, y, I1, I2, I3)`` → shape (7, 7): the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -26,16 +26,18 @@ Scalar flavour: Python floats and ``math``; returns a new list on every call (sa
 Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once
 per call, and the result is a new array unless ``out=`` is given (written in place, so it may not
 overlap the inputs).
+Flat flavour: ``<name>_flat`` takes every symbol as its own float argument (vectors unpacked, in
+order) and returns a tuple: plain ``math`` on floats, no checks, so ``numba.njit`` compiles it.
 """
 
 import numpy as np
 
-from eulersym.generated._runtime import _as_vector, _prepare_out, _unpack, _wrong_length
+from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, _wrong_length
 
-__all__ = ['rhs', 'jac', 'invariants', 'rhs_batched', 'jac_batched', 'invariants_batched']
+__all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched']
 
 
-def rhs(t, y, I1, I2, I3):
+def rhs(t, y, I1, I2, I3, *extra):
     """rhs(t, y, I1, I2, I3) -> list of (domega1/dt, domega2/dt, domega3/dt, dq0/dt, dq1/dt, dq2/dt, dq3/dt)
 
     the right-hand side dy/dt
@@ -45,6 +47,8 @@ def rhs(t, y, I1, I2, I3):
         y = (omega1, omega2, omega3, q0, q1, q2, q3): state
         I1, I2, I3
     """
+    if extra:
+        raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I2', 'I3'))
     try:
         omega1, omega2, omega3, q0, q1, q2, q3 = y.tolist()
     except AttributeError:
@@ -68,7 +72,7 @@ def rhs(t, y, I1, I2, I3):
     return [x0*(omega2*x1 - omega2*x2), x3*(I3*omega1*omega3 - omega1*x4), x5*(-omega1*x7 + omega2*x6), -omega1*x8 - omega2*x9 - omega3*x10, -omega2*x10 + omega3*x9 + q0*x11, omega1*x10 - omega3*x8 + q0*x12, -omega1*x9 + omega2*x8 + q0*x13]
 
 
-def jac(t, y, I1, I2, I3):
+def jac(t, y, I1, I2, I3, *extra):
     """jac(t, y, I1, I2, I3) -> list of lists of shape (7, 7)
 
     the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -78,6 +82,8 @@ def jac(t, y, I1, I2, I3):
         y = (omega1, omega2, omega3, q0, q1, q2, q3): state
         I1, I2, I3
     """
+    if extra:
+        raise _too_many('jac', extra, ('t', 'y', 'I1', 'I2', 'I3'))
     try:
         omega1, omega2, omega3, q0, q1, q2, q3 = y.tolist()
     except AttributeError:
@@ -109,7 +115,7 @@ def jac(t, y, I1, I2, I3):
     return [[0.0, x0*(x1 + x14), x0*(-I3*omega2 + x7), 0.0, 0.0, 0.0, 0.0], [x3*(-x14 - x4), 0.0, x3*(I3*omega1 - x6), 0.0, 0.0, 0.0, 0.0], [x5*(I1*omega2 - x7), x5*(-I2*omega1 + x6), 0.0, 0.0, 0.0, 0.0, 0.0], [x15, x16, x17, 0.0, x18, x19, x20], [x21, x17, x9, x11, 0.0, x13, x19], [x10, x21, x15, x12, x20, 0.0, x11], [x16, x8, x21, x13, x12, x18, 0.0]]
 
 
-def invariants(t, y, I1, I2, I3):
+def invariants(t, y, I1, I2, I3, *extra):
     """invariants(t, y, I1, I2, I3) -> list of (E, L2, q_norm2)
 
     the invariants E, L2, q_norm2
@@ -119,6 +125,8 @@ def invariants(t, y, I1, I2, I3):
         y = (omega1, omega2, omega3, q0, q1, q2, q3): state
         I1, I2, I3
     """
+    if extra:
+        raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I2', 'I3'))
     try:
         omega1, omega2, omega3, q0, q1, q2, q3 = y.tolist()
     except AttributeError:
@@ -131,7 +139,73 @@ def invariants(t, y, I1, I2, I3):
     return [(0.5)*I1*x22 + (0.5)*I2*x23 + (0.5)*I3*x24, (I1*I1)*x22 + (I2*I2)*x23 + (I3*I3)*x24, (q0*q0) + (q1*q1) + (q2*q2) + (q3*q3)]
 
 
-def rhs_batched(t, y, I1, I2, I3, out=None):
+def rhs_flat(t, omega1, omega2, omega3, q0, q1, q2, q3, I1, I2, I3):
+    """rhs_flat(t, omega1, omega2, omega3, q0, q1, q2, q3, I1, I2, I3) -> tuple
+
+    ``rhs`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x0 = 1/I1
+    x1 = I2*omega3
+    x2 = I3*omega3
+    x3 = 1/I2
+    x4 = I1*omega3
+    x5 = 1/I3
+    x6 = I1*omega1
+    x7 = I2*omega2
+    x8 = (0.5)*q1
+    x9 = (0.5)*q2
+    x10 = (0.5)*q3
+    x11 = (0.5)*omega1
+    x12 = (0.5)*omega2
+    x13 = (0.5)*omega3
+    return (x0*(omega2*x1 - omega2*x2), x3*(I3*omega1*omega3 - omega1*x4), x5*(-omega1*x7 + omega2*x6), -omega1*x8 - omega2*x9 - omega3*x10, -omega2*x10 + omega3*x9 + q0*x11, omega1*x10 - omega3*x8 + q0*x12, -omega1*x9 + omega2*x8 + q0*x13)
+
+
+def jac_flat(t, omega1, omega2, omega3, q0, q1, q2, q3, I1, I2, I3):
+    """jac_flat(t, omega1, omega2, omega3, q0, q1, q2, q3, I1, I2, I3) -> tuple
+
+    ``jac`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x0 = 1/I1
+    x1 = I2*omega3
+    x2 = I3*omega3
+    x3 = 1/I2
+    x4 = I1*omega3
+    x5 = 1/I3
+    x6 = I1*omega1
+    x7 = I2*omega2
+    x8 = (0.5)*q1
+    x9 = (0.5)*q2
+    x10 = (0.5)*q3
+    x11 = (0.5)*omega1
+    x12 = (0.5)*omega2
+    x13 = (0.5)*omega3
+    x14 = -x2
+    x15 = -x8
+    x16 = -x9
+    x17 = -x10
+    x18 = -x11
+    x19 = -x12
+    x20 = -x13
+    x21 = (0.5)*q0
+    return ((0.0, x0*(x1 + x14), x0*(-I3*omega2 + x7), 0.0, 0.0, 0.0, 0.0), (x3*(-x14 - x4), 0.0, x3*(I3*omega1 - x6), 0.0, 0.0, 0.0, 0.0), (x5*(I1*omega2 - x7), x5*(-I2*omega1 + x6), 0.0, 0.0, 0.0, 0.0, 0.0), (x15, x16, x17, 0.0, x18, x19, x20), (x21, x17, x9, x11, 0.0, x13, x19), (x10, x21, x15, x12, x20, 0.0, x11), (x16, x8, x21, x13, x12, x18, 0.0))
+
+
+def invariants_flat(t, omega1, omega2, omega3, q0, q1, q2, q3, I1, I2, I3):
+    """invariants_flat(t, omega1, omega2, omega3, q0, q1, q2, q3, I1, I2, I3) -> tuple
+
+    ``invariants`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x22 = (omega1*omega1)
+    x23 = (omega2*omega2)
+    x24 = (omega3*omega3)
+    return ((0.5)*I1*x22 + (0.5)*I2*x23 + (0.5)*I3*x24, (I1*I1)*x22 + (I2*I2)*x23 + (I3*I3)*x24, (q0*q0) + (q1*q1) + (q2*q2) + (q3*q3))
+
+
+def rhs_batched(t, y, I1, I2, I3, *extra, out=None):
     """rhs_batched(t, y, I1, I2, I3, out=None) -> ndarray of shape (7,) + batch, rows (domega1/dt, domega2/dt, domega3/dt, dq0/dt, dq1/dt, dq2/dt, dq3/dt)
 
     the right-hand side dy/dt
@@ -143,6 +217,8 @@ def rhs_batched(t, y, I1, I2, I3, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I2', 'I3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3'))
     out = _prepare_out(out, (7,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3),), (t, y, I1, I2, I3,))
     omega1, omega2, omega3, q0, q1, q2, q3 = y
@@ -186,7 +262,7 @@ def rhs_batched(t, y, I1, I2, I3, out=None):
     return out
 
 
-def jac_batched(t, y, I1, I2, I3, out=None):
+def jac_batched(t, y, I1, I2, I3, *extra, out=None):
     """jac_batched(t, y, I1, I2, I3, out=None) -> ndarray of shape (7, 7) + batch
 
     the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -198,6 +274,8 @@ def jac_batched(t, y, I1, I2, I3, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('jac', extra, ('t', 'y', 'I1', 'I2', 'I3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3'))
     out = _prepare_out(out, (7, 7), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3),), (t, y, I1, I2, I3,))
     omega1, omega2, omega3, q0, q1, q2, q3 = y
@@ -287,7 +365,7 @@ def jac_batched(t, y, I1, I2, I3, out=None):
     return out
 
 
-def invariants_batched(t, y, I1, I2, I3, out=None):
+def invariants_batched(t, y, I1, I2, I3, *extra, out=None):
     """invariants_batched(t, y, I1, I2, I3, out=None) -> ndarray of shape (3,) + batch, rows (E, L2, q_norm2)
 
     the invariants E, L2, q_norm2
@@ -299,6 +377,8 @@ def invariants_batched(t, y, I1, I2, I3, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I2', 'I3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3'))
     out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3),), (t, y, I1, I2, I3,))
     omega1, omega2, omega3, q0, q1, q2, q3 = y

@@ -10,7 +10,7 @@
 first-order form, y = (φ, θ, ψ, φ̇, θ̇, ψ̇). Singular at sin θ = 0 (the scalar flavour then divides
 by zero).
 
-Functions (each also as ``<name>_batched(..., out=None)``):
+Functions (each also as ``<name>_batched(..., out=None)`` and ``<name>_flat(...)``):
 
 - ``rhs(t, y, I1, I3, M, g, l)`` → (dphi/dt, dtheta/dt, dpsi/dt, dphidot/dt, dthetadot/dt, dpsidot/dt): the right-hand side dy/dt
 - ``jac(t, y, I1, I3, M, g, l)`` → shape (6, 6): the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -27,17 +27,19 @@ Scalar flavour: Python floats and ``math``; returns a new list on every call (sa
 Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once
 per call, and the result is a new array unless ``out=`` is given (written in place, so it may not
 overlap the inputs).
+Flat flavour: ``<name>_flat`` takes every symbol as its own float argument (vectors unpacked, in
+order) and returns a tuple: plain ``math`` on floats, no checks, so ``numba.njit`` compiles it.
 """
 
 import numpy as np
 from math import cos, sin
 
-from eulersym.generated._runtime import _as_vector, _prepare_out, _unpack, _wrong_length
+from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, _wrong_length
 
-__all__ = ['rhs', 'jac', 'invariants', 'rhs_batched', 'jac_batched', 'invariants_batched']
+__all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched']
 
 
-def rhs(t, y, I1, I3, M, g, l):
+def rhs(t, y, I1, I3, M, g, l, *extra):
     """rhs(t, y, I1, I3, M, g, l) -> list of (dphi/dt, dtheta/dt, dpsi/dt, dphidot/dt, dthetadot/dt, dpsidot/dt)
 
     the right-hand side dy/dt
@@ -47,6 +49,8 @@ def rhs(t, y, I1, I3, M, g, l):
         y = (phi, theta, psi, phidot, thetadot, psidot): state
         I1, I3, M, g, l
     """
+    if extra:
+        raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     try:
         phi, theta, psi, phidot, thetadot, psidot = y.tolist()
     except AttributeError:
@@ -85,7 +89,7 @@ def rhs(t, y, I1, I3, M, g, l):
     return [phidot, thetadot, psidot, thetadot*x13, x17*x18, thetadot*x28]
 
 
-def jac(t, y, I1, I3, M, g, l):
+def jac(t, y, I1, I3, M, g, l, *extra):
     """jac(t, y, I1, I3, M, g, l) -> list of lists of shape (6, 6)
 
     the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -95,6 +99,8 @@ def jac(t, y, I1, I3, M, g, l):
         y = (phi, theta, psi, phidot, thetadot, psidot): state
         I1, I3, M, g, l
     """
+    if extra:
+        raise _too_many('jac', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     try:
         phi, theta, psi, phidot, thetadot, psidot = y.tolist()
     except AttributeError:
@@ -138,7 +144,7 @@ def jac(t, y, I1, I3, M, g, l):
     return [[0.0, 0.0, 0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 0.0, 0.0, 1.0], [0.0, x30*(-I3*phidot*x11 + 2*phidot*x29) - x32*x9, 0.0, x30*(I3*x0 - x2), x13, I3*x30], [0.0, x17*x31 + x18*(I3*x11*x16 - x16*x29), 0.0, x18*(-x33 - x4 - x5), 0.0, -I3*phidot*x18], [0.0, -x27*x32 + x30*(-x11*x3 + x11*x33 + x11*x5), 0.0, x30*(x21 + x24 - x25), x28, -x30*x6]]
 
 
-def invariants(t, y, I1, I3, M, g, l):
+def invariants(t, y, I1, I3, M, g, l, *extra):
     """invariants(t, y, I1, I3, M, g, l) -> list of (E, p_phi, p_psi)
 
     the invariants E, p_phi, p_psi
@@ -148,6 +154,8 @@ def invariants(t, y, I1, I3, M, g, l):
         y = (phi, theta, psi, phidot, thetadot, psidot): state
         I1, I3, M, g, l
     """
+    if extra:
+        raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     try:
         phi, theta, psi, phidot, thetadot, psidot = y.tolist()
     except AttributeError:
@@ -174,7 +182,114 @@ def invariants(t, y, I1, I3, M, g, l):
     return [(0.5)*I1*(thetadot*thetadot) + (0.5)*I3*(psidot*psidot) + x0*x14 + x0*x15 + x21*x34 + x25*x34, x19 + x22 + x26, x8]
 
 
-def rhs_batched(t, y, I1, I3, M, g, l, out=None):
+def rhs_flat(t, phi, theta, psi, phidot, thetadot, psidot, I1, I3, M, g, l):
+    """rhs_flat(t, phi, theta, psi, phidot, thetadot, psidot, I1, I3, M, g, l) -> tuple
+
+    ``rhs`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x0 = cos(theta)
+    x1 = I1*x0
+    x2 = 2*x1
+    x3 = phidot*x2
+    x4 = -x3
+    x5 = I3*psidot
+    x6 = I3*x0
+    x7 = phidot*x6
+    x8 = x5 + x7
+    x9 = x4 + x8
+    x10 = 1/I1
+    x11 = sin(theta)
+    x12 = x10/x11
+    x13 = x12*x9
+    x14 = M*g*l
+    x15 = phidot*x5
+    x16 = (phidot*phidot)
+    x17 = x1*x16 + x14 - x15 - x16*x6
+    x18 = x10*x11
+    x19 = x0*x5
+    x20 = (x11*x11)
+    x21 = I1*x20
+    x22 = phidot*x21
+    x23 = (x0*x0)
+    x24 = 2*I1*x23
+    x25 = I3*x23
+    x26 = phidot*x25
+    x27 = phidot*x24 - x19 + x22 - x26
+    x28 = x12*x27
+    return (phidot, thetadot, psidot, thetadot*x13, x17*x18, thetadot*x28)
+
+
+def jac_flat(t, phi, theta, psi, phidot, thetadot, psidot, I1, I3, M, g, l):
+    """jac_flat(t, phi, theta, psi, phidot, thetadot, psidot, I1, I3, M, g, l) -> tuple
+
+    ``jac`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x0 = cos(theta)
+    x1 = I1*x0
+    x2 = 2*x1
+    x3 = phidot*x2
+    x4 = -x3
+    x5 = I3*psidot
+    x6 = I3*x0
+    x7 = phidot*x6
+    x8 = x5 + x7
+    x9 = x4 + x8
+    x10 = 1/I1
+    x11 = sin(theta)
+    x12 = x10/x11
+    x13 = x12*x9
+    x14 = M*g*l
+    x15 = phidot*x5
+    x16 = (phidot*phidot)
+    x17 = x1*x16 + x14 - x15 - x16*x6
+    x18 = x10*x11
+    x19 = x0*x5
+    x20 = (x11*x11)
+    x21 = I1*x20
+    x22 = phidot*x21
+    x23 = (x0*x0)
+    x24 = 2*I1*x23
+    x25 = I3*x23
+    x26 = phidot*x25
+    x27 = phidot*x24 - x19 + x22 - x26
+    x28 = x12*x27
+    x29 = I1*x11
+    x30 = thetadot*x12
+    x31 = x0*x10
+    x32 = thetadot*x31/x20
+    x33 = 2*x7
+    return ((0.0, 0.0, 0.0, 1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0, 1.0, 0.0), (0.0, 0.0, 0.0, 0.0, 0.0, 1.0), (0.0, x30*(-I3*phidot*x11 + 2*phidot*x29) - x32*x9, 0.0, x30*(I3*x0 - x2), x13, I3*x30), (0.0, x17*x31 + x18*(I3*x11*x16 - x16*x29), 0.0, x18*(-x33 - x4 - x5), 0.0, -I3*phidot*x18), (0.0, -x27*x32 + x30*(-x11*x3 + x11*x33 + x11*x5), 0.0, x30*(x21 + x24 - x25), x28, -x30*x6))
+
+
+def invariants_flat(t, phi, theta, psi, phidot, thetadot, psidot, I1, I3, M, g, l):
+    """invariants_flat(t, phi, theta, psi, phidot, thetadot, psidot, I1, I3, M, g, l) -> tuple
+
+    ``invariants`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x0 = cos(theta)
+    x5 = I3*psidot
+    x6 = I3*x0
+    x7 = phidot*x6
+    x8 = x5 + x7
+    x11 = sin(theta)
+    x14 = M*g*l
+    x15 = phidot*x5
+    x16 = (phidot*phidot)
+    x19 = x0*x5
+    x20 = (x11*x11)
+    x21 = I1*x20
+    x22 = phidot*x21
+    x23 = (x0*x0)
+    x25 = I3*x23
+    x26 = phidot*x25
+    x34 = (0.5)*x16
+    return ((0.5)*I1*(thetadot*thetadot) + (0.5)*I3*(psidot*psidot) + x0*x14 + x0*x15 + x21*x34 + x25*x34, x19 + x22 + x26, x8)
+
+
+def rhs_batched(t, y, I1, I3, M, g, l, *extra, out=None):
     """rhs_batched(t, y, I1, I3, M, g, l, out=None) -> ndarray of shape (6,) + batch, rows (dphi/dt, dtheta/dt, dpsi/dt, dphidot/dt, dthetadot/dt, dpsidot/dt)
 
     the right-hand side dy/dt
@@ -186,6 +301,8 @@ def rhs_batched(t, y, I1, I3, M, g, l, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     out = _prepare_out(out, (6,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
     phi, theta, psi, phidot, thetadot, psidot = y
@@ -227,7 +344,7 @@ def rhs_batched(t, y, I1, I3, M, g, l, out=None):
     return out
 
 
-def jac_batched(t, y, I1, I3, M, g, l, out=None):
+def jac_batched(t, y, I1, I3, M, g, l, *extra, out=None):
     """jac_batched(t, y, I1, I3, M, g, l, out=None) -> ndarray of shape (6, 6) + batch
 
     the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -239,6 +356,8 @@ def jac_batched(t, y, I1, I3, M, g, l, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('jac', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     out = _prepare_out(out, (6, 6), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
     phi, theta, psi, phidot, thetadot, psidot = y
@@ -320,7 +439,7 @@ def jac_batched(t, y, I1, I3, M, g, l, out=None):
     return out
 
 
-def invariants_batched(t, y, I1, I3, M, g, l, out=None):
+def invariants_batched(t, y, I1, I3, M, g, l, *extra, out=None):
     """invariants_batched(t, y, I1, I3, M, g, l, out=None) -> ndarray of shape (3,) + batch, rows (E, p_phi, p_psi)
 
     the invariants E, p_phi, p_psi
@@ -332,6 +451,8 @@ def invariants_batched(t, y, I1, I3, M, g, l, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
     phi, theta, psi, phidot, thetadot, psidot = y

@@ -10,7 +10,7 @@
 ω) × ω + M g l Γ × e3, Γ̇ = Γ × ω (Γ: the upward vertical in body components), with the attitude
 quaternion q̇ = ½ q ⊗ (0, ω). Invariants: E = ½ ω·Iω + M g l Γ3, |Γ|², L·Γ = (Iω)·Γ, |q|².
 
-Functions (each also as ``<name>_batched(..., out=None)``):
+Functions (each also as ``<name>_batched(..., out=None)`` and ``<name>_flat(...)``):
 
 - ``rhs(t, y, I1, I2, I3, M, g, l)`` → (domega1/dt, domega2/dt, domega3/dt, dGamma1/dt, dGamma2/dt, dGamma3/dt, dq0/dt, dq1/dt, dq2/dt, dq3/dt): the right-hand side dy/dt
 - ``jac(t, y, I1, I2, I3, M, g, l)`` → shape (10, 10): the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -27,16 +27,18 @@ Scalar flavour: Python floats and ``math``; returns a new list on every call (sa
 Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once
 per call, and the result is a new array unless ``out=`` is given (written in place, so it may not
 overlap the inputs).
+Flat flavour: ``<name>_flat`` takes every symbol as its own float argument (vectors unpacked, in
+order) and returns a tuple: plain ``math`` on floats, no checks, so ``numba.njit`` compiles it.
 """
 
 import numpy as np
 
-from eulersym.generated._runtime import _as_vector, _prepare_out, _unpack, _wrong_length
+from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, _wrong_length
 
-__all__ = ['rhs', 'jac', 'invariants', 'rhs_batched', 'jac_batched', 'invariants_batched']
+__all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched']
 
 
-def rhs(t, y, I1, I2, I3, M, g, l):
+def rhs(t, y, I1, I2, I3, M, g, l, *extra):
     """rhs(t, y, I1, I2, I3, M, g, l) -> list of (domega1/dt, domega2/dt, domega3/dt, dGamma1/dt, dGamma2/dt, dGamma3/dt, dq0/dt, dq1/dt, dq2/dt, dq3/dt)
 
     the right-hand side dy/dt
@@ -46,6 +48,8 @@ def rhs(t, y, I1, I2, I3, M, g, l):
         y = (omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3): state
         I1, I2, I3, M, g, l
     """
+    if extra:
+        raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I2', 'I3', 'M', 'g', 'l'))
     try:
         omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3 = y.tolist()
     except AttributeError:
@@ -69,7 +73,7 @@ def rhs(t, y, I1, I2, I3, M, g, l):
     return [x0*(Gamma2*x3 + omega2*x1 - omega2*x2), x4*(-Gamma1*x3 + I3*omega1*omega3 - omega1*x5), omega1*x7, Gamma2*omega3 - Gamma3*omega2, -Gamma1*omega3 + Gamma3*omega1, Gamma1*omega2 - Gamma2*omega1, -omega1*x8 - omega2*x9 - omega3*x10, -omega2*x10 + omega3*x9 + q0*x11, omega1*x10 - omega3*x8 + q0*x12, -omega1*x9 + omega2*x8 + q0*x13]
 
 
-def jac(t, y, I1, I2, I3, M, g, l):
+def jac(t, y, I1, I2, I3, M, g, l, *extra):
     """jac(t, y, I1, I2, I3, M, g, l) -> list of lists of shape (10, 10)
 
     the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -79,6 +83,8 @@ def jac(t, y, I1, I2, I3, M, g, l):
         y = (omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3): state
         I1, I2, I3, M, g, l
     """
+    if extra:
+        raise _too_many('jac', extra, ('t', 'y', 'I1', 'I2', 'I3', 'M', 'g', 'l'))
     try:
         omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3 = y.tolist()
     except AttributeError:
@@ -112,7 +118,7 @@ def jac(t, y, I1, I2, I3, M, g, l):
     return [[0.0, x0*(x1 + x14), x0*(-I3*omega2 + x15), 0.0, x0*x3, 0.0, 0.0, 0.0, 0.0, 0.0], [x4*(-x14 - x5), 0.0, x4*(I3*omega1 - x16), -x3*x4, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [x7, omega1*x6, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0, -Gamma3, Gamma2, 0.0, omega3, -omega2, 0.0, 0.0, 0.0, 0.0], [Gamma3, 0.0, -Gamma1, -omega3, 0.0, omega1, 0.0, 0.0, 0.0, 0.0], [-Gamma2, Gamma1, 0.0, omega2, -omega1, 0.0, 0.0, 0.0, 0.0, 0.0], [x17, x18, x19, 0.0, 0.0, 0.0, 0.0, x20, x21, x22], [x23, x19, x9, 0.0, 0.0, 0.0, x11, 0.0, x13, x21], [x10, x23, x17, 0.0, 0.0, 0.0, x12, x22, 0.0, x11], [x18, x8, x23, 0.0, 0.0, 0.0, x13, x12, x20, 0.0]]
 
 
-def invariants(t, y, I1, I2, I3, M, g, l):
+def invariants(t, y, I1, I2, I3, M, g, l, *extra):
     """invariants(t, y, I1, I2, I3, M, g, l) -> list of (E, Gamma_norm2, L_dot_Gamma, q_norm2)
 
     the invariants E, Gamma_norm2, L_dot_Gamma, q_norm2
@@ -122,6 +128,8 @@ def invariants(t, y, I1, I2, I3, M, g, l):
         y = (omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3): state
         I1, I2, I3, M, g, l
     """
+    if extra:
+        raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I2', 'I3', 'M', 'g', 'l'))
     try:
         omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3 = y.tolist()
     except AttributeError:
@@ -135,7 +143,76 @@ def invariants(t, y, I1, I2, I3, M, g, l):
     return [Gamma3*x3 + (0.5)*I1*(omega1*omega1) + (0.5)*I2*(omega2*omega2) + (0.5)*I3*(omega3*omega3), (Gamma1*Gamma1) + (Gamma2*Gamma2) + (Gamma3*Gamma3), Gamma1*x16 + Gamma2*x15 + Gamma3*x2, (q0*q0) + (q1*q1) + (q2*q2) + (q3*q3)]
 
 
-def rhs_batched(t, y, I1, I2, I3, M, g, l, out=None):
+def rhs_flat(t, omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3, I1, I2, I3, M, g, l):
+    """rhs_flat(t, omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3, I1, I2, I3, M, g, l) -> tuple
+
+    ``rhs`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x0 = 1/I1
+    x1 = I2*omega3
+    x2 = I3*omega3
+    x3 = M*g*l
+    x4 = 1/I2
+    x5 = I1*omega3
+    x6 = (I1 - I2)/I3
+    x7 = omega2*x6
+    x8 = (0.5)*q1
+    x9 = (0.5)*q2
+    x10 = (0.5)*q3
+    x11 = (0.5)*omega1
+    x12 = (0.5)*omega2
+    x13 = (0.5)*omega3
+    return (x0*(Gamma2*x3 + omega2*x1 - omega2*x2), x4*(-Gamma1*x3 + I3*omega1*omega3 - omega1*x5), omega1*x7, Gamma2*omega3 - Gamma3*omega2, -Gamma1*omega3 + Gamma3*omega1, Gamma1*omega2 - Gamma2*omega1, -omega1*x8 - omega2*x9 - omega3*x10, -omega2*x10 + omega3*x9 + q0*x11, omega1*x10 - omega3*x8 + q0*x12, -omega1*x9 + omega2*x8 + q0*x13)
+
+
+def jac_flat(t, omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3, I1, I2, I3, M, g, l):
+    """jac_flat(t, omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3, I1, I2, I3, M, g, l) -> tuple
+
+    ``jac`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x0 = 1/I1
+    x1 = I2*omega3
+    x2 = I3*omega3
+    x3 = M*g*l
+    x4 = 1/I2
+    x5 = I1*omega3
+    x6 = (I1 - I2)/I3
+    x7 = omega2*x6
+    x8 = (0.5)*q1
+    x9 = (0.5)*q2
+    x10 = (0.5)*q3
+    x11 = (0.5)*omega1
+    x12 = (0.5)*omega2
+    x13 = (0.5)*omega3
+    x14 = -x2
+    x15 = I2*omega2
+    x16 = I1*omega1
+    x17 = -x8
+    x18 = -x9
+    x19 = -x10
+    x20 = -x11
+    x21 = -x12
+    x22 = -x13
+    x23 = (0.5)*q0
+    return ((0.0, x0*(x1 + x14), x0*(-I3*omega2 + x15), 0.0, x0*x3, 0.0, 0.0, 0.0, 0.0, 0.0), (x4*(-x14 - x5), 0.0, x4*(I3*omega1 - x16), -x3*x4, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), (x7, omega1*x6, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), (0.0, -Gamma3, Gamma2, 0.0, omega3, -omega2, 0.0, 0.0, 0.0, 0.0), (Gamma3, 0.0, -Gamma1, -omega3, 0.0, omega1, 0.0, 0.0, 0.0, 0.0), (-Gamma2, Gamma1, 0.0, omega2, -omega1, 0.0, 0.0, 0.0, 0.0, 0.0), (x17, x18, x19, 0.0, 0.0, 0.0, 0.0, x20, x21, x22), (x23, x19, x9, 0.0, 0.0, 0.0, x11, 0.0, x13, x21), (x10, x23, x17, 0.0, 0.0, 0.0, x12, x22, 0.0, x11), (x18, x8, x23, 0.0, 0.0, 0.0, x13, x12, x20, 0.0))
+
+
+def invariants_flat(t, omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3, I1, I2, I3, M, g, l):
+    """invariants_flat(t, omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3, I1, I2, I3, M, g, l) -> tuple
+
+    ``invariants`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x2 = I3*omega3
+    x3 = M*g*l
+    x15 = I2*omega2
+    x16 = I1*omega1
+    return (Gamma3*x3 + (0.5)*I1*(omega1*omega1) + (0.5)*I2*(omega2*omega2) + (0.5)*I3*(omega3*omega3), (Gamma1*Gamma1) + (Gamma2*Gamma2) + (Gamma3*Gamma3), Gamma1*x16 + Gamma2*x15 + Gamma3*x2, (q0*q0) + (q1*q1) + (q2*q2) + (q3*q3))
+
+
+def rhs_batched(t, y, I1, I2, I3, M, g, l, *extra, out=None):
     """rhs_batched(t, y, I1, I2, I3, M, g, l, out=None) -> ndarray of shape (10,) + batch, rows (domega1/dt, domega2/dt, domega3/dt, dGamma1/dt, dGamma2/dt, dGamma3/dt, dq0/dt, dq1/dt, dq2/dt, dq3/dt)
 
     the right-hand side dy/dt
@@ -147,6 +224,8 @@ def rhs_batched(t, y, I1, I2, I3, M, g, l, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I2', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'Gamma1', 'Gamma2', 'Gamma3', 'q0', 'q1', 'q2', 'q3'))
     out = _prepare_out(out, (10,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I2, I3, M, g, l,))
     omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3 = y
@@ -196,7 +275,7 @@ def rhs_batched(t, y, I1, I2, I3, M, g, l, out=None):
     return out
 
 
-def jac_batched(t, y, I1, I2, I3, M, g, l, out=None):
+def jac_batched(t, y, I1, I2, I3, M, g, l, *extra, out=None):
     """jac_batched(t, y, I1, I2, I3, M, g, l, out=None) -> ndarray of shape (10, 10) + batch
 
     the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -208,6 +287,8 @@ def jac_batched(t, y, I1, I2, I3, M, g, l, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('jac', extra, ('t', 'y', 'I1', 'I2', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'Gamma1', 'Gamma2', 'Gamma3', 'q0', 'q1', 'q2', 'q3'))
     out = _prepare_out(out, (10, 10), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I2, I3, M, g, l,))
     omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3 = y
@@ -346,7 +427,7 @@ def jac_batched(t, y, I1, I2, I3, M, g, l, out=None):
     return out
 
 
-def invariants_batched(t, y, I1, I2, I3, M, g, l, out=None):
+def invariants_batched(t, y, I1, I2, I3, M, g, l, *extra, out=None):
     """invariants_batched(t, y, I1, I2, I3, M, g, l, out=None) -> ndarray of shape (4,) + batch, rows (E, Gamma_norm2, L_dot_Gamma, q_norm2)
 
     the invariants E, Gamma_norm2, L_dot_Gamma, q_norm2
@@ -358,6 +439,8 @@ def invariants_batched(t, y, I1, I2, I3, M, g, l, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I2', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'Gamma1', 'Gamma2', 'Gamma3', 'q0', 'q1', 'q2', 'q3'))
     out = _prepare_out(out, (4,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I2, I3, M, g, l,))
     omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3 = y

@@ -8,7 +8,7 @@
 """Kinematics of the zxz Euler angles (passive, the text's convention): the attitude matrix A = B(ψ)
 C(θ) D(φ), r_body = A @ r_space, and the body angular velocity ω from the angles and rates.
 
-Functions (each also as ``<name>_batched(..., out=None)``):
+Functions (each also as ``<name>_batched(..., out=None)`` and ``<name>_flat(...)``):
 
 - ``attitude_matrix(phi, theta, psi)`` → shape (3, 3): A (3×3), r_body = A @ r_space
   phi, theta, psi
@@ -20,17 +20,19 @@ Scalar flavour: Python floats and ``math``; returns a new list on every call (sa
 Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once
 per call, and the result is a new array unless ``out=`` is given (written in place, so it may not
 overlap the inputs).
+Flat flavour: ``<name>_flat`` takes every symbol as its own float argument (vectors unpacked, in
+order) and returns a tuple: plain ``math`` on floats, no checks, so ``numba.njit`` compiles it.
 """
 
 import numpy as np
 from math import cos, sin
 
-from eulersym.generated._runtime import _as_vector, _prepare_out, _unpack, _wrong_length
+from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, _wrong_length
 
-__all__ = ['attitude_matrix', 'omega_body', 'attitude_matrix_batched', 'omega_body_batched']
+__all__ = ['attitude_matrix', 'omega_body', 'attitude_matrix_flat', 'omega_body_flat', 'attitude_matrix_batched', 'omega_body_batched']
 
 
-def attitude_matrix(phi, theta, psi):
+def attitude_matrix(phi, theta, psi, *extra):
     """attitude_matrix(phi, theta, psi) -> list of lists of shape (3, 3)
 
     A (3×3), r_body = A @ r_space
@@ -38,6 +40,8 @@ def attitude_matrix(phi, theta, psi):
     Arguments, in order:
         phi, theta, psi
     """
+    if extra:
+        raise _too_many('attitude_matrix', extra, ('phi', 'theta', 'psi'))
     x0 = cos(phi)
     x1 = cos(psi)
     x2 = cos(theta)
@@ -52,7 +56,7 @@ def attitude_matrix(phi, theta, psi):
     return [[x0*x1 - x2*x5, x2*x7 + x6, x9], [-x2*x6 - x7, x0*x1*x2 - x5, x10], [x3*x8, -x0*x8, x2]]
 
 
-def omega_body(phi, theta, psi, phidot, thetadot, psidot):
+def omega_body(phi, theta, psi, phidot, thetadot, psidot, *extra):
     """omega_body(phi, theta, psi, phidot, thetadot, psidot) -> list of (omega1, omega2, omega3)
 
     ω in body components
@@ -60,6 +64,8 @@ def omega_body(phi, theta, psi, phidot, thetadot, psidot):
     Arguments, in order:
         phi, theta, psi, phidot, thetadot, psidot
     """
+    if extra:
+        raise _too_many('omega_body', extra, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     x1 = cos(psi)
     x2 = cos(theta)
     x4 = sin(psi)
@@ -69,7 +75,42 @@ def omega_body(phi, theta, psi, phidot, thetadot, psidot):
     return [phidot*x9 + thetadot*x1, phidot*x10 - thetadot*x4, phidot*x2 + psidot]
 
 
-def attitude_matrix_batched(phi, theta, psi, out=None):
+def attitude_matrix_flat(phi, theta, psi):
+    """attitude_matrix_flat(phi, theta, psi) -> tuple
+
+    ``attitude_matrix`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x0 = cos(phi)
+    x1 = cos(psi)
+    x2 = cos(theta)
+    x3 = sin(phi)
+    x4 = sin(psi)
+    x5 = x3*x4
+    x6 = x1*x3
+    x7 = x0*x4
+    x8 = sin(theta)
+    x9 = x4*x8
+    x10 = x1*x8
+    return ((x0*x1 - x2*x5, x2*x7 + x6, x9), (-x2*x6 - x7, x0*x1*x2 - x5, x10), (x3*x8, -x0*x8, x2))
+
+
+def omega_body_flat(phi, theta, psi, phidot, thetadot, psidot):
+    """omega_body_flat(phi, theta, psi, phidot, thetadot, psidot) -> tuple
+
+    ``omega_body`` with every vector unpacked and no checks: plain floats and ``math`` only, so
+    ``numba.njit`` compiles it. Returns a new tuple.
+    """
+    x1 = cos(psi)
+    x2 = cos(theta)
+    x4 = sin(psi)
+    x8 = sin(theta)
+    x9 = x4*x8
+    x10 = x1*x8
+    return (phidot*x9 + thetadot*x1, phidot*x10 - thetadot*x4, phidot*x2 + psidot)
+
+
+def attitude_matrix_batched(phi, theta, psi, *extra, out=None):
     """attitude_matrix_batched(phi, theta, psi, out=None) -> ndarray of shape (3, 3) + batch
 
     A (3×3), r_body = A @ r_space
@@ -79,6 +120,8 @@ def attitude_matrix_batched(phi, theta, psi, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('attitude_matrix', extra, ('phi', 'theta', 'psi'))
     out = _prepare_out(out, (3, 3), (np.shape(phi), np.shape(theta), np.shape(psi),), (phi, theta, psi,))
     x0 = np.cos(phi)
     x1 = np.cos(psi)
@@ -110,7 +153,7 @@ def attitude_matrix_batched(phi, theta, psi, out=None):
     return out
 
 
-def omega_body_batched(phi, theta, psi, phidot, thetadot, psidot, out=None):
+def omega_body_batched(phi, theta, psi, phidot, thetadot, psidot, *extra, out=None):
     """omega_body_batched(phi, theta, psi, phidot, thetadot, psidot, out=None) -> ndarray of shape (3,) + batch, rows (omega1, omega2, omega3)
 
     ω in body components
@@ -120,6 +163,8 @@ def omega_body_batched(phi, theta, psi, phidot, thetadot, psidot, out=None):
     Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled
     and returned.
     """
+    if extra:
+        raise _too_many('omega_body', extra, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     out = _prepare_out(out, (3,), (np.shape(phi), np.shape(theta), np.shape(psi), np.shape(phidot), np.shape(thetadot), np.shape(psidot),), (phi, theta, psi, phidot, thetadot, psidot,))
     x1 = np.cos(psi)
     x2 = np.cos(theta)

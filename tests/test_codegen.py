@@ -61,6 +61,9 @@ def test_printer_refuses_unknown_functions_by_name():
         make_printer("scalar").doprint(sp.besselj(0, a))
     with pytest.raises(InvalidInput, match="flavour"):
         make_printer("fortran")
+    for expr in (sp.Max(a, b), sp.Min(a, 1), sp.Heaviside(a)):
+        with pytest.raises(InvalidInput, match=type(expr).__name__):
+            make_printer("batched").doprint(expr)
 
 
 @pytest.mark.parametrize(
@@ -167,7 +170,7 @@ def test_compile_accepts_functions_of_time():
 
     f = compile_expressions([phi * phi.diff(t)], [phi, phi.diff(t)])
     assert f(2.0, 3.0) == [6.0]
-    assert "def f(phi, phidot)" in f.source
+    assert "def f(phi, phidot, *extra)" in f.source
 
 
 def test_matrix_output_is_nested():

@@ -4,7 +4,9 @@ conservation laws, and import without SymPy (from the source tree and from an in
 from __future__ import annotations
 
 import importlib
+import importlib.util
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -12,6 +14,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
 from eulersym.codegen import CATALOGUE, available, build
@@ -178,6 +182,11 @@ def test_wrong_state_length_names_the_order(name, rng):
         mod.rhs_batched(0.0, np.ones((len(y) + 1, 4)), *p)
     with pytest.raises(TypeError, match="missing"):
         mod.rhs(0.0, y, *p[:-1])
+    names = ", ".join(a.name for a in build(name).functions[0].arguments)
+    with pytest.raises(InvalidInput, match=rf"order \({names}\)"):
+        mod.rhs(0.0, y, *p, 1.0)
+    with pytest.raises(InvalidInput, match=rf"order \({names}\)"):
+        mod.rhs_batched(0.0, y[:, None], *p, 1.0)
     with pytest.raises(InvalidInput, match="out"):
         mod.rhs_batched(0.0, np.ones((len(y), 4)), *p, out=np.empty((len(y), 5)))
     Y = np.ones((len(y), 4))
@@ -231,6 +240,23 @@ def test_every_scipy_method_agrees_with_the_reference(name, rng):
         np.testing.assert_allclose(sol.y[:, -1], ref, rtol=1e-5, atol=1e-6, err_msg=method)
 
 
+def test_a_buffer_reusing_rhs_would_be_caught():
+    """Negative control (issue item 5): returning one reused buffer, as PyDy's kernels do, breaks BDF."""
+    mod = _module("heavy_top_euler_angles")
+    p, y0 = (1.0, 0.6, 1.2, 9.81, 0.3), np.array([0.1, 1.0, 0.2, 0.5, 0.3, 12.0])
+    ref = _reference_solution("heavy_top_euler_angles", y0, p, 1.0)
+    buffer = np.empty(6)
+
+    def reusing(t, y, *params):
+        buffer[:] = mod.rhs(t, y, *params)
+        return buffer
+
+    bad = solve_ivp(reusing, (0, 1), y0, method="BDF", args=p, rtol=1e-9, atol=1e-11).y[:, -1]
+    good = solve_ivp(mod.rhs, (0, 1), y0, method="BDF", args=p, rtol=1e-9, atol=1e-11).y[:, -1]
+    assert not np.allclose(bad, ref, rtol=1e-5, atol=1e-6)
+    np.testing.assert_allclose(good, ref, rtol=1e-5, atol=1e-6)
+
+
 def test_vectorized_solve_ivp_uses_the_batched_flavour(rng):
     mod = _module(ODE_KERNELS[0])
     y0, p = _point(ODE_KERNELS[0], rng)
@@ -262,19 +288,59 @@ def test_invariants_are_conserved_along_the_flow(name, rng):
         np.testing.assert_allclose(inv[k], inv[k, 0], rtol=1e-8, atol=1e-9)
 
 
-def test_derivation_equations_hold_at_the_kernel_rates(rng):
-    """Independent of the first-order solve: the derivation's own equations vanish at (y, rhs(y))."""
-    from eulersym import dynamics
-    from eulersym.codegen.catalogue import OMEGA, OMEGA_DOT, _OMEGA, _residual, freeze_state
-    from eulersym.symbols import moments, torques
+_finite = st.floats(-10, 10, allow_nan=False, allow_infinity=False)
 
-    mod = _module("euler_principal")
-    y, p = _point("euler_principal", rng)
-    rates = mod.rhs(0.0, y, *p)
-    values = dict(zip((*OMEGA, *OMEGA_DOT, *moments, *torques), (*y, *rates, *p)))
-    for eq in dynamics.euler_equations():
-        residual = freeze_state(_residual(eq), _OMEGA).xreplace({k: sp.Float(v, 30) for k, v in values.items()})
-        assert abs(float(residual)) < 1e-13
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(_finite, min_size=10, max_size=10), st.lists(st.floats(0.5, 3.0), min_size=3, max_size=3))
+def test_rates_of_the_invariants_vanish_identically(values, moments):
+    """At any state (not only on the unit sphere): d|q|²/dt = 2 q·q̇ = 0, d|Γ|²/dt = 0, d(L·Γ)/dt = 0 and dE/dt = 0
+    for the Euler–Poisson top; d|q|²/dt = 0, dE/dt = ω·Iω̇ = 0, dL²/dt = 0 for the free body."""
+    I = np.array(moments)
+    w, G, q = np.array(values[:3]), np.array(values[3:6]), np.array(values[6:10])
+    Mgl = 1.2 * 9.81 * 0.3
+    ep = _module("heavy_top_euler_poisson")
+    rates = np.array(ep.rhs(0.0, np.concatenate([w, G, q]), *I, 1.2, 9.81, 0.3))
+    wd, Gd, qd = rates[:3], rates[3:6], rates[6:]
+    scale = 1 + np.sum(np.abs(values)) ** 3
+    assert abs(q @ qd) <= 1e-12 * scale and abs(G @ Gd) <= 1e-12 * scale
+    assert abs((I * wd) @ G + (I * w) @ Gd) <= 1e-12 * scale  # d(L·Γ)/dt
+    assert abs((I * w) @ wd + Mgl * Gd[2]) <= 1e-12 * scale  # dE/dt
+    fb = _module("free_body_quaternion")
+    rates = np.array(fb.rhs(0.0, np.concatenate([w, q]), *I))
+    assert abs((I * w) @ rates[:3]) <= 1e-12 * scale and abs((I * I * w) @ rates[:3]) <= 1e-12 * scale
+    assert abs(q @ rates[3:]) <= 1e-12 * scale
+
+
+def _derivation_residuals(name):
+    """(equations frozen to symbols, state symbols, rate symbols, parameter symbols) straight from the derivation."""
+    from eulersym import dynamics, top
+    from eulersym.codegen import catalogue as C
+    from eulersym.symbols import I1, I3, M, g, l, moments, torques
+
+    if name == "euler_principal":
+        eqs, mapping, rates, params = dynamics.euler_equations(), C._OMEGA, C.OMEGA_DOT, (*moments, *torques)
+    elif name == "euler_full":
+        eqs, mapping = dynamics.euler_equations(C._full_tensor(), torques), C._OMEGA
+        rates, params = C.OMEGA_DOT, (*C.FULL_INERTIA, *torques)
+    else:
+        eqs, mapping, rates, params = top.equations_of_motion(), C._ANGLES, C.ACCELERATIONS, (I1, I3, M, g, l)
+    state = C.OMEGA if name.startswith("euler") else (*C.ANGLES, *C.RATES)
+    return [C.freeze_state(C._residual(e), mapping) for e in eqs], state, rates, params
+
+
+@pytest.mark.parametrize("name", ["euler_principal", "euler_full", "heavy_top_euler_angles"])
+def test_derivation_equations_hold_at_the_kernel_rates(name, rng):
+    """Independent of the first-order solve: the derivation's own equations vanish at (y, rhs(y))."""
+    mod = _module(name)
+    residuals, state, rates, params = _derivation_residuals(name)
+    for _ in range(3):
+        y, p = _point(name, rng)
+        dy = mod.rhs(0.0, y, *p)
+        values = dict(zip((*state, *rates, *params), (*y, *dy[-len(rates):], *p)))
+        values = {k: sp.Float(v, 30) for k, v in values.items()}
+        for residual in residuals:
+            assert abs(float(residual.xreplace(values))) < 1e-12
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -309,10 +375,14 @@ def test_generated_modules_import_and_run_without_sympy():
 
 
 def test_generated_modules_run_without_sympy_from_an_installed_wheel(tmp_path):
-    wheels, target, elsewhere = tmp_path / "wheels", tmp_path / "site", tmp_path / "cwd"
+    wheels, target, elsewhere, source = tmp_path / "wheels", tmp_path / "site", tmp_path / "cwd", tmp_path / "src"
     elsewhere.mkdir()
+    # Build from a copy, so that setuptools' build/ folder never lands in the working tree.
+    shutil.copytree(ROOT, source, ignore=shutil.ignore_patterns(".git", ".venv", "build", "*.egg-info", "__pycache__",
+                                                                 ".hypothesis", ".benchmarks", "out*"))
     pip = [sys.executable, "-m", "pip", "-q"]
-    subprocess.run([*pip, "wheel", "--no-deps", "--no-build-isolation", "-w", str(wheels), str(ROOT)],
+    isolation = [] if importlib.util.find_spec("setuptools") is None else ["--no-build-isolation"]
+    subprocess.run([*pip, "wheel", "--no-deps", *isolation, "-w", str(wheels), str(source)],
                    check=True, capture_output=True, cwd=tmp_path)
     wheel = next(wheels.glob("eulersym-*.whl"))
     subprocess.run([*pip, "install", "--no-deps", "--target", str(target), str(wheel)], check=True,

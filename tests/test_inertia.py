@@ -80,9 +80,12 @@ def test_known_tensors(name):
     assert_equal(got, expected)
 
 
-def test_bodies_accept_numbers():
+def test_bodies_accept_numbers_and_plain_symbols():
     assert sphere(5, 2)[0, 0] == 8  # 2/5 · 5 · 2²
-    assert cube(2.0, 1.0, origin="corner")[0, 1] == pytest.approx(-0.5)
+    assert cube(2.0, 1.0, origin="corner")[0, 1] == pytest.approx(-0.5, rel=1e-15)
+    assert float(sphere(2.0, 0.5)[0, 0]) == pytest.approx(0.2, rel=1e-15)
+    m, s = sp.symbols("m s")  # no assumptions: accepted (not provably non-positive)
+    assert_equal(cube(m, s), sp.diag(*[m * s**2 / 6] * 3))
 
 
 def test_exact_numbers_stay_exact():

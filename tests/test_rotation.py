@@ -56,8 +56,8 @@ def test_numeric_euler_matrix_broadcasts(rng):
 
 
 def test_so3_is_a_group_exactly():
-    a, b, c = sp.symbols("alpha beta gamma", real=True)
-    A1, A2 = euler_matrix(phi, theta, psi), euler_matrix(a, b, c, "xyz")
+    a, b = sp.symbols("alpha beta", real=True)
+    A1, A2 = euler_matrix(phi, theta, psi), euler_matrix(a, b, 0, "xyz")
     assert is_rotation(A1 * A2)  # closure
     assert compare(A1.T * A1, sp.eye(3)).exact  # inverse = transpose
     assert is_rotation(sp.eye(3))  # identity

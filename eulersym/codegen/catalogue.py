@@ -58,6 +58,11 @@ class Kernel:
         ``"module:function"`` names the derivation calls (all must import for the entry to be available).
     build : callable
         ``build() -> ModuleSpec`` (pure; cached by :func:`build`).
+
+    Examples
+    --------
+    >>> CATALOGUE["euler_principal"].source
+    'eulersym.dynamics.euler_equations'
     """
 
     name: str

@@ -1,4 +1,4 @@
-"""The emitter: SymPy expressions → plain Python source, scalar (``math``) and batched (NumPy) flavours.
+"""The emitter: SymPy expressions → plain Python source, scalar/flat (``math``) and batched (NumPy) flavours.
 
 One CSE pass per module
     Every function of a module (right-hand side, Jacobian, invariants, ...) is reduced by a single call of
@@ -10,13 +10,20 @@ Determinism
     Arguments are given in a fixed order by the caller; every other set (the free symbols of an expression, the
     subexpressions a function needs) is sorted by SymPy's ``default_sort_key`` or by CSE index before it is
     printed, and SymPy prints ``Add``/``Mul`` arguments in its canonical order. The bytes therefore do not depend
-    on ``PYTHONHASHSEED`` (tests/test_codegen.py checks this in subprocesses with different seeds).
+    on ``PYTHONHASHSEED`` (tests/test_codegen_sync.py checks this in subprocesses with different seeds).
 
 Printing
     Two printers differ only in a table of function names (as SymPy's own printers do): the scalar flavour
     calls ``math`` functions imported by bare name (a global lookup, cheaper than ``math.sin``), the batched
     flavour calls ``np.<name>``. Small integer powers print as products, ``(x*x)``: for Python floats a product
     is several times cheaper than ``x**2``. A function outside the table is refused by name.
+
+Flavours
+    *scalar* ``f(t, y, *params)``: Python floats and ``math``, returns a new list; *flat* ``f_flat(t, *state,
+    *params)``: the same with vectors unpacked, returning a tuple (numba-compilable); *batched*
+    ``f_batched(t, y, *params, out=None)``: NumPy, outputs written into ``out`` row by row with in-place
+    ufuncs (``np.multiply(a, b, out=...)``, ``+=``, ``*=``), which avoids the temporaries of
+    ``out[i] = <expression>``.
 
 Refusals
     Before anything is printed, :func:`check_expressions` refuses, by name, any ``Derivative``, undefined
@@ -80,7 +87,7 @@ BATCHED_FUNCTIONS: dict[str, str] = {
 }
 
 #: Names an argument may not take in emitted code (they name helpers of the generated modules).
-_RESERVED = {"np", "math", "out", "shape", "InvalidInput"}
+_RESERVED = {"np", "math", "out", "extra", "shape", "InvalidInput"}
 _CSE_PREFIX = "x"
 _Q = '"' * 3
 
@@ -278,6 +285,14 @@ class CsePass:
 
     ``replacements`` is the ordered list of ``(symbol, expression)``; ``reduced`` maps each function name to its
     reduced output Matrix; ``index`` maps a CSE symbol to its position.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> x = sp.Symbol("x")
+    >>> p = cse_pass([FunctionSpec("f", (Argument("x", (x,)),), sp.Matrix([sp.sin(x) ** 2, sp.sin(x)]))])
+    >>> p.needed([p.reduced["f"][0]])
+    [(x0, sin(x))]
     """
 
     replacements: tuple
@@ -362,6 +377,14 @@ class _Printer(PythonCodePrinter):
 
     def _print_sign(self, expr):
         raise InvalidInput("function", "sign", "differentiable expressions (no sign)")
+
+    def _refuse(self, expr):
+        raise InvalidInput("function", type(expr).__name__, "smooth expressions that print alike for floats "
+                           "and arrays (no Min, Max, Heaviside or relations)")
+
+    _print_Min = _print_Max = _print_Heaviside = _print_Relational = _refuse
+    _print_StrictLessThan = _print_StrictGreaterThan = _print_LessThan = _print_GreaterThan = _refuse
+    _print_Equality = _print_Unequality = _print_And = _print_Or = _print_Not = _refuse
 
     def _print_Pow(self, expr, rational=False):
         base, exp = expr.base, expr.exp
@@ -473,7 +496,8 @@ def _outputs_doc(f: FunctionSpec) -> str:
 
 
 def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
-    """Source of one function (``f.name`` for the scalar flavour, ``f.name + "_batched"`` for the batched one).
+    """Source of one function: ``f.name`` (scalar flavour), ``f.name + "_flat"`` (flat: the scalar flavour with
+    vectors unpacked, returning a tuple, numba-compilable) or ``f.name + "_batched"`` (batched).
 
     Examples
     --------
@@ -491,18 +515,34 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
         x0 = a*b
         return [x0, x0 + 1]
     """
-    printer = make_printer(flavour)
+    printer = make_printer("scalar" if flavour == "flat" else flavour)
     reduced = cse.reduced[f.name]
     needed = cse.needed(list(reduced))
     body: list[str] = []
     args = _signature(f)
-    if flavour == "scalar":
-        head = f"def {f.name}({args}):"
+    if flavour == "flat":
+        flat_args = ", ".join(local_name(s) for s in f.symbols)
+        head = f"def {f.name}_flat({flat_args}):"
+        doc = [_Q + f"{f.name}_flat({flat_args}) -> tuple", "",
+               f"    ``{f.name}`` with every vector unpacked and no checks: plain floats and ``math`` only, so",
+               "    ``numba.njit`` compiles it. Returns a new tuple.", "    " + _Q]
+        for sym, expr in needed:
+            body.append(f"{printer.doprint(sym)} = {printer.doprint(expr)}")
+        if len(f.out_shape) == 1:
+            items = [_constant(printer, e) for e in reduced]
+            body.append("return (" + ", ".join(items) + ("," if len(items) == 1 else "") + ")")
+        else:
+            rows = ["(" + ", ".join(_constant(printer, e) for e in reduced.row(i)) + ("," if reduced.cols == 1 else "")
+                    + ")" for i in range(reduced.rows)]
+            body.append("return (" + ", ".join(rows) + ("," if len(rows) == 1 else "") + ")")
+    elif flavour == "scalar":
+        head = f"def {f.name}({args}, *extra):"
         kind = "list" if len(f.out_shape) == 1 else "list of lists"
         doc = [_Q + f"{f.name}({args}) -> {kind} of {_outputs_doc(f)}", ""]
         if f.doc:
             doc += ["    " + f.doc, ""]
         doc += ["    Arguments, in order:"] + ["    " + line for line in _order_doc(f)] + ["    " + _Q]
+        body += _extra_check(f)
         for a in f.arguments:
             if not a.vector:
                 continue
@@ -529,7 +569,7 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
                     for i in range(reduced.rows)]
             body.append("return [" + ", ".join(rows) + "]")
     else:
-        head = f"def {f.name}_batched({args}, out=None):"
+        head = f"def {f.name}_batched({args}, *extra, out=None):"
         doc = [_Q + f"{f.name}_batched({args}, out=None) -> ndarray of shape "
                f"{f.out_shape} + batch" + (f", rows {_outputs_doc(f)}" if f.output_names else ""), ""]
         if f.doc:
@@ -539,6 +579,7 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
         doc += ["    Shapes are checked once per call; ``out`` (if given, not overlapping the inputs) is filled",
                 "    and returned.", "    " + _Q]
         shapes = []
+        body += _extra_check(f)
         for a in f.arguments:
             if a.vector:
                 body.append(f"{a.name} = _as_vector({a.name!r}, {a.name}, {a.names!r})")
@@ -618,6 +659,13 @@ def _emit_into(expr, target: str, printer, arrays: set) -> list[str]:
     return [f"{target} = {printer.doprint(expr)}"]
 
 
+def _extra_check(f: FunctionSpec) -> list[str]:
+    """One statement: too many positional arguments raise InvalidInput naming the order (missing ones: Python's
+    own TypeError names them)."""
+    names = tuple(a.name for a in f.arguments)
+    return ["if extra:", f"    raise _too_many({f.name!r}, extra, {names!r})"]
+
+
 def _indices(shape):
     if len(shape) == 1:
         return [(i,) for i in range(shape[0])]
@@ -654,7 +702,17 @@ def input_hash(spec: ModuleSpec) -> str:
 
 
 def check_module(spec: ModuleSpec) -> None:
-    """Refuse a module whose outputs use anything but its arguments, or whose functions clash by name."""
+    """Refuse a module whose outputs use anything but its arguments, or whose functions clash by name.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> x, y = sp.symbols("x y")
+    >>> check_module(ModuleSpec("m", "", "", (FunctionSpec("f", (Argument("x", (x,)),), sp.Matrix([x * y])),)))
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: m.f='y' is not valid: expected no free symbols other than the arguments (x)
+    """
     names = [f.name for f in spec.functions]
     if len(set(names)) != len(names):
         raise InvalidInput("functions", names, "distinct function names")
@@ -668,7 +726,8 @@ def check_module(spec: ModuleSpec) -> None:
         check_expressions(list(f.expressions), symbols, what=f"{spec.name}.{f.name}")
 
 
-_RUNTIME_IMPORT = "from eulersym.generated._runtime import _as_vector, _prepare_out, _unpack, _wrong_length"
+_RUNTIME_IMPORT = ("from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, "
+                   "_wrong_length")
 
 
 def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_import: str | None = None) -> str:
@@ -699,6 +758,7 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
         versions = {"eulersym": __version__, "sympy": sp.__version__}
     cse = cse_pass(spec.functions)
     scalar = [emit_function(f, cse, "scalar") for f in spec.functions]
+    flat = [emit_function(f, cse, "flat") for f in spec.functions]
     batched = [emit_function(f, cse, "batched") for f in spec.functions]
     used = set()
     for f in spec.functions:
@@ -719,7 +779,8 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
         header.append(f"# Arguments: {f.name}({_signature(f)})" + "".join(
             f"; {a.name} = ({', '.join(a.names)})" for a in f.arguments if a.vector))
     description = textwrap.fill(spec.description.strip(), width=100, break_on_hyphens=False).split("\n")
-    doc = ['"""' + description[0], *description[1:], "", "Functions (each also as ``<name>_batched(..., out=None)``):", ""]
+    doc = ['"""' + description[0], *description[1:], "",
+           "Functions (each also as ``<name>_batched(..., out=None)`` and ``<name>_flat(...)``):", ""]
     shared = len({_signature(f) for f in spec.functions}) == 1 and any(a.vector for a in spec.functions[0].arguments)
     for f in spec.functions:
         doc.append(f"- ``{f.name}({_signature(f)})`` → {_outputs_doc(f)}" + (f": {f.doc}" if f.doc else ""))
@@ -732,7 +793,9 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
             "``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.",
             "Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once",
             "per call, and the result is a new array unless ``out=`` is given (written in place, so it may not",
-            "overlap the inputs)."]
+            "overlap the inputs).",
+            "Flat flavour: ``<name>_flat`` takes every symbol as its own float argument (vectors unpacked, in",
+            "order) and returns a tuple: plain ``math`` on floats, no checks, so ``numba.njit`` compiles it."]
     for note in spec.notes:
         doc += ["", *textwrap.fill(note, width=100, break_on_hyphens=False).split("\n")]
     doc.append('"""')
@@ -742,8 +805,8 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
     runtime_import = _RUNTIME_IMPORT if runtime_import is None else runtime_import
     if runtime_import:
         imports += ["", runtime_import]
-    all_names = [f.name for f in spec.functions] + [f.name + "_batched" for f in spec.functions]
+    all_names = [f.name + suffix for suffix in ("", "_flat", "_batched") for f in spec.functions]
     parts = header + doc + imports + ["", f"__all__ = {all_names!r}", ""]
-    for src in scalar + batched:
+    for src in scalar + flat + batched:
         parts += ["", src, ""]
     return "\n".join(parts).rstrip("\n") + "\n"

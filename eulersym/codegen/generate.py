@@ -105,6 +105,13 @@ def generate(directory=None, names=None, *, verbose: bool = False) -> list[Path]
         Default: :func:`default_directory`. Created if missing.
     names : list of str, optional
         Catalogue entries (default: all). Unavailable ones are skipped with a message on stderr.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     sorted(p.name for p in generate(d, names=["kinematics"]))
+    ['_runtime.py', 'kinematics.py']
     """
     directory = Path(default_directory() if directory is None else directory)
     directory.mkdir(parents=True, exist_ok=True)
@@ -124,7 +131,13 @@ def generate(directory=None, names=None, *, verbose: bool = False) -> list[Path]
 
 @dataclass
 class CheckReport:
-    """What ``check`` found: ``problems`` (each fails the check) and ``notes`` (informational)."""
+    """What ``check`` found: ``problems`` (each fails the check) and ``notes`` (informational).
+
+    Examples
+    --------
+    >>> CheckReport(problems=["x.py is missing"]).ok
+    False
+    """
 
     problems: list = field(default_factory=list)
     notes: list = field(default_factory=list)
@@ -166,6 +179,13 @@ def check(directory=None, names=None) -> CheckReport:
     """Compare ``directory`` with a fresh generation (see the module docstring for the rule).
 
     Extra files are looked for only when ``names`` is None (the whole catalogue).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     check(d, names=["kinematics"]).problems
+    ['_runtime.py is missing; run `eulersym generate`', 'kinematics.py is missing; run `eulersym generate`']
     """
     directory = Path(default_directory() if directory is None else directory)
     report = CheckReport()

@@ -27,7 +27,14 @@ import numpy as np
 
 from eulersym.errors import InvalidInput
 
-__all__ = ["_as_vector", "_prepare_out", "_unpack", "_wrong_length"]
+__all__ = ["_as_vector", "_prepare_out", "_too_many", "_unpack", "_wrong_length"]
+
+
+def _too_many(function, extra, names):
+    """The error for surplus positional arguments."""
+    order = ", ".join(names)
+    return InvalidInput(f"{function} arguments", f"{len(extra)} more than expected",
+                        f"exactly {len(names)} positional arguments in the order ({order})")
 
 
 def _wrong_length(name, value, names):
