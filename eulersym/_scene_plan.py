@@ -180,6 +180,9 @@ def make_plan(scene, moments=None) -> Plan:
             options["call"] = "integrate_ivp"
             options["ivp_method"] = m
         steps.append(Step("compute", "attitude", "propagated: the gravity torque M g l Γ × e3 depends on the vertical Γ"))
+        if batch == 1 and symmetric and "euler_angles" in outputs:
+            derive.append("top.turning_points")
+            steps.append(Step("derive", "turning points θ1, θ2", "θ(t) is reported against the roots of the effective-potential cubic (eulersym.top), from E, p_φ, p_ψ"))
         if _upright_start(scene):
             derive.append("top.sleeping_top_threshold")
             steps.append(Step("derive", "sleeping-top threshold 4 M g l I1 / I3²", "the start is near upright: report ω3² against the derived bound"))

@@ -356,8 +356,14 @@ def run(scene: Scene, *, progress: bool = False) -> Result:
     timings["motion"] = time.perf_counter() - clock
     bar.stage("integrated", 0.9)
 
+    turning = None
+    if "top.turning_points" in plan.derive:  # needs the start's E, p_φ, p_ψ: derived once the state is known
+        clock = time.perf_counter()
+        turning = _turning_points(scene, moments[0], omega_pr[0, 0], gamma[0, 0], q_pr[0, 0], record)
+        timings["derive"] += time.perf_counter() - clock
+
     clock = time.perf_counter()
-    out = _outputs(scene, plan, t, moments, P, omega_pr, q_pr, gamma, members, batch, bound)
+    out = _outputs(scene, plan, t, moments, P, omega_pr, q_pr, gamma, members, batch, bound, turning)
     timings["outputs"] = time.perf_counter() - clock
     timings["total"] = sum(timings.values())
     bar.done()
@@ -383,6 +389,7 @@ def run(scene: Scene, *, progress: bool = False) -> Result:
         axes=P,
         n_rhs_calls=int(n_calls),
         notes=tuple(out["notes"]),
+        turning_points=out["turning_points"],
         gamma=squeeze(gamma) if "invariants" in scene.outputs or plan.regime == "heavy top" else None,
     )
 
@@ -557,7 +564,7 @@ def _drift(values: np.ndarray) -> float:
     return float(np.max(np.abs(v - ref) / denom))
 
 
-def _outputs(scene, plan, t, moments, P, omega_pr, q_pr, gamma, members, batch, bound):
+def _outputs(scene, plan, t, moments, P, omega_pr, q_pr, gamma, members, batch, bound, turning):
     outputs = scene.outputs
     notes = []
     identity = np.array_equal(P, np.eye(3))
@@ -610,6 +617,9 @@ def _outputs(scene, plan, t, moments, P, omega_pr, q_pr, gamma, members, batch, 
         theta = np.degrees(np.arccos(np.clip(gamma[..., 2], -1.0, 1.0)))
         if batch == 1:
             notes.append(f"θ between θ1 = {theta.min():.4g}° and θ2 = {theta.max():.4g}° (from Γ3 = cos θ)")
+        if turning is not None:
+            notes.append("turning points derived from the effective potential: "
+                         f"θ1 = {np.degrees(turning[0]):.4g}°, θ2 = {np.degrees(turning[1]):.4g}°")
         else:
             notes.append(f"largest tilt per member: {theta.max(axis=1).min():.4g}° … {theta.max(axis=1).max():.4g}°")
         if "top.sleeping_top_threshold" in plan.derive:
@@ -637,4 +647,21 @@ def _outputs(scene, plan, t, moments, P, omega_pr, q_pr, gamma, members, batch, 
         "invariants": invariants,
         "drift": drift,
         "notes": notes,
+        "turning_points": turning,
     }
+
+
+def _turning_points(scene, moments, omega0, gamma0, q0, record):
+    """(θ1, θ2) in radians from eulersym.top.turning_points at the start's E, p_φ = L·Γ and p_ψ = I3 ω3."""
+    try:
+        top = importlib.import_module("eulersym.top")
+    except ImportError:
+        return None
+    gen = importlib.import_module("eulersym.generated.heavy_top_euler_poisson")
+    I1, I2, I3 = (float(x) for x in moments)
+    M, g, l = float(scene.mass), float(scene.g), float(scene.l)
+    y0 = [float(v) for v in (*omega0, *gamma0, *q0)]
+    energy, _, p_phi, _ = gen.invariants(0.0, y0, I1, I2, I3, M, g, l)
+    u1, u2 = top.turning_points(energy, p_phi, I3 * y0[2], I1, I3, M, g, l)
+    record.append("top.turning_points")
+    return float(np.arccos(min(1.0, u2))), float(np.arccos(max(-1.0, u1)))

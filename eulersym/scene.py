@@ -818,6 +818,10 @@ class Result:
         Kernel evaluations (0 for a closed form).
     notes : tuple of str
         Facts for the report (turning points, the sleeping-top threshold, ...).
+    gamma : ndarray (n, 3) or None
+        The body-frame upward vertical Γ (heavy top), Γ3 = cos θ.
+    turning_points : (θ1, θ2) or None
+        Heavy top with Euler-angle output: the nutation's turning points (radians), derived by eulersym.top.
 
     Examples
     --------
@@ -845,6 +849,7 @@ class Result:
     n_rhs_calls: int = 0
     notes: tuple = ()
     gamma: np.ndarray | None = None
+    turning_points: tuple | None = None
 
     def report(self) -> str:
         """A short text report: the plan, the invariants' drift, the timings and notes.

@@ -525,7 +525,7 @@ def test_torque_free_run_imports_no_sympy_and_nothing_of_the_top():
         print('ok', r.omega.shape)
         # a tilted heavy top and a torqued body need no derivation either: no SymPy
         top = simulate(Scene(moments=(1.0, 1.0, 0.5), mass=1.0, l=0.1, euler=(0, 0.5, 0), omega=(0, 0, 20.0),
-                             t_end=0.2, points=11, outputs=('omega', 'euler_angles', 'invariants')))
+                             t_end=0.2, points=11, outputs=('omega', 'attitude', 'invariants')))
         torqued = simulate(Scene(moments=(1, 2, 3), torque=(0, 0, 1), torque_frame='space', omega=(0, 0, 1), t_end=1,
                                  points=11, outputs=('omega', 'attitude')))
         assert top.derivations == () and torqued.derivations == ()
@@ -538,13 +538,16 @@ def test_torque_free_run_imports_no_sympy_and_nothing_of_the_top():
 def test_heavy_top_conserves_invariants_and_nutates():
     r = simulate(Scene(**TOP, outputs=("omega", "euler_angles", "invariants"), accuracy=1e-10))
     assert r.plan.regime == "heavy top" and "gamma" in r.propagated
-    assert not any(d.startswith("top.") for d in r.derivations)  # not near upright: no threshold derivation
+    assert r.derivations == ("top.turning_points",)  # not near upright: no threshold; θ(t) asked: turning points
     for name in ("energy", "gamma_norm2", "L_dot_gamma"):
         assert r.drift[name] < 1e-7, (name, r.drift[name])
     theta = r.euler_angles[:, 1]
     assert theta.min() == pytest.approx(0.5, abs=1e-6)  # released at rest in θ: θ1 is the start
     assert theta.max() > 0.5 + 1e-3  # and it nutates down to θ2
     assert np.allclose(np.cos(theta), r.gamma[:, 2], atol=1e-8)  # Γ3 = cos θ
+    # the integrated θ(t) touches the turning points derived from the effective potential
+    theta1, theta2 = r.turning_points
+    assert theta1 == pytest.approx(theta.min(), abs=1e-6) and theta2 == pytest.approx(theta.max(), abs=1e-5)
 
 
 def test_heavy_top_splitting_agrees_with_dop853():
