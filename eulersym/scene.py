@@ -776,7 +776,7 @@ class Plan:
     skipped: tuple
     batch: int = 1
     method: str = ""
-    options: Mapping = field(default_factory=dict)
+    options: Mapping = field(default_factory=dict, compare=False)
 
     def __str__(self) -> str:
         head = f"plan for {self.scene!r} ({self.regime}, {self.body} body"

@@ -42,11 +42,19 @@ def _euler_rhs(I, N=(0.0, 0.0, 0.0)):
 
 
 def test_scene_is_frozen_and_normalised():
+    import dataclasses
+    import pickle
+
     scene = Scene(**FREE)
     assert scene.moments == (1.0, 2.0, 3.0) and scene.outputs == ("omega", "invariants")
     with pytest.raises(AttributeError):
         scene.t_end = 3.0  # type: ignore[misc]
-    assert Scene(**FREE) == scene
+    assert Scene(**FREE) == scene and hash(Scene(**FREE)) == hash(scene)
+    assert dataclasses.replace(scene, t_end=2.0).t_end == 2.0  # replace() re-validates
+    with pytest.raises(InvalidInput):
+        dataclasses.replace(scene, t_end=-2.0)
+    assert pickle.loads(pickle.dumps(scene)) == scene
+    assert hash(scene.plan()) == hash(scene.plan())
 
 
 @pytest.mark.parametrize(
