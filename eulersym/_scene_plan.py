@@ -166,15 +166,17 @@ def make_plan(scene, moments=None) -> Plan:
             steps.append(Step("integrate", f"{batch} members in one vectorised pass", f"adaptive DOP853 on the batched kernel, rtol = {scene.accuracy:g}, one step size per chunk of members"))
             options["call"] = "batched"
         elif method == "splitting" or (method == "auto" and symmetric and scene.accuracy >= SPLITTING_ACCURACY):
-            engine = "integrate: splitting (Strang, Euler–Poisson form)"
-            why = "asked for" if method == "splitting" else f"accuracy {scene.accuracy:g} ≥ {SPLITTING_ACCURACY:g}: second order is cheapest here"
+            engine = "integrate: splitting (Yoshida 4th order, Euler–Poisson form)"
+            why = "asked for" if method == "splitting" else (
+                f"accuracy {scene.accuracy:g} ≥ {SPLITTING_ACCURACY:g}: the geometric splitting, step (30·accuracy)^¼/Ω, Ω the fastest "
+                "of the nutation, pendulum and transverse rates")
             steps.append(Step("integrate", "eulersym.numerics.integrate_heavy_top", why + "; |Γ| and L·Γ conserved, never singular at θ = 0"))
             options["call"] = "integrate_heavy_top"
         else:
             m = "DOP853" if method == "auto" else method
             engine = f"integrate: {m} on heavy_top_euler_poisson"
             why = "asked for" if method != "auto" else (
-                f"accuracy {scene.accuracy:g} < {SPLITTING_ACCURACY:g}: an 8th-order adaptive method is cheapest" if symmetric
+                f"accuracy {scene.accuracy:g} < {SPLITTING_ACCURACY:g}: an 8th-order adaptive method, its step following the motion" if symmetric
                 else "an asymmetric (or not yet derived) body: the symmetric-top splitting does not apply")
             steps.append(Step("integrate", f"solve_ivp {m} on heavy_top_euler_poisson (ω, Γ, q)", f"{why}; rtol = {scene.accuracy:g}"))
             options["call"] = "integrate_ivp"
