@@ -17,7 +17,7 @@ from scipy.spatial.transform import Rotation
 
 from eulersym.errors import InvalidInput
 from eulersym.scene import Result, Scene
-from eulersym._scene_plan import heavy_top_frame, make_plan
+from eulersym._scene_plan import heavy_top_frame, ivp_tolerances, make_plan
 
 __all__ = ["run", "dop853_batched", "rotate_to_body", "quaternion_to_rotation", "rotation_to_quaternion"]
 
@@ -430,10 +430,10 @@ def _torque_free(scene, plan, call, t, moments, omega0, q0, rot0, members, batch
         I = [moments[:, k] for k in range(3)]
         if wants_q:
             y0 = np.concatenate([omega0, q0], axis=1).T
-            Y, calls = dop853_batched(gen.rhs_batched, y0, t, params=I, rtol=scene.accuracy, atol=_atol(scene), progress=bar.fraction)
+            Y, calls = dop853_batched(gen.rhs_batched, y0, t, params=I, rtol=_rtol(scene), atol=_atol(scene), progress=bar.fraction)
             return np.moveaxis(Y[:, :3], (0, 1, 2), (1, 2, 0)), _normalise(np.moveaxis(Y[:, 3:], (0, 1, 2), (1, 2, 0))), None, calls
         zeros = np.zeros(batch)
-        Y, calls = dop853_batched(gen.rhs_batched, omega0.T, t, params=(*I, zeros, zeros, zeros), rtol=scene.accuracy, atol=_atol(scene), progress=bar.fraction)
+        Y, calls = dop853_batched(gen.rhs_batched, omega0.T, t, params=(*I, zeros, zeros, zeros), rtol=_rtol(scene), atol=_atol(scene), progress=bar.fraction)
         return np.moveaxis(Y, (0, 1, 2), (1, 2, 0)), None, None, calls
     I = tuple(moments[0])
     method = plan.options.get("ivp_method", scene.method if scene.method in ("DOP853", "RK45", "Radau", "LSODA") else "DOP853")
@@ -442,7 +442,7 @@ def _torque_free(scene, plan, call, t, moments, omega0, q0, rot0, members, batch
         y0, params = np.concatenate([omega0[0], q0[0]]), I
     else:
         y0, params = omega0[0], I + (0.0, 0.0, 0.0)
-    traj = numerics.integrate_ivp(gen, y0, t, params, method=method, rtol=scene.accuracy, atol=_atol(scene))
+    traj = numerics.integrate_ivp(gen, y0, t, params, method=method, rtol=_rtol(scene), atol=_atol(scene))
     return traj.omega[None], (_normalise(traj.q)[None] if wants_q and traj.q is not None else None), None, traj.n_rhs_calls
 
 
@@ -455,8 +455,12 @@ def _free_body_step(scene, I, omega0, t):
     return dt / np.ceil(dt / h)
 
 
+def _rtol(scene) -> float:
+    return ivp_tolerances(scene.accuracy)[0]
+
+
 def _atol(scene) -> float:
-    return scene.accuracy * 1e-3
+    return ivp_tolerances(scene.accuracy)[1]
 
 
 def _normalise(q):
@@ -477,7 +481,7 @@ def _heavy_top(scene, plan, call, t, moments, omega0, q0, rot0, members, batch, 
     if call == "batched":
         params = [moments[:, 0], moments[:, 1], moments[:, 2], M, g, l]
         y0 = np.concatenate([omega0, gamma0, q0], axis=1).T
-        Y, calls = dop853_batched(gen.rhs_batched, y0, t, params=params, rtol=scene.accuracy, atol=_atol(scene), progress=bar.fraction, takes_out=True)
+        Y, calls = dop853_batched(gen.rhs_batched, y0, t, params=params, rtol=_rtol(scene), atol=_atol(scene), progress=bar.fraction, takes_out=True)
         Y = np.moveaxis(Y, (0, 1, 2), (1, 2, 0))  # (batch, n, state)
         wants_q = "attitude" in scene.outputs or "euler_angles" in scene.outputs or "invariants" in scene.outputs
         return Y[..., :3], (_normalise(Y[..., 6:10]) if wants_q else Y[..., 6:10]), Y[..., 3:6], calls
@@ -488,7 +492,7 @@ def _heavy_top(scene, plan, call, t, moments, omega0, q0, rot0, members, batch, 
         traj = numerics.integrate_heavy_top(I, M[0], g[0], l[0], omega0[0], q0[0], t, h=h, method="yoshida4")
     else:
         y0 = np.concatenate([omega0[0], gamma0[0], q0[0]])
-        traj = numerics.integrate_ivp(gen, y0, t, I + (M[0], g[0], l[0]), method=plan.options.get("ivp_method", "DOP853"), rtol=scene.accuracy, atol=_atol(scene))
+        traj = numerics.integrate_ivp(gen, y0, t, I + (M[0], g[0], l[0]), method=plan.options.get("ivp_method", "DOP853"), rtol=_rtol(scene), atol=_atol(scene))
     gamma = traj.gamma if getattr(traj, "gamma", None) is not None else quaternion_to_rotation(traj.q).inv().apply([0.0, 0.0, 1.0])
     return traj.omega[None], _normalise(traj.q)[None], np.asarray(gamma)[None], traj.n_rhs_calls
 
@@ -533,17 +537,17 @@ def _torqued(scene, plan, call, t, moments, omega0, q0, rot0, members, batch, ba
 
         y0 = omega0.T
     if call == "batched":
-        Y, calls = dop853_batched(fun, y0, t, params=params, rtol=scene.accuracy, atol=_atol(scene), progress=bar.fraction)
+        Y, calls = dop853_batched(fun, y0, t, params=params, rtol=_rtol(scene), atol=_atol(scene), progress=bar.fraction)
         Y = np.moveaxis(Y, (0, 1, 2), (1, 2, 0))
         return Y[..., :3], (_normalise(Y[..., 3:7]) if wants_q else None), None, calls
     method = plan.options.get("ivp_method", "DOP853")
     if not wants_q:
         params = tuple(moments[0]) + tuple(N[0])
-        traj = numerics.integrate_ivp(euler, omega0[0], t, params, method=method, rtol=scene.accuracy, atol=_atol(scene))
+        traj = numerics.integrate_ivp(euler, omega0[0], t, params, method=method, rtol=_rtol(scene), atol=_atol(scene))
         return traj.omega[None], None, None, traj.n_rhs_calls
     from scipy.integrate import solve_ivp
 
-    sol = solve_ivp(lambda tt, y: fun(tt, y[:, None], *params)[:, 0], (t[0], t[-1]), y0[:, 0], method=method, t_eval=t, rtol=scene.accuracy, atol=_atol(scene))
+    sol = solve_ivp(lambda tt, y: fun(tt, y[:, None], *params)[:, 0], (t[0], t[-1]), y0[:, 0], method=method, t_eval=t, rtol=_rtol(scene), atol=_atol(scene))
     if not sol.success:
         raise InvalidInput("accuracy", scene.accuracy, f"an accuracy {method} can reach ({sol.message})")
     return sol.y[:3].T[None], _normalise(sol.y[3:7].T)[None], None, sol.nfev
