@@ -316,7 +316,9 @@ class _Parser:
     def expect(self, op: str) -> None:
         if not (self.tok.kind == "OP" and self.tok.text == op):
             found = self.tok.text or "the end of the input"
-            _refuse(self.argument, self.snippet(self.tok.pos), f"'{op}' here, not {found!r}", InvalidInput)
+            where = self.snippet(self.tok.pos) or self.text[-40:]
+            _refuse(self.argument, where, f"'{op}' here, not {found!r}" if self.tok.text else
+                    f"'{op}' before the end of the input", InvalidInput)
         self.advance()
 
     def snippet(self, start: int, end: int | None = None) -> str:
@@ -701,6 +703,7 @@ _LATEX_COMMANDS = {
     "\\varphi": "phi", "\\vartheta": "theta", "\\cdot": "*", "\\times": "*", "\\left": "", "\\right": "",
     "\\,": " ", "\\;": " ", "\\!": "", "\\quad": " ", "\\ ": " ",
 }
+_LATEX_MATRICES = ("pmatrix", "bmatrix", "matrix", "Bmatrix")
 _LATEX_TOKEN = re.compile(r"\\[A-Za-z]+|\\.?|[{}]|[^\\{}]", re.DOTALL)
 
 
@@ -708,8 +711,9 @@ def parse_latex(text: str, *, known: dict | None = None, argument: str = "candid
     """Parse a formula written in LaTeX, through a whitelist of commands, into SymPy (no ``eval``).
 
     Understood: ``\\frac{a}{b}``, ``\\sqrt{x}``, ``\\dot{x}``, ``\\ddot{x}``, ``^{...}``, ``_{...}``, ``\\left(``
-    ``\\right)``, ``\\cdot``, ``\\times``, the functions of :data:`FUNCTIONS` as commands (``\\sin``) and Greek
-    letters (``\\phi``); braces group. Everything else is refused. The same limits as :func:`parse` apply.
+    ``\\right)``, ``\\cdot``, ``\\times``, the functions of :data:`FUNCTIONS` as commands (``\\sin``), Greek
+    letters (``\\phi``) and matrices (``\\begin{pmatrix} a & b \\\\ c & d \\end{pmatrix}``, also ``bmatrix``,
+    ``matrix``); braces group. Everything else is refused. The same limits as :func:`parse` apply.
 
     Examples
     --------
@@ -724,6 +728,7 @@ def parse_latex(text: str, *, known: dict | None = None, argument: str = "candid
     pos = 0
 
     depth = 0
+    in_matrix = 0
 
     def group() -> str:
         """Translate one argument: {...} or a single token."""
@@ -754,6 +759,22 @@ def parse_latex(text: str, *, known: dict | None = None, argument: str = "candid
                 return f"({num})/({den})"
             if tok == "\\sqrt":
                 return f"sqrt({group()})"
+            if tok == "\\begin":
+                env = group().strip("()").strip()
+                if env not in _LATEX_MATRICES:
+                    _refuse(argument, f"\\begin{{{env}}}", "a matrix environment: " + ", ".join(_LATEX_MATRICES))
+                nonlocal in_matrix
+                in_matrix += 1
+                body = sequence(until="\\end").strip()
+                in_matrix -= 1
+                pos += 1  # \end
+                if group().strip("()").strip() != env:
+                    _refuse(argument, text[-40:], f"\\end{{{env}}} closing \\begin{{{env}}}", InvalidInput)
+                if body.endswith("], ["):
+                    body = body[: -len("], [")]
+                return " [[" + body + "]] "
+            if tok == "\\\\" and in_matrix:
+                return "], ["  # a row break inside a matrix environment
             if tok in ("\\dot", "\\ddot"):
                 inner = group().strip("()").strip()
                 if not _NAME_RE.fullmatch(inner):
@@ -767,6 +788,10 @@ def parse_latex(text: str, *, known: dict | None = None, argument: str = "candid
             _refuse(argument, text[:60], "a subscript right after a name (I_1, \\omega_{3})", InvalidInput)
         if tok == "^":
             return "^" + group()
+        if tok == "&":
+            if not in_matrix:
+                _refuse(argument, text[:60], "'&' only inside \\begin{pmatrix} ... \\end{pmatrix}", InvalidInput)
+            return ", "  # a column break inside a matrix environment
         if tok == "{":
             pos -= 1
             return group()

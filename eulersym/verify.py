@@ -1,13 +1,16 @@
 """Verify a hand derivation: is this formula right, and if not, where does it go wrong?
 
 ``verify(candidate, against)`` parses the candidate safely (:mod:`eulersym.parsing`, no ``eval``), resolves the
-target (a SymPy object, a formula, or the name of a derived quantity in :data:`QUANTITIES`) and decides with
-:func:`eulersym.compare.compare`:
+target (a SymPy object, a formula, or the name of a derived quantity in :data:`QUANTITIES`) and decides with the
+comparison engine :mod:`eulersym.compare`, cheapest first:
 
-- **exact** — the difference simplifies to zero (expand, trig-polynomial reduction, bounded simplify), within a
-  time budget (``budget`` seconds, default 2; POSIX main thread: an interval timer stops the attempt);
-- **numeric** — otherwise, or in addition, evaluation at ``points`` seeded random points with ``dps`` digits
-  (mpmath), relative tolerance ``10**(-dps/2)``. A point where they differ is a counterexample.
+1. **numeric** — the difference itself is evaluated with mpmath at ``points`` seeded random points with ``dps``
+   digits (``compare(..., exact=False)``); it must stay within ``10**(-dps/2)`` (relative to the difference when
+   that exceeds 1). A point where it does not is a counterexample: inequality is proved (``exact=False``);
+2. **exact** — otherwise every component of the difference is simplified to zero by
+   :func:`eulersym.compare.zero_exact` (expand, trig-polynomial reduction, bounded simplify) within a time budget
+   (``budget`` seconds, default 2; an interval timer stops the attempt: POSIX, main thread). Proved: ``exact=True``;
+   not proved within the budget: the verdict is numeric only (``exact=None``), and the method says so.
 
 Equations compare ``lhs − rhs`` up to a non-zero factor free of the state variables (angles, rates, ω, t): the
 factor is ``cancel(candidate / target)``, and it must hold no state variable. Vectors and matrices compare
@@ -18,7 +21,8 @@ candidate after which it is right: an overall sign, a factor 2 or ½, φ↔ψ (o
 I1, I2, I3 (or ω1, ω2, ω3) swapped, another Euler convention (named), a transposed matrix (active vs passive),
 degrees for radians. The slip is found numerically (3 seeded points, double precision, relative tolerance 1e-9;
 for equations, proportionality at points where only the state varies). When no slip explains a vector, matrix or list
-of equations as a whole, each differing component is diagnosed on its own and the slips are named per component.
+of equations as a whole, each differing component is diagnosed on its own and the slips are named per component;
+in a sum, a slip confined to one term is named with the term ("in the term M*g*l*cos(theta): overall sign").
 
 Examples
 --------
@@ -67,7 +71,14 @@ DEFAULT_BUDGET = 2.0
 
 
 class Quantity(NamedTuple):
-    """One entry of :data:`QUANTITIES`: a description and a zero-argument callable returning the derived object."""
+    """One entry of :data:`QUANTITIES`: a description and a zero-argument callable returning the derived object.
+
+    Examples
+    --------
+    >>> description, derive = QUANTITIES["omega_body"]
+    >>> derive()[2]
+    cos(theta(t))*Derivative(phi(t), t) + Derivative(psi(t), t)
+    """
 
     description: str
     derive: Callable[[], Any]
@@ -284,7 +295,15 @@ class Verdict:
     factor : SymPy expression or None
         For equations: the non-zero factor with candidate = factor · target (a list for lists of equations).
     points, dps, tolerance
-        The numeric test: points, digits, relative tolerance.
+        The numeric test: points, digits, and the tolerance on the difference.
+
+    Examples
+    --------
+    >>> v = verify("[[1, 0], [0, 2]]", sp.Matrix([[1, 0], [0, 4]]))
+    >>> v.equal, v.exact, v.components
+    (False, False, ('[1, 1]',))
+    >>> print(v.diagnosis)
+    component [1, 1]: a factor 2 missing (½ too many): the candidate is half the right result
     """
 
     equal: bool
@@ -444,8 +463,20 @@ def _normalize(obj, argument: str):
         if isinstance(obj, sp.logic.boolalg.BooleanAtom):
             raise InvalidInput(argument, obj, "a formula; an equation that SymPy already evaluated to "
                                               f"{obj} is not one (build it with Eq(..., evaluate=False))")
+        logic = (sp.And, sp.Or, sp.Not, sp.Xor, sp.Implies, sp.Equivalent)
+        if (isinstance(obj, sp.Rel) and not isinstance(obj, sp.Equality)) or isinstance(obj, logic):
+            raise InvalidInput(argument, obj, "an expression, an equation, a vector or a matrix; inequalities and "
+                                              "logic are not compared (compare their sides)")
         return obj
     raise InvalidInput(argument, obj, "a string, a SymPy expression, Eq, Matrix, or a list of them")
+
+
+def _unify_names(obj, known: dict):
+    """Symbols are identified by name: a candidate's ``Symbol('a')`` becomes the target's ``a`` (whatever its
+    assumptions), as the parser does for strings."""
+    symbols = _free_symbols(obj)
+    sub = {s: known[s.name] for s in symbols if isinstance(s, sp.Symbol) and s.name in known and known[s.name] != s}
+    return obj if not sub else _map_scalars(obj, lambda e: e.xreplace(sub))
 
 
 def _describe(obj) -> str:
@@ -494,6 +525,11 @@ def _equation_factor(dc, dt):
     fc, _ = freeze_functions(dc, mapping)
     ft, _ = freeze_functions(dt, mapping)
     if ft == 0:
+        return None
+    # cheap screen first: is fc/ft the same number wherever only the state varies? If not, there is no factor
+    # and no symbolic cancellation is spent on it.
+    probe = _Probe([ft], fc.free_symbols | ft.free_symbols, mapping, seed=0, proportional=True)
+    if probe.usable and not probe.matches([fc]):
         return None
     ratio = sp.cancel(sp.together(fc / ft))
     state = _state_symbols(mapping)
@@ -644,13 +680,16 @@ def _trig_args_scaled(factor):
 _ANGLE_NAMES = {S.phi: "phi", S.theta: "theta", S.psi: "psi"}
 
 
-def _slips(candidate, target) -> list[tuple[str, Callable]]:
-    """(diagnosis, transformation of the candidate object) in the order they are tried."""
-    equation = isinstance(target, (sp.Equality, list))
+def _slips(candidate, target, *, term: bool = False) -> list[tuple[str, Callable]]:
+    """(diagnosis, transformation of the candidate object) in the order they are tried.
+
+    With ``term=True`` the candidate is one term of a sum: sign and factor slips apply to equations too."""
+    equation = isinstance(target, (sp.Equality, list)) and not term
     slips: list[tuple[str, Callable]] = []
     if not equation:
         slips += [
-            ("overall sign: the candidate is the negative of the right result", lambda c: _map_scalars(c, lambda e: -e)),
+            ("overall sign: the candidate is the negative of the right result",
+             lambda c: _map_scalars(c, lambda e: -e)),
             ("a factor 2 too many: the candidate is twice the right result",
              lambda c: _map_scalars(c, lambda e: e / 2)),
             ("a factor 2 missing (½ too many): the candidate is half the right result",
@@ -748,6 +787,9 @@ def _family_of(target):
     """(family label, convention → object matching the target's position) when the target is zxz-dependent."""
     if not _is_scalar(target) and not isinstance(target, sp.MatrixBase):
         return None
+    angles = set(S.euler_angles)
+    if not any(f in angles for _, e in components(target) for f in e.atoms(AppliedUndef)):
+        return None
     for label, fam in _convention_families():
         try:
             base = fam("zxz")
@@ -787,6 +829,26 @@ def _diagnose_components(candidate, target, labels: tuple, seed: int) -> str | N
     return "; ".join(f"component{'s' if len(ls) > 1 else ''} {', '.join(ls)}: {text}" for text, ls in found.items())
 
 
+def _diagnose_terms(candidate_scalar, probe: _Probe, target, equation: bool) -> str | None:
+    """A slip confined to one term of a scalar sum (or of lhs − rhs of an equation): "in the term ...: ..."."""
+    if not isinstance(candidate_scalar, sp.Add):
+        return None
+    terms = sp.Add.make_args(candidate_scalar)
+    if len(terms) > 12:
+        return None
+    for i, term in enumerate(terms):
+        rest = sp.Add(*(terms[:i] + terms[i + 1:]))
+        for text, transform in _slips(term, target, term=True):
+            if text.startswith("transposed"):
+                continue
+            try:
+                if probe.matches([rest + transform(term)]):
+                    return f"in the term {_text(term)}: {text}"
+            except (TypeError, ValueError, AttributeError, sp.PolynomialError):
+                continue
+    return None
+
+
 def _diagnose(candidate, target, seed: int, conventions: bool = True) -> str | None:
     """The first slip whose transformation makes the candidate equal to the target (numerically), or None."""
     equation = isinstance(target, (sp.Equality, list))
@@ -798,6 +860,12 @@ def _diagnose(candidate, target, seed: int, conventions: bool = True) -> str | N
     t_flat = [freeze_functions(e, mapping)[0] for _, e in components(t_sc)]
     c_flat = [freeze_functions(e, mapping)[0] for _, e in components(c_sc)]
     symbols = set().union(*(e.free_symbols for e in t_flat + c_flat))
+    extra = set().union(*(e.free_symbols for e in c_flat)) - set().union(*(e.free_symbols for e in t_flat))
+    extra = {x for x in extra if x not in _state_symbols(mapping) and not _is_symbol_name(str(x))}
+    if extra:  # names of the package (angles, rates, moments) may be slips; other names cannot be
+        names = ", ".join(sorted(map(str, extra)))
+        known = ", ".join(sorted({str(x) for e in t_flat for x in e.free_symbols})) or "none"
+        return f"names the target does not have: {names} (a typo? the target's names are {known})"
     probe = _Probe(t_flat, symbols, mapping, seed, proportional=equation)
     if not probe.usable:
         return None
@@ -809,6 +877,9 @@ def _diagnose(candidate, target, seed: int, conventions: bool = True) -> str | N
                 return text
         except (TypeError, ValueError, AttributeError, sp.PolynomialError):
             continue
+    found = _diagnose_terms(c_sc, probe, target, equation)
+    if found:
+        return found
     family = _family_of(target) if conventions else None
     if family is not None:
         label, fam = family
@@ -841,7 +912,9 @@ def verify(candidate, against, *, points: int = 5, dps: int = 30, seed: int = 0,
     points, dps, seed : int
         The numeric test: number of seeded random points and working digits (tolerance ``10**(-dps/2)``).
     budget : float or None
-        Seconds for the exact attempt; past it the decision is numeric only (None: no limit).
+        Seconds for the exact attempt (the factor of equations, the proof and the tidying of the difference);
+        past it the decision is numeric only. The search for a slip has the same number of seconds of its own.
+        None: no limit. The budget needs an interval timer: POSIX, main thread, no other timer running.
     latex : bool
         Read a string candidate as LaTeX.
 
@@ -885,7 +958,7 @@ def verify(candidate, against, *, points: int = 5, dps: int = 30, seed: int = 0,
     if isinstance(candidate, str):
         cand = (parse_latex if latex else parse)(candidate, known=known, argument="candidate")
     else:
-        cand = candidate
+        cand = _unify_names(_normalize(candidate, "candidate"), known)
     cand = _align(_normalize(cand, "candidate"), target)
 
     equation = isinstance(target, (sp.Equality, list))
@@ -898,15 +971,24 @@ def verify(candidate, against, *, points: int = 5, dps: int = 30, seed: int = 0,
     except _BudgetExceeded:
         budget_note = f"; the search for the equations' factor stopped at the {budget:g} s budget"
         (a, b), factor = (_equation_differences(cand, target) if equation else (cand, target)), None
-    # 2. numeric, at high precision: a point where they differ proves inequality
-    result = compare(a, b, points=points, dps=dps, seed=seed, exact=False)
-    numeric_text = f"numeric ({result.points} points at {result.dps} digits, relative tolerance {result.tolerance:.0e})"
+    # 2. numeric, at high precision: a point where they differ proves inequality. The difference itself is
+    #    evaluated (evalf is adaptive: its digits are the difference's own, so a small difference between large
+    #    values is not lost to the relative tolerance of each side).
+    diff = _difference(a, b)
+    result = compare(diff, _zeros_like(diff), points=points, dps=dps, seed=seed, exact=False)
+    counterexample = _complete_point(result.counterexample, a, b, seed)
+    numeric_text = (f"numeric ({result.points} points at {result.dps} digits, |difference| <= "
+                    f"{result.tolerance:.0e})")
     if not result.equal:
         exact, method = False, f"counterexample found by {numeric_text}"
-        difference = _map_scalars(result.difference, _tidy)
+        try:
+            with _time_budget(_remaining(deadline)):
+                difference = _map_scalars(result.difference, _tidy)
+        except _BudgetExceeded:
+            difference = result.difference
     else:
         # 3. exact: every component of the difference simplified to zero, within the budget
-        exact, strategies, stopped = _prove(_difference(a, b), deadline)
+        exact, strategies, stopped = _prove(diff, deadline)
         if exact:
             method = f"exact ({', '.join(strategies)}) + {numeric_text}"
             difference = _map_scalars(result.difference, lambda e: sp.Integer(0))
@@ -918,15 +1000,22 @@ def verify(candidate, against, *, points: int = 5, dps: int = 30, seed: int = 0,
     note = ("; equations compared as lhs − rhs up to a non-zero factor free of the state variables"
             if equation and factor is not None else "")
     differing = tuple(result.differing) if isinstance(target, (sp.MatrixBase, list)) else ()
-    diagnosis = _diagnose(cand, target, seed) if not result.equal else None
-    if diagnosis is None and differing and len(differing) < len(_labelled(target)):
-        diagnosis = _diagnose_components(cand, target, differing, seed)
+    diagnosis = None
+    if not result.equal:
+        # the diagnosis has a budget of its own (the same number of seconds)
+        try:
+            with _time_budget(budget):
+                diagnosis = _diagnose(cand, target, seed)
+                if diagnosis is None and differing and len(differing) < len(_labelled(target)):
+                    diagnosis = _diagnose_components(cand, target, differing, seed)
+        except _BudgetExceeded:
+            budget_note += f"; the search for a slip stopped at the {budget:g} s budget"
     return Verdict(
         equal=bool(result.equal),
         exact=exact,
         method=method + note + budget_note,
         difference=difference,
-        counterexample=result.counterexample,
+        counterexample=counterexample,
         diagnosis=diagnosis,
         components=differing,
         candidate=cand,
@@ -968,6 +1057,29 @@ def _prove(diff, deadline: float | None) -> tuple[bool | None, list[str], bool]:
     return True, strategies, False
 
 
+def _zeros_like(obj):
+    if isinstance(obj, sp.MatrixBase):
+        return sp.zeros(obj.rows, obj.cols)
+    if isinstance(obj, list):
+        return [_zeros_like(o) for o in obj]
+    return sp.Integer(0)
+
+
+def _complete_point(point: dict | None, a, b, seed: int) -> dict | None:
+    """Give the symbols that cancelled from the difference a value too (any value: the difference does not depend
+    on them), so that both sides can be evaluated at the counterexample."""
+    if point is None:
+        return None
+    mapping: dict = {}
+    names = set()
+    for obj in (a, b):
+        for _, e in components(obj):
+            names |= freeze_functions(e, mapping)[0].free_symbols
+    missing = sorted((x for x in names if str(x) not in point), key=sp.default_sort_key)
+    filled = _quick_points(missing, 1, seed + 1)[0] if missing else {}
+    return {**point, **{str(k): v for k, v in filled.items()}}
+
+
 def _difference(a, b):
     """a − b in the shape of a (matrices, lists and scalars)."""
     if isinstance(a, list):
@@ -1002,7 +1114,7 @@ def cli(argv: list[str]) -> int:
     --------
     >>> cli(["2*sin(x)*cos(x)", "--against", "sin(2*x)"])
     EQUAL
-      method:         exact (...) + numeric (5 points at 30 digits, relative tolerance 1e-15)
+      method:         exact (...) + numeric (5 points at 30 digits, |difference| <= 1e-15)
     0
     """
     parser = argparse.ArgumentParser(
@@ -1035,9 +1147,10 @@ def cli(argv: list[str]) -> int:
             for n in names:
                 print(f"{n:<{width}}  {QUANTITIES[n].description}")
         return 0
-    if args.expr is None or args.against is None:
-        raise InvalidInput("EXPR/--against", args.expr if args.expr is None else args.against,
-                           "a formula and --against NAME (or --list)")
+    if args.expr is None:
+        raise InvalidInput("EXPR", None, "a formula to check (quote it), or --list")
+    if args.against is None:
+        raise InvalidInput("--against", None, "a quantity name (see --list) or a formula to check EXPR against")
     verdict = verify(args.expr, args.against, points=args.points, dps=args.dps, seed=args.seed,
                      budget=args.budget, latex=args.latex)
     if args.json:

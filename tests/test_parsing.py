@@ -95,7 +95,16 @@ def test_latex_matches_plain():
     assert parse_latex(r"\sqrt{I_3^{2}}") == S.I3
 
 
-@pytest.mark.parametrize("text", ["{" * 1000 + "x" + "}" * 1000, r"\frac" * 600 + "{1}{2}" * 600,
+def test_latex_matrices_as_printed_in_the_text():
+    D = parse_latex(r"\begin{pmatrix} \cos \phi & \sin \phi & 0 \\ -\sin \phi & \cos \phi & 0 \\ 0 & 0 & 1"
+                    r" \end{pmatrix}")
+    assert D == sp.Matrix([[sp.cos(S.phi), sp.sin(S.phi), 0], [-sp.sin(S.phi), sp.cos(S.phi), 0], [0, 0, 1]])
+    I = parse_latex(r"M a^2 \begin{bmatrix} 2/3 & -1/4 \\ -1/4 & 2/3 \\ \end{bmatrix}")
+    assert I.shape == (2, 2) and I[0, 1] == -S.M * _a**2 / 4
+
+
+@pytest.mark.parametrize("text", ["{" * 1000 + "x" + "}" * 1000, r"a & b", r"a \\ b",
+                                  r"\begin{tabular}x\end{tabular}", r"\begin{pmatrix} a \end{bmatrix}", r"\frac" * 600 + "{1}{2}" * 600,
                                   r"\input{/etc/passwd}", r"\def\x{1}", r"\immediate\write18{ls}", "\\",
                                   r"\frac{1}", r"\mathrm{x}", r"\dot{1+2}"])
 def test_latex_refusals(text):

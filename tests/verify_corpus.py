@@ -3,7 +3,8 @@
 Right ones are written differently from the derived objects (expanded, factored, identities applied, divided
 through); wrong ones carry one slip of every kind the diagnosis knows (sign, factor 2, φ↔ψ, sin↔cos, index swap,
 another Euler convention, transposed matrix, degrees for radians) plus some no single slip explains. For vectors,
-matrices and lists of equations a slip confined to some components is named per component.
+matrices and lists of equations a slip confined to some components is named per component, and in a sum a slip
+confined to one term is named with the term.
 
 The targets are derived quantities (names in ``eulersym.verify.QUANTITIES``, optionally indexed), never typed
 answers. ``tests/test_verify.py`` runs every case; ``eulersym bench verify`` times them.
@@ -46,12 +47,20 @@ EULER_2 = "I2 omega2' - (I3 - I1) omega3 omega1 = N2"
 EULER_3 = "I3 omega3' - (I1 - I2) omega1 omega2 = N3"
 
 CASES: tuple[Case, ...] = (
-    # §4.1–4.2 rotation matrices
+    # §4.1 orthogonal transformations
+    Case("dof", "4.1", "3 * 3 - 3", "4.1.dof", True),
+    Case("dof-no-constraints", "4.1", "3 * 3", "4.1.dof", False, None),
+    Case("proper", "4.1", "1", "4.1.proper", True),
+    Case("improper", "4.1", "-1", "4.1.proper", False, "overall sign"),
+    Case("orthogonality", "4.1", "[[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "4.1.orthogonality", True),
+    # §4.2 rotation matrices
     Case("D-written", "4.2", "[[cos(phi), sin(phi), 0], [-sin(phi), cos(phi), 0], [0, 0, 1]]", "D", True),
     Case("D-transposed", "4.2", "[[cos(phi), -sin(phi), 0], [sin(phi), cos(phi), 0], [0, 0, 1]]", "D", False,
          "transposed"),
     Case("C-transposed", "4.2", "[[1, 0, 0], [0, cos(theta), -sin(theta)], [0, sin(theta), cos(theta)]]", "C",
          False, "transposed", ("[1, 2]", "[2, 1]")),
+    Case("C-latex-as-printed", "4.2", r"\begin{pmatrix} 1 & 0 & 0 \\ 0 & \cos \theta & \sin \theta \\ 0 & -\sin "
+         r"\theta & \cos \theta \end{pmatrix}", "C", True, latex=True),
     Case("B-unicode", "4.2", "[[cos ψ, sin ψ, 0], [−sin ψ, cos ψ, 0], [0, 0, 1]]", "B", True),
     Case("A-product", "4.2", A_ZXZ, "A", True),
     Case("A-zyz", "4.2", A_ZYZ, "A", False, "'zyz'"),
@@ -78,6 +87,7 @@ CASES: tuple[Case, ...] = (
     Case("w-zyz", "4.2", "[-phidot sin(theta) cos(psi) + thetadot sin(psi), phidot sin(theta) sin(psi) + "
          "thetadot cos(psi), phidot cos(theta) + psidot]", "omega_body", False, "'zyz'"),
     Case("w-space-3", "4.2", "dphi/dt + dpsi/dt cos(theta)", "omega_space[2]", True),
+    Case("w1-two-slips", "4.2", "phidot cos(theta) sin(psi) + 2 thetadot cos(psi)", "omega_body[0]", False, None),
     Case("w1-deg-factor", "4.2", "180/pi (phidot sin(theta) sin(psi) + thetadot cos(psi))", "omega_body[0]",
          False, "degrees for radians"),
     # §4.3 inertia
@@ -111,15 +121,38 @@ CASES: tuple[Case, ...] = (
     Case("precession-rate", "4.5", "omega3 (1 - I3/I1)", "symmetric_precession_rate", True),
     Case("precession-rate-sign", "4.5", "(I3 - I1)/I1 omega3", "symmetric_precession_rate", False,
          "overall sign"),
+    # Example 4.2 intermediate axis
+    Case("growth-rate", "Example 4.2", "omega0 sqrt((I3 - I2)(I2 - I1)/(I1 I3))", "intermediate_axis_growth_rate",
+         True),
+    Case("coefficient-sign", "Example 4.2", "(I3 - I2)(I1 - I2)/(I1 I3) omega0^2", "perturbation_coefficient",
+         False, "overall sign"),
+    # Example 4.3 steady precession
+    Case("roots", "Example 4.3", "[(I3 omega3 - sqrt(I3^2 omega3^2 - 4 I1 M g l cos(theta)))/(2 I1 cos(theta)), "
+         "(I3 omega3 + sqrt(I3^2 omega3^2 - 4 I1 M g l cos(theta)))/(2 I1 cos(theta))]", "precession_rates", True),
+    Case("roots-no-2", "Example 4.3", "[(I3 omega3 - sqrt(I3^2 omega3^2 - 4 I1 M g l cos(theta)))/(I1 cos(theta)), "
+         "(I3 omega3 + sqrt(I3^2 omega3^2 - 4 I1 M g l cos(theta)))/(I1 cos(theta))]", "precession_rates", False,
+         "factor 2 too many"),
+    Case("quadratic", "Example 4.3", "I1 cos(theta) phidot^2 - I3 omega3 phidot + M g l = 0",
+         "steady_precession_condition", True),
+    Case("nutation", "Example 4.3", "I1 thetaddot = I1 phidot^2 sin(theta) cos(theta) - I3 omega3 phidot "
+         "sin(theta) + M g l sin(theta)", "nutation_equation", True),
+    Case("nutation-gravity-sign", "Example 4.3", "I1 thetaddot = I1 phidot^2 sin(theta) cos(theta) - I3 omega3 "
+         "phidot sin(theta) - M g l sin(theta)", "nutation_equation", False, "overall sign"),
     # §4.5 heavy top
     Case("L-top-expanded", "4.5", "1/2 I1 thetadot^2 + 1/2 I1 phidot^2 sin(theta)^2 + 1/2 I3 (phidot^2 "
          "cos(theta)^2 + 2 phidot psidot cos(theta) + psidot^2) - M g l cos(theta)", "lagrangian", True),
     Case("L-top-identity", "4.5", "1/2 I1 (thetadot^2 + phidot^2 (1 - cos(theta)^2)) + 1/2 I3 (phidot cos(theta) "
          "+ psidot)^2 - M g l cos(theta)", "lagrangian", True),
     Case("euler-two-slips", "4.4", "I1 omega1' + (I2 - I3) omega2 omega3 = N1; I2 omega2' - (I3 - I1) omega3 omega1"
-         " = 2 N2; " + EULER_3, "euler_equations", False, None, ("[0]", "[1]")),
+         " = 2 N2; " + EULER_3, "euler_equations", False, "component [1]: in the term -2*N2: a factor 2 too many",
+         ("[0]", "[1]")),
     Case("L-top-potential-sign", "4.5", "1/2 I1 (thetadot^2 + phidot^2 sin(theta)^2) + 1/2 I3 (phidot cos(theta) "
+         "+ psidot)^2 + M g l cos(theta)", "lagrangian", False, "in the term M*g*l*cos(theta): overall sign"),
+    Case("L-top-sin-potential", "4.5", "1/2 I1 (thetadot^2 + phidot^2 sin(theta)^2) + 1/2 I3 (phidot cos(theta) "
+         "+ psidot)^2 - M g l sin(theta)", "lagrangian", False, "sin and cos swapped"),
+    Case("L-top-two-slips", "4.5", "I1 (thetadot^2 + phidot^2 sin(theta)^2) + 1/2 I3 (phidot cos(theta) "
          "+ psidot)^2 + M g l cos(theta)", "lagrangian", False, None),
+    Case("p-phi-missing-term", "4.5", "I1 phidot sin(theta)^2 + I3 psidot cos(theta)", "p_phi", False, None),
     Case("p-phi", "4.5", "p_phi = I1 phidot sin(theta)^2 + I3 (phidot cos(theta) + psidot) cos(theta)", "p_phi",
          True),
     Case("p-phi-collected", "4.5", "phidot (I1 sin(theta)^2 + I3 cos(theta)^2) + I3 psidot cos(theta)", "p_phi",

@@ -1,14 +1,4 @@
-"""Median seconds per verdict of ``eulersym verify`` over the corpus, against naive ``simplify(a - b) == 0``.
-
-For every corpus case whose quantity is available, the timed eulersym call is the whole verdict —
-``verify(text, name)``: parsing, resolving, the numeric test, the exact proof and the diagnosis. Imports and the
-derivations of the targets are warmed up first (they are cached), so the figure is "per verdict beyond import".
-The baseline, in the same run, decides the same pairs (already parsed) with ``sympy.simplify(a − b) == 0``
-component by component — no counterexample, no diagnosis — each under a time cap (``--cap`` seconds; a capped
-case counts the cap, so the baseline's figure is a lower bound). The ratio is baseline median / eulersym median.
-
-The corpus is ``tests/verify_corpus.py`` of the source tree (``--corpus PATH`` for another file holding ``CASES``).
-"""
+"""Median seconds per verdict of ``eulersym verify`` over the corpus, against naive ``simplify(a - b) == 0``."""
 
 from __future__ import annotations
 
@@ -102,7 +92,23 @@ def run(cases, *, repeat: int = 3, cap: float = 10.0):
 
 
 def main(argv: list[str]) -> int:
-    """``eulersym bench verify [--repeat N] [--cap S] [--corpus PATH] [--csv FILE]``: print the table and ratio."""
+    """``eulersym bench verify [--repeat N] [--cap S] [--corpus PATH] [--csv FILE]``: print the table and ratio.
+
+    For every corpus case whose quantity is available, the timed eulersym call is the whole verdict —
+    ``verify(text, name)``: parsing, resolving, the numeric test, the exact proof and the diagnosis. Imports and the
+    derivations of the targets are warmed up first (they are cached), so the figure is "per verdict beyond import".
+    The baseline, in the same run, decides the same pairs (already parsed) with ``sympy.simplify(a − b) == 0``
+    component by component — no counterexample, no diagnosis — each under a time cap (``--cap`` seconds; a capped
+    case counts the cap, so the baseline's figure is a lower bound). The ratio is baseline median / eulersym median.
+
+    The corpus is ``tests/verify_corpus.py`` of the source tree (``--corpus PATH`` for another file holding ``CASES``).
+
+    Examples
+    --------
+    >>> main(["--help"])  # doctest: +ELLIPSIS
+    usage: eulersym bench verify ...
+    0
+    """
     parser = argparse.ArgumentParser(prog="eulersym bench verify", description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3, help="timed repetitions per case, best kept (default 3)")
     parser.add_argument("--cap", type=float, default=10.0, help="seconds allowed to the baseline per case")
