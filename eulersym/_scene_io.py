@@ -112,7 +112,7 @@ def _columns(result):
         names += ["q0", "q1", "q2", "q3"]
         blocks.append(lift(result.attitude))
     if result.euler_angles is not None:
-        names += ["angle1", "angle2", "angle3"]
+        names += ["phi", "theta", "psi"]  # the scene's convention, in the order of its sequence
         blocks.append(lift(result.euler_angles))
     if result.polhode is not None:
         names += ["polhode1", "polhode2", "polhode3"]
