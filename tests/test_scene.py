@@ -481,6 +481,15 @@ def test_asked_for_dop853_agrees_with_the_closed_form():
     assert np.max(np.abs(swept.omega[0] - exact.omega)) < 1e-8
 
 
+@pytest.mark.parametrize("method", ["splitting", "RK45", "Radau", "LSODA"])
+def test_every_asked_for_method_meets_the_accuracy(method):
+    exact = simulate(Scene(**FREE))
+    r = simulate(Scene(**FREE, method=method, accuracy=1e-9))
+    assert method in r.plan.engine or "splitting" in r.plan.engine
+    assert np.max(np.abs(r.omega - exact.omega)) / np.max(np.abs(exact.omega)) < 1e-9
+    assert r.drift["energy"] < 1e-8
+
+
 def test_symmetric_closed_form_precesses_at_the_derived_rate():
     """ω⊥ turns at Ω = (I1 − I3)/I1 ω3: checked by the phase of ω1 + iω2 (the rate is recomputed here)."""
     I1, I3, w3 = 2.0, 1.0, 5.0
