@@ -112,7 +112,7 @@ def _columns(result):
         names += ["q0", "q1", "q2", "q3"]
         blocks.append(lift(result.attitude))
     if result.euler_angles is not None:
-        names += ["angle1", "angle2", "angle3"]
+        names += ["phi", "theta", "psi"]  # the scene's convention, in the order of its sequence
         blocks.append(lift(result.euler_angles))
     if result.polhode is not None:
         names += ["polhode1", "polhode2", "polhode3"]
@@ -204,8 +204,13 @@ def plot(result, path: str) -> None:
             gamma = result.gamma if single else result.gamma[0]
             theta = np.degrees(np.arccos(np.clip(gamma[:, 2], -1, 1)))
             ax.plot(result.t, theta)
-            ax.axhline(theta.min(), ls="--", color="0.5")
-            ax.axhline(theta.max(), ls="--", color="0.5")
+            if single and result.turning_points is not None:
+                for k, value in enumerate(np.degrees(result.turning_points)):
+                    ax.axhline(value, ls="--", color="0.5", label="θ1, θ2 derived" if k == 0 else None)
+                ax.legend()
+            else:
+                ax.axhline(theta.min(), ls="--", color="0.5")
+                ax.axhline(theta.max(), ls="--", color="0.5")
             ax.set_xlabel("t")
             ax.set_ylabel("θ (degrees)")
             ax.set_title("nutation between θ1 and θ2")

@@ -12,7 +12,19 @@ import numpy as np
 from eulersym.errors import InvalidInput
 from eulersym.scene import SPLITTING_ACCURACY, SYMMETRY_RTOL, Plan, Step, _values
 
-__all__ = ["make_plan", "classify_moments", "heavy_top_frame"]
+__all__ = ["make_plan", "classify_moments", "heavy_top_frame", "ivp_tolerances"]
+
+
+def ivp_tolerances(accuracy: float) -> tuple:
+    """``(rtol, atol)`` for an adaptive integrator asked for a relative ``accuracy``: a decade of margin, since rtol
+    bounds the local error and the global error grows along an unstable motion (the falling sleeping top).
+
+    Examples
+    --------
+    >>> ivp_tolerances(1e-6)
+    (1e-07, 1e-10)
+    """
+    return max(accuracy / 10, 1e-13), max(accuracy * 1e-4, 1e-16)
 
 
 def classify_moments(moments) -> str:
@@ -146,11 +158,11 @@ def make_plan(scene, moments=None) -> Plan:
             options["module"] = module
             if batch > 1:
                 engine = f"integrate: batched DOP853 on {module}"
-                steps.append(Step("integrate", f"{batch} members in one vectorised pass", f"adaptive DOP853 on the batched kernel, rtol = {scene.accuracy:g}"))
+                steps.append(Step("integrate", f"{batch} members in one vectorised pass", f"adaptive DOP853 on the batched kernel, rtol = {ivp_tolerances(scene.accuracy)[0]:g}"))
                 options["call"] = "batched"
             else:
                 engine = f"integrate: {method} on {module}"
-                steps.append(Step("integrate", f"solve_ivp {method} on {module}", f"asked for, at rtol = {scene.accuracy:g}"))
+                steps.append(Step("integrate", f"solve_ivp {method} on {module}", f"asked for, at rtol = {ivp_tolerances(scene.accuracy)[0]:g}"))
                 options["call"] = "integrate_ivp"
                 options["ivp_method"] = method
         if not wants_attitude and "attitude" not in propagate:
@@ -163,23 +175,28 @@ def make_plan(scene, moments=None) -> Plan:
         skipped.append(Step("skip", "Euler-angle kernel heavy_top_euler_angles", "singular at θ = 0 (the sleeping top); the Euler–Poisson form (ω, Γ, q) is not"))
         if batch > 1:
             engine = "integrate: batched DOP853 on heavy_top_euler_poisson"
-            steps.append(Step("integrate", f"{batch} members in one vectorised pass", f"adaptive DOP853 on the batched kernel, rtol = {scene.accuracy:g}, one step size per chunk of members"))
+            steps.append(Step("integrate", f"{batch} members in one vectorised pass", f"adaptive DOP853 on the batched kernel, rtol = {ivp_tolerances(scene.accuracy)[0]:g}, one step size per chunk of members"))
             options["call"] = "batched"
         elif method == "splitting" or (method == "auto" and symmetric and scene.accuracy >= SPLITTING_ACCURACY):
-            engine = "integrate: splitting (Strang, Euler–Poisson form)"
-            why = "asked for" if method == "splitting" else f"accuracy {scene.accuracy:g} ≥ {SPLITTING_ACCURACY:g}: second order is cheapest here"
+            engine = "integrate: splitting (Yoshida 4th order, Euler–Poisson form)"
+            why = "asked for" if method == "splitting" else (
+                f"accuracy {scene.accuracy:g} ≥ {SPLITTING_ACCURACY:g}: the geometric splitting, step (30·accuracy)^¼/Ω, Ω the fastest "
+                "of the nutation, pendulum and transverse rates")
             steps.append(Step("integrate", "eulersym.numerics.integrate_heavy_top", why + "; |Γ| and L·Γ conserved, never singular at θ = 0"))
             options["call"] = "integrate_heavy_top"
         else:
             m = "DOP853" if method == "auto" else method
             engine = f"integrate: {m} on heavy_top_euler_poisson"
             why = "asked for" if method != "auto" else (
-                f"accuracy {scene.accuracy:g} < {SPLITTING_ACCURACY:g}: an 8th-order adaptive method is cheapest" if symmetric
+                f"accuracy {scene.accuracy:g} < {SPLITTING_ACCURACY:g}: an 8th-order adaptive method, its step following the motion" if symmetric
                 else "an asymmetric (or not yet derived) body: the symmetric-top splitting does not apply")
-            steps.append(Step("integrate", f"solve_ivp {m} on heavy_top_euler_poisson (ω, Γ, q)", f"{why}; rtol = {scene.accuracy:g}"))
+            steps.append(Step("integrate", f"solve_ivp {m} on heavy_top_euler_poisson (ω, Γ, q)", f"{why}; rtol = {ivp_tolerances(scene.accuracy)[0]:g}"))
             options["call"] = "integrate_ivp"
             options["ivp_method"] = m
         steps.append(Step("compute", "attitude", "propagated: the gravity torque M g l Γ × e3 depends on the vertical Γ"))
+        if batch == 1 and symmetric and "euler_angles" in outputs:
+            derive.append("top.turning_points")
+            steps.append(Step("derive", "turning points θ1, θ2", "θ(t) is reported against the roots of the effective-potential cubic (eulersym.top), from E, p_φ, p_ψ"))
         if _upright_start(scene):
             derive.append("top.sleeping_top_threshold")
             steps.append(Step("derive", "sleeping-top threshold 4 M g l I1 / I3²", "the start is near upright: report ω3² against the derived bound"))
@@ -195,12 +212,12 @@ def make_plan(scene, moments=None) -> Plan:
         m = "DOP853" if method == "auto" else method
         if batch > 1:
             engine = f"integrate: batched DOP853 on {' + '.join(kernels)}"
-            steps.append(Step("integrate", f"{batch} members in one vectorised pass", f"adaptive DOP853 on the batched kernels, rtol = {scene.accuracy:g}"))
+            steps.append(Step("integrate", f"{batch} members in one vectorised pass", f"adaptive DOP853 on the batched kernels, rtol = {ivp_tolerances(scene.accuracy)[0]:g}"))
             options["call"] = "batched"
         else:
             engine = f"integrate: {m} on {' + '.join(kernels)}"
             why = "asked for" if method != "auto" else "no closed form and no splitting with a torque: an 8th-order adaptive method"
-            steps.append(Step("integrate", f"solve_ivp {m} on Euler's equations with N{' and q̇ = ½ q ⊗ (0, ω)' if needs_q else ''}", f"{why}; rtol = {scene.accuracy:g}"))
+            steps.append(Step("integrate", f"solve_ivp {m} on Euler's equations with N{' and q̇ = ½ q ⊗ (0, ω)' if needs_q else ''}", f"{why}; rtol = {ivp_tolerances(scene.accuracy)[0]:g}"))
             options["call"] = "integrate_ivp" if not needs_q else "ivp_combined"
             options["ivp_method"] = m
         if space:

@@ -18,6 +18,28 @@ upward vertical is ``Gamma = A @ (0, 0, 1)``, and ``Gamma3 = cos(theta)``. A piv
 Sweeps: wherever a scene takes a number it may take a list of numbers or a range ``{start, stop, num}`` instead;
 the members are the outer product of all swept values, run in one vectorised pass on the batched kernels.
 
+The TOML layout (every key optional unless marked; ``eulersym simulate --list`` names bundled examples to copy)::
+
+    name = "my-scene"                    # and description = "..."
+    [body]                               # exactly one of: moments | tensor | shape (+ mass and dimensions)
+    moments = [I1, I2, I3]               # or tensor = [[..], [..], [..]]
+    shape = "cone"                       # cube, cuboid, sphere, cylinder, cone, ellipsoid
+    mass = 0.5                           # with a, b, c, R, h as the shape needs, and origin = "apex" ...
+    [pivot]                              # a heavy top: centre of mass at l e3 above the pivot
+    l = 0.04                             # required in [pivot]
+    g = 9.81
+    [torque]                             # a constant torque: body = [..] or space = [..]
+    [initial]
+    omega = [w1, w2, w3]                 # required; or omega_space = [..]
+    euler = [phi, theta, psi]            # and convention = "zxz"; or quaternion = [..]; or axis = [..], angle = ..
+    [time]
+    end = 10.0                           # required, > 0
+    points = 1001
+    [output]
+    want = ["omega", "invariants"]       # omega, attitude, euler_angles, invariants, polhode
+    accuracy = 1e-8
+    method = "auto"                      # auto, closed-form, splitting, DOP853, RK45, Radau, LSODA
+
 Examples
 --------
 >>> scene = Scene(moments=(1.0, 2.0, 3.0), omega=(0.01, 1.0, 0.01), t_end=10.0, outputs=("omega",))
@@ -35,14 +57,13 @@ from __future__ import annotations
 
 import dataclasses
 import difflib
+import functools
 import math
 import numbers
 import os
-import sys
 import tomllib
 from dataclasses import dataclass, field
 from importlib import resources
-from types import MappingProxyType
 from typing import Any, Mapping
 
 import numpy as np
@@ -142,6 +163,15 @@ _TOML_LAYOUT: dict[str, dict[str, Any]] = {
     },
     "time": {"end": "t_end", "points": "points"},
     "output": {"want": "outputs", "accuracy": "accuracy", "method": "method"},
+}
+
+
+#: Scene keyword → where it lives in a TOML file (for messages about keys a file lacks).
+_TOML_PATHS = {
+    target: (f"{section}.{key}" if section else key)
+    for section, keys in _TOML_LAYOUT.items()
+    for key, target in keys.items()
+    if isinstance(target, str)
 }
 
 
@@ -407,6 +437,8 @@ class Scene:
                 raise InvalidInput(where[exc.argument], exc.value, exc.expected) from None
             if base in where:
                 raise InvalidInput(where[base] + rest, exc.value, exc.expected) from None
+            if base in _TOML_PATHS:  # a key the file lacks: name where it would go
+                raise InvalidInput(_TOML_PATHS[base] + rest, exc.value, exc.expected) from None
             raise
 
     # ---- derived facts (pure) -----------------------------------------------------------------------------
@@ -427,7 +459,7 @@ class Scene:
             return "torque"
         return "torque-free"
 
-    @property
+    @functools.cached_property
     def sweeps(self) -> tuple:
         """``((label, Sweep), ...)`` for every swept number, in field order.
 
@@ -744,7 +776,7 @@ class Plan:
     skipped: tuple
     batch: int = 1
     method: str = ""
-    options: Mapping = field(default_factory=dict)
+    options: Mapping = field(default_factory=dict, compare=False)
 
     def __str__(self) -> str:
         head = f"plan for {self.scene!r} ({self.regime}, {self.body} body"
@@ -786,6 +818,18 @@ class Result:
         Kernel evaluations (0 for a closed form).
     notes : tuple of str
         Facts for the report (turning points, the sleeping-top threshold, ...).
+    gamma : ndarray (n, 3) or None
+        The body-frame upward vertical Γ (heavy top), Γ3 = cos θ.
+    turning_points : (θ1, θ2) or None
+        Heavy top with Euler-angle output: the nutation's turning points (radians), derived by eulersym.top.
+
+    Examples
+    --------
+    >>> r = simulate(Scene(moments=(1, 2, 3), omega=(0.1, 1, 0.2), t_end=4, points=5, outputs=("omega", "polhode")))
+    >>> r.t.tolist(), r.omega.shape, r.attitude is None, r.propagated
+    ([0.0, 1.0, 2.0, 3.0, 4.0], (5, 3), True, ('omega',))
+    >>> bool(np.allclose(r.polhode, r.omega))  # principal moments given: the body frame is the principal frame
+    True
     """
 
     t: np.ndarray
@@ -805,6 +849,7 @@ class Result:
     n_rhs_calls: int = 0
     notes: tuple = ()
     gamma: np.ndarray | None = None
+    turning_points: tuple | None = None
 
     def report(self) -> str:
         """A short text report: the plan, the invariants' drift, the timings and notes.

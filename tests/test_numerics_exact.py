@@ -10,6 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from eulersym.bench.workprecision import mp_reference_omega
 from eulersym.errors import InvalidInput
 from eulersym.numerics import exact
 from eulersym.numerics.exact import (
@@ -21,43 +22,6 @@ from eulersym.numerics.exact import (
 )
 
 SEED = 20261121
-
-
-def mp_reference_omega(I, w0, ts, dps=40):
-    """ω(t) from mpmath's elliptic functions with every constant formed at ``dps`` digits from the exact floats.
-
-    Independent of the package's arithmetic: m from mpmath (as 1 − m_c is exact at this precision), u0 from
-    ``mpmath.ellipf`` of the amplitude, sn/cn/dn from ``mpmath.ellipfun``; the (a, b, c) frame chosen by the sign
-    of L² − 2E·I_mid.
-    """
-    with mp.workdps(dps):
-        If = [mp.mpf(float(x)) for x in I]
-        w = [mp.mpf(float(x)) for x in w0]
-        two_e = sum(If[i] * w[i] ** 2 for i in range(3))
-        lsq = sum(If[i] ** 2 * w[i] ** 2 for i in range(3))
-        order = sorted(range(3), key=lambda k: If[k])
-        lo, mid, hi = order
-        idx = (lo, mid, hi) if lsq - two_e * If[mid] >= 0 else (hi, mid, lo)
-        a, b, c = idx
-        sgn = [1, 1, 1] if (b - a) % 3 == 1 else [1, -1, 1]
-        Ia, Ib, Ic = If[a], If[b], If[c]
-        wa, wb, wc = sgn[0] * w[a], sgn[1] * w[b], sgn[2] * w[c]
-        A = mp.sqrt((two_e * Ic - lsq) / (Ia * (Ic - Ia)))
-        C = mp.sqrt((lsq - two_e * Ia) / (Ic * (Ic - Ia))) * mp.sign(wc)
-        lam = mp.sqrt((Ic - Ib) * (lsq - two_e * Ia) / (Ia * Ib * Ic))
-        B = (Ic - Ia) * C * A / (lam * Ib)
-        m = (Ib - Ia) * (two_e * Ic - lsq) / ((Ic - Ib) * (lsq - two_e * Ia))
-        amp0 = mp.atan2(wb / B, wa / A)
-        u0 = mp.ellipf(amp0, m)
-        out = []
-        for t in ts:
-            u = lam * mp.mpf(float(t)) + u0
-            vals = [A * mp.ellipfun("cn", u, m), B * mp.ellipfun("sn", u, m), C * mp.ellipfun("dn", u, m)]
-            row = [0.0, 0.0, 0.0]
-            for k in range(3):
-                row[idx[k]] = float(sgn[k] * vals[k])
-            out.append(row)
-        return np.array(out)
 
 
 def mp_ode(I, w0, q0, ts, dps=30):
@@ -78,7 +42,7 @@ def mp_ode(I, w0, q0, ts, dps=30):
             ]
 
         y0 = [mp.mpf(float(x)) for x in list(w0) + list(q0)]
-        sol = mp.odefun(f, 0, y0, tol=mp.mpf(10) ** (-dps))
+        sol = mp.odefun(f, 0, y0, tol=mp.mpf(10) ** (-22))  # 30-digit arithmetic, 1e-22 local tolerance
         return np.array([[float(v) for v in sol(mp.mpf(float(t)))] for t in ts])
 
 
@@ -141,7 +105,7 @@ def test_random_suite_against_mpmath(rng):
             eps = {1: 3e-9, 2: 1e-8}.get(case, 10.0 ** -rng.uniform(1, 8.5))
             w = _near_separatrix_start(I, eps, rng)
         mcs.append(_mc_of(I, w))
-        ts = rng.uniform(-20, 40, 5)
+        ts = rng.uniform(-1e3, 1e4, 5)
         got = free_rigid_body_exact(I, w, ts)
         want = mp_reference_omega(I, w, ts)
         L = math.sqrt(np.sum((I * w) ** 2))
@@ -153,7 +117,7 @@ def test_random_suite_against_mpmath(rng):
 def test_against_30_digit_taylor_integration():
     """Independent of the elliptic formulas: mpmath's Taylor ODE solver at 30 digits, incl. near the separatrix."""
     for I, w in [((1.0, 2.0, 3.0), (1.0, 0.5, 0.2)), ((3.0, 2.0, 1.5), (0.3, 1.0, 0.5)), ((2.0, 1.0, 2.5), (1e-6, 1.0, -2e-6))]:
-        ts = [0.5, 4.0]
+        ts = [0.5, 3.0]
         got = free_rigid_body_exact(I, w, ts)
         want = mp_ode(I, w, (1, 0, 0, 0), ts)[:, :3]
         assert np.max(np.abs(got - want)) <= 1e-14
@@ -165,7 +129,7 @@ def test_separatrix_closed_form():
     w = np.array([2.0, 0.5, 1.0])
     sol = exact._setup(I, w)
     assert sol.mc == 0.0 and math.isinf(sol.K)
-    ts = np.array([0.0, 1.0, 5.0, 60.0])
+    ts = np.array([0.0, 1.0, 3.0, 60.0])
     got = free_rigid_body_exact(I, w, ts)
     want = mp_ode(I, w, (1, 0, 0, 0), ts[:3])[:, :3]
     assert np.max(np.abs(got[:3] - want)) <= 1e-14
@@ -256,7 +220,7 @@ ATTITUDE_CASES = [
 @pytest.mark.parametrize("I, w", ATTITUDE_CASES)
 def test_attitude_against_30_digit_integration(I, w):
     q0 = np.array([0.5, 0.5, -0.5, 0.5])
-    ts = [0.0, 1.3, 4.0]
+    ts = [0.0, 1.3, 3.0]
     om, q = free_rigid_body_attitude_exact(I, w, q0, ts)
     want = mp_ode(I, w, q0, ts)
     assert np.max(np.abs(om - want[:, :3])) <= 1e-14

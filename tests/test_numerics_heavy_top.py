@@ -101,6 +101,7 @@ def test_sleeping_threshold_within_one_percent():
         {"h": 0.0},
         {"h": 1e3},
         {"method": "rk4"},
+        {"fast": 2.5},
     ],
 )
 def test_bad_input(kwargs):
@@ -108,3 +109,24 @@ def test_bad_input(kwargs):
     args.update(kwargs)
     with pytest.raises(InvalidInput):
         integrate_heavy_top(args.pop("I"), args.pop("M"), args.pop("g"), args.pop("l"), args.pop("omega0"), args.pop("q0"), args.pop("t"), **args)
+
+
+@pytest.mark.parametrize("method", ["strang", "yoshida4"])
+def test_compiled_and_python_paths_agree(method):
+    from eulersym.numerics import _fast
+
+    if not _fast.available():
+        pytest.skip("numba (the 'fast' extra) is not installed")
+    ts = np.linspace(0.0, 5.0, 6)
+    a = integrate_heavy_top(I, M, G, L, W0, Q_TILT, ts, h=0.01, method=method, fast=False)
+    b = integrate_heavy_top(I, M, G, L, W0, Q_TILT, ts, h=0.01, method=method, fast=True)
+    assert np.max(np.abs(a.omega - b.omega)) <= 1e-12 and np.max(np.abs(a.gamma - b.gamma)) <= 1e-13
+    assert a.n_rhs_calls == b.n_rhs_calls
+
+
+def test_fast_required_without_numba(monkeypatch):
+    from eulersym.numerics import _fast
+
+    monkeypatch.setattr(_fast, "available", lambda: False)
+    with pytest.raises(InvalidInput):
+        integrate_heavy_top(I, M, G, L, W0, Q_TILT, [0.0, 1.0], h=0.01, fast=True)

@@ -73,3 +73,11 @@ def test_heavy_top_quantities():
     assert invariants.vertical_norm_squared([[0.0, 0.6, 0.8]])[0] == pytest.approx(1.0)
     assert invariants.momentum_vertical((1.0, 1.0, 2.0), [[1.0, 0.0, 1.0]], [[1.0, 0.0, 0.0]])[0] == 1.0
     assert invariants.quaternion_norm_error([[0.0, 0.0, 0.0, 2.0]])[0] == 1.0
+
+
+def test_numerics_does_not_import_sympy():
+    import subprocess
+    import sys
+
+    code = "import sys, eulersym.numerics; sys.exit(1 if 'sympy' in sys.modules else 0)"
+    assert subprocess.run([sys.executable, "-c", code]).returncode == 0

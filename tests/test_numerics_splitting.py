@@ -82,6 +82,7 @@ def test_output_steps():
         {"q0": (2.0, 0.0, 0.0, 0.0)},
         {"I": (1.0, 1.0, 3.0)},
         {"h": 5.0, "omega0": (1e3, 1e3, 1e3), "method": "dmv2"},
+        {"fast": "yes"},
     ],
 )
 def test_bad_input(kwargs):
@@ -89,3 +90,24 @@ def test_bad_input(kwargs):
     args.update(kwargs)
     with pytest.raises(InvalidInput):
         integrate_free_body(args.pop("I"), args.pop("omega0"), args.pop("q0"), args.pop("t"), **args)
+
+
+@pytest.mark.parametrize("method", ["strang", "yoshida4", "dmv2", "dmv4", "dmv6"])
+def test_compiled_and_python_paths_agree(method):
+    from eulersym.numerics import _fast
+
+    if not _fast.available():
+        pytest.skip("numba (the 'fast' extra) is not installed")
+    ts = np.linspace(0.0, 20.0, 5)
+    a = integrate_free_body(I, W0, Q0, ts, method=method, h=0.01, fast=False)
+    b = integrate_free_body(I, W0, Q0, ts, method=method, h=0.01, fast=True)
+    assert np.max(np.abs(a.omega - b.omega)) <= 1e-13 and np.max(np.abs(a.q - b.q)) <= 1e-13
+
+
+def test_fast_required_without_numba(monkeypatch):
+    from eulersym.numerics import _fast
+
+    monkeypatch.setattr(_fast, "available", lambda: False)
+    with pytest.raises(InvalidInput):
+        integrate_free_body(I, W0, Q0, [0.0, 1.0], h=0.1, fast=True)
+    assert integrate_free_body(I, W0, Q0, [0.0, 1.0], h=0.1).omega.shape == (2, 3)  # falls back to Python

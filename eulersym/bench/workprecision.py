@@ -28,6 +28,8 @@ Problems
 
 Baselines (same run): ``solve_ivp`` RK45, DOP853, LSODA, Radau over right-hand sides obtained the usual way —
 SymPy → ``lambdify`` — from :func:`eulersym.dynamics.euler_equations` / ``euler_poisson_equations``.
+eulersym's geometric methods run as plain Python (route ``eulersym``) and, when numba is installed (the ``fast``
+extra), compiled (route ``numba``; the first, compiling call is the warm-up).
 """
 
 from __future__ import annotations
@@ -95,7 +97,7 @@ def lambdify_module(kind: str):
 
 
 def mp_reference_omega(I, w0, ts, dps=40):
-    """ω(t) from mpmath's elliptic functions, every constant formed at ``dps`` digits from the exact floats.
+    """ω(t) from mpmath's elliptic functions, every constant formed at ``dps`` digits (more when m_c is tiny).
 
     Independent of :mod:`eulersym.numerics.exact`'s arithmetic: m from mpmath (1 − m_c is exact at this precision),
     u0 from ``mpmath.ellipf`` of the amplitude, sn/cn/dn from ``mpmath.ellipfun``; the (a, b, c) frame chosen by
@@ -108,6 +110,13 @@ def mp_reference_omega(I, w0, ts, dps=40):
     """
     import mpmath as mp
 
+    with mp.workdps(30):  # the working precision must resolve 1 − m = m_c and the small discriminants
+        If = [mp.mpf(float(x)) for x in I]
+        w = [mp.mpf(float(x)) for x in w0]
+        lsq = sum(If[i] ** 2 * w[i] ** 2 for i in range(3))
+        disc = [abs(sum(If[i] * (If[i] - If[k]) * w[i] ** 2 for i in range(3))) / lsq for k in range(3)]
+        tiny = min([d for d in disc if d > 0] or [mp.mpf(1)])
+        dps = int(dps + max(0, -2 * mp.log10(tiny)))
     with mp.workdps(dps):
         If = [mp.mpf(float(x)) for x in I]
         w = [mp.mpf(float(x)) for x in w0]
@@ -271,6 +280,9 @@ def run_problem(p: Problem, *, repeats=3, max_seconds=60.0, log=print):
         spread = float(np.max(np.abs(ref - np.hstack([check.omega, check.gamma]))))
         ref_note = f"DOP853 rtol 1e-13 (differs from yoshida4 at h=5e-4 by {spread:.1e})"
     log(f"\n== {p.name}: I={p.I} omega0={p.omega0} T={p.T:g}; reference: {ref_note}")
+    from eulersym.numerics import _fast
+
+    routes = [("eulersym", False)] + ([("numba", True)] if _fast.available() else [])
 
     def record(method, route, setting, fn):
         row = dict(problem=p.name, method=method, route=route, setting=setting, time_s="", error="", energy_drift="",
@@ -295,21 +307,23 @@ def run_problem(p: Problem, *, repeats=3, max_seconds=60.0, log=print):
 
     if p.kind == "free":
         record("oracle", "eulersym", "exact", lambda: free_rigid_body_exact(p.I, p.omega0, ts, check_body=p.check_body))
-        for method in p.geometric:
-            for h in p.hs:
-                r = record(method, "eulersym", f"h={h:g}", lambda m=method, h=h: integrate_free_body(
-                    p.I, p.omega0, q0, ts, method=m, h=h, check_body=p.check_body))
-                if r["time_s"] and float(r["time_s"]) > max_seconds:
-                    break
+        for route, fast in routes:
+            for method in p.geometric:
+                for h in p.hs:
+                    r = record(method, route, f"h={h:g}", lambda m=method, h=h, fast=fast: integrate_free_body(
+                        p.I, p.omega0, q0, ts, method=m, h=h, check_body=p.check_body, fast=fast))
+                    if r["time_s"] and float(r["time_s"]) > max_seconds:
+                        break
         mod = lambdify_module("euler_principal")
         y0, params = list(p.omega0), p.I
     else:
-        for method in p.geometric:
-            for h in p.hs:
-                r = record(method, "eulersym", f"h={h:g}", lambda m=method, h=h: integrate_heavy_top(
-                    p.I, M, g, l, p.omega0, q0, ts, h=h, method=m))
-                if r["time_s"] and float(r["time_s"]) > max_seconds:
-                    break
+        for route, fast in routes:
+            for method in p.geometric:
+                for h in p.hs:
+                    r = record(method, route, f"h={h:g}", lambda m=method, h=h, fast=fast: integrate_heavy_top(
+                        p.I, M, g, l, p.omega0, q0, ts, h=h, method=m, fast=fast))
+                    if r["time_s"] and float(r["time_s"]) > max_seconds:
+                        break
         y0 = [*p.omega0, *gamma0, *q0]
     for method in p.baselines:
         for rtol in p.rtols:
@@ -340,7 +354,8 @@ def summarise(rows, log=print):
                 f"energy drift {float(base['energy_drift']):.1e}, invariant drift {float(base['invariant_drift']):.1e}")
             for label, pred in (
                 ("oracle", lambda r: r["method"] == "oracle"),
-                ("geometric", lambda r: r["route"] == "eulersym" and r["method"] != "oracle"),
+                ("geometric, pure Python", lambda r: r["route"] == "eulersym" and r["method"] != "oracle"),
+                ("geometric, numba (fast extra)", lambda r: r["route"] == "numba"),
             ):
                 best = _best(pr, lambda r, pred=pred: pred(r) and float(r["error"]) <= target)
                 if best is None:
@@ -348,7 +363,8 @@ def summarise(rows, log=print):
                         log(f"      {label}: no run reached error {target:.1e}")
                     continue
                 ratio = float(base["time_s"]) / max(float(best["time_s"]), 1e-9)
-                log(f"      {label} {best['method']} {best['setting']}: {float(best['time_s']):.3g} s, error "
+                what = f"{label} {best['method']} {best['setting']}" if best["method"] != "oracle" else label
+                log(f"      {what}: {float(best['time_s']):.3g} s, error "
                     f"{float(best['error']):.2e}, energy drift {float(best['energy_drift']):.1e}, invariant drift "
                     f"{float(best['invariant_drift']):.1e} -> {ratio:.3g}x faster")
 
@@ -363,19 +379,26 @@ def _plot(rows, path):
         return False
     names = list(dict.fromkeys(r["problem"] for r in rows))
     fig, axes = plt.subplots(2, len(names), figsize=(4 * len(names), 7), squeeze=False)
+    series = list(dict.fromkeys((r["method"], r["route"]) for r in rows if r["status"] == "ok"))
+    palette = plt.get_cmap("tab20")
+    colour = {key: palette(k % 20) for k, key in enumerate(series)}  # the same colour in every panel
+    handles = {}
     for j, name in enumerate(names):
         pr = [r for r in rows if r["problem"] == name and r["status"] == "ok"]
-        for method in dict.fromkeys(r["method"] for r in pr):
-            pts = sorted((float(r["time_s"]), float(r["error"]), float(r["energy_drift"])) for r in pr if r["method"] == method)
+        for method, route in dict.fromkeys((r["method"], r["route"]) for r in pr):
+            pts = [(float(r["time_s"]), float(r["error"]), float(r["energy_drift"]))
+                   for r in pr if (r["method"], r["route"]) == (method, route)]  # in order of refinement
+            label = f"{method} ({route})" if route != "eulersym" else method
             x = [max(a, 1e-7) for a, _, _ in pts]
-            axes[0, j].loglog(x, [max(b, 1e-17) for _, b, _ in pts], "o-", label=method)
-            axes[1, j].loglog(x, [max(c, 1e-17) for _, _, c in pts], "o-", label=method)
+            (line,) = axes[0, j].loglog(x, [max(b, 1e-17) for _, b, _ in pts], "o-", color=colour[(method, route)])
+            axes[1, j].loglog(x, [max(c, 1e-17) for _, _, c in pts], "o-", color=colour[(method, route)])
+            handles[label] = line
         axes[0, j].set_title(name)
         axes[1, j].set_xlabel("time [s]")
     axes[0, 0].set_ylabel("max error")
     axes[1, 0].set_ylabel("relative energy drift")
-    axes[0, -1].legend(fontsize=7)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0, 0.88, 1))
+    fig.legend(list(handles.values()), list(handles), loc="center right", fontsize=8)
     fig.savefig(path, dpi=110)
     return True
 

@@ -26,6 +26,7 @@ import math
 import numpy as np
 
 from eulersym.errors import InvalidInput
+from eulersym.numerics.exact import _unit_quaternion
 from eulersym.numerics.splitting import YOSHIDA_GAMMA, output_steps
 from eulersym.numerics.trajectory import Trajectory
 from eulersym.validation import choice, finite_array, moments, positive
@@ -75,9 +76,9 @@ def _free(s, tau, i1inv, nu_coef):
     # ω_b = ν e3: m, Γ and q turn about e3
     half = 0.5 * tau * nu_coef * m2
     c, sn = math.cos(half), math.sin(half)
-    C, S = c * c - sn * sn, 2.0 * sn * c
-    m0, m1 = C * m0 + S * m1, C * m1 - S * m0
-    g0, g1 = C * g0 + S * g1, C * g1 - S * g0
+    # rotation by −2·half about e3 in increment form (C − 1 = −2 s², S = 2 s c): round-off ∝ the increment
+    m0, m1 = m0 - 2.0 * sn * (sn * m0 - c * m1), m1 - 2.0 * sn * (sn * m1 + c * m0)
+    g0, g1 = g0 - 2.0 * sn * (sn * g0 - c * g1), g1 - 2.0 * sn * (sn * g1 + c * g0)
     q0, q1, q2, q3 = q0 * c - q3 * sn, q1 * c + q2 * sn, q2 * c - q1 * sn, q3 * c + q0 * sn
     return (m0, m1, m2, g0, g1, g2, q0, q1, q2, q3)
 
@@ -94,7 +95,43 @@ def _renormalise(s):
     return (m0, m1, m2, g0, g1, g2, q0 * r, q1 * r, q2 * r, q3 * r)
 
 
-def integrate_heavy_top(I, M, g, l, omega0, q0, t, *, h=None, method="strang"):
+def _run_top(state, counts, steps, subs, i1inv, nu_coef, mgl):
+    """The stepping loop (plain Python; compiled unchanged by numba in :mod:`eulersym.numerics._fast`)."""
+    out = np.full((len(counts) + 1, 10), np.nan)
+    s = (state[0], state[1], state[2], state[3], state[4], state[5], state[6], state[7], state[8], state[9])
+    for k in range(10):
+        out[0, k] = s[k]
+    kicks = 0
+    for i in range(len(counts)):
+        hk = steps[i]
+        for _ in range(counts[i]):
+            for gam in subs:
+                tau = gam * hk
+                s = _kick(s, 0.5 * tau, mgl)
+                s = _free(s, tau, i1inv, nu_coef)
+                s = _kick(s, 0.5 * tau, mgl)
+                kicks += 1
+            s = _renormalise(s)
+        for k in range(10):
+            out[i + 1, k] = s[k]
+    return out, kicks
+
+
+def _fast_runner(fast):
+    if not (fast is None or isinstance(fast, bool)):
+        raise InvalidInput("fast", fast, "None (numba when installed), True or False")
+    if fast is False:
+        return None
+    from eulersym.numerics import _fast
+
+    if not _fast.available():
+        if fast:
+            raise InvalidInput("fast", fast, "numba installed (pip install 'eulersym[fast]'), or fast=False/None")
+        return None
+    return _fast.heavy_top_runner()
+
+
+def integrate_heavy_top(I, M, g, l, omega0, q0, t, *, h=None, method="strang", fast=None):
     """Integrate the heavy symmetric top with a non-singular splitting in the Euler–Poisson form.
 
     Parameters
@@ -114,6 +151,8 @@ def integrate_heavy_top(I, M, g, l, omega0, q0, t, *, h=None, method="strang"):
         periods, capped by the output spacing).
     method : {"strang", "yoshida4"}
         Order 2 (Strang) or its order-4 triple-jump composition.
+    fast : bool or None, optional
+        Compiled loop with numba (the ``fast`` extra): None = when installed, True = required, False = plain Python.
 
     Returns
     -------
@@ -140,18 +179,14 @@ def integrate_heavy_top(I, M, g, l, omega0, q0, t, *, h=None, method="strang"):
     M, g, l = (float(positive(name, v)) for name, v in (("M", M), ("g", g), ("l", l)))
     method = choice("method", method, HEAVY_TOP_METHODS)
     w0 = finite_array("omega0", omega0, shape=(3,))
-    qq = finite_array("q0", q0, shape=(4,))
-    nq = float(np.sqrt(np.sum(qq * qq)))
-    if abs(nq - 1.0) > 1e-6:
-        raise InvalidInput("q0", q0, "a unit quaternion (q0, q1, q2, q3), scalar first, |q| = 1")
-    qq = qq / nq
+    qq = _unit_quaternion(q0)
     tt = finite_array("t", t, shape=(None,))
     if tt.size == 0:
         raise InvalidInput("t", t, "at least one output time")
     mgl = M * g * l
     if h is None:
-        fast = max(float(np.max(np.abs(w0))), I[2] * abs(float(w0[2])) / I[0], math.sqrt(mgl / I[0]))
-        h = 2 * math.pi / (32 * fast)
+        fastest = max(float(np.max(np.abs(w0))), I[2] * abs(float(w0[2])) / I[0], math.sqrt(mgl / I[0]))
+        h = 2 * math.pi / (32 * fastest)
         if tt.size > 1:
             h = min(h, float(np.min(np.diff(tt))))
     counts, steps = output_steps(tt, h)
@@ -160,19 +195,11 @@ def integrate_heavy_top(I, M, g, l, omega0, q0, t, *, h=None, method="strang"):
     state = tuple(float(x) for x in (I[0] * w0[0], I[1] * w0[1], I[2] * w0[2], *gamma0, *qq))
     i1inv, nu_coef = 1.0 / I[0], 1.0 / I[2] - 1.0 / I[0]
     subs = (1.0,) if method == "strang" else YOSHIDA_GAMMA
-    out = np.empty((tt.size, 10))
-    out[0] = state
-    kicks = 0
-    for k, (n, hk) in enumerate(zip(counts.tolist(), steps.tolist())):
-        for _ in range(n):
-            for gam in subs:
-                tau = gam * hk
-                state = _kick(state, 0.5 * tau, mgl)
-                state = _free(state, tau, i1inv, nu_coef)
-                state = _kick(state, 0.5 * tau, mgl)
-                kicks += 1
-            state = _renormalise(state)
-        out[k + 1] = state
+    runner = _fast_runner(fast)
+    if runner is not None:
+        out, kicks = runner(state, counts, steps, subs, i1inv, nu_coef, mgl)
+    else:
+        out, kicks = _run_top(state, counts.tolist(), steps.tolist(), subs, i1inv, nu_coef, mgl)
     if not np.all(np.isfinite(out)):
         raise InvalidInput("h", h, "a step small enough for a finite solution")
     inv = np.array([1.0 / I[0], 1.0 / I[1], 1.0 / I[2]])

@@ -30,6 +30,7 @@ import math
 import numpy as np
 
 from eulersym.errors import InvalidInput
+from eulersym.numerics.exact import _unit_quaternion
 from eulersym.numerics.trajectory import Trajectory
 from eulersym.validation import choice, finite_array, moments
 
@@ -52,28 +53,38 @@ YOSHIDA_GAMMA = (1.0 / (2.0 - _CBRT2), -_CBRT2 / (2.0 - _CBRT2), 1.0 / (2.0 - _C
 def _flow1(s, tau, inv, cos, sin):
     m1, m2, m3, q0, q1, q2, q3 = s
     half = 0.5 * tau * m1 * inv[0]
-    c, sn = cos(half), sin(half)
-    C, S = c * c - sn * sn, 2.0 * sn * c
-    return (m1, C * m2 + S * m3, C * m3 - S * m2, q0 * c - q1 * sn, q1 * c + q0 * sn, q2 * c + q3 * sn, q3 * c - q2 * sn)
+    if cos is None:  # scalars (and numba); NumPy arrays pass np.cos, np.sin
+        c, sn = math.cos(half), math.sin(half)
+    else:
+        c, sn = cos(half), sin(half)
+    # increment form of the rotation by 2·half (C − 1 = −2 s², S = 2 s c): round-off ∝ the increment, not |m|
+    a, b = 2.0 * sn * (sn * m2 - c * m3), 2.0 * sn * (sn * m3 + c * m2)
+    return (m1, m2 - a, m3 - b, q0 * c - q1 * sn, q1 * c + q0 * sn, q2 * c + q3 * sn, q3 * c - q2 * sn)
 
 
 def _flow2(s, tau, inv, cos, sin):
     m1, m2, m3, q0, q1, q2, q3 = s
     half = 0.5 * tau * m2 * inv[1]
-    c, sn = cos(half), sin(half)
-    C, S = c * c - sn * sn, 2.0 * sn * c
-    return (C * m1 - S * m3, m2, S * m1 + C * m3, q0 * c - q2 * sn, q1 * c - q3 * sn, q2 * c + q0 * sn, q3 * c + q1 * sn)
+    if cos is None:  # scalars (and numba); NumPy arrays pass np.cos, np.sin
+        c, sn = math.cos(half), math.sin(half)
+    else:
+        c, sn = cos(half), sin(half)
+    a, b = 2.0 * sn * (sn * m1 + c * m3), 2.0 * sn * (sn * m3 - c * m1)
+    return (m1 - a, m2, m3 - b, q0 * c - q2 * sn, q1 * c - q3 * sn, q2 * c + q0 * sn, q3 * c + q1 * sn)
 
 
 def _flow3(s, tau, inv, cos, sin):
     m1, m2, m3, q0, q1, q2, q3 = s
     half = 0.5 * tau * m3 * inv[2]
-    c, sn = cos(half), sin(half)
-    C, S = c * c - sn * sn, 2.0 * sn * c
-    return (C * m1 + S * m2, C * m2 - S * m1, m3, q0 * c - q3 * sn, q1 * c + q2 * sn, q2 * c - q1 * sn, q3 * c + q0 * sn)
+    if cos is None:  # scalars (and numba); NumPy arrays pass np.cos, np.sin
+        c, sn = math.cos(half), math.sin(half)
+    else:
+        c, sn = cos(half), sin(half)
+    a, b = 2.0 * sn * (sn * m1 - c * m2), 2.0 * sn * (sn * m2 + c * m1)
+    return (m1 - a, m2 - b, m3, q0 * c - q3 * sn, q1 * c + q2 * sn, q2 * c - q1 * sn, q3 * c + q0 * sn)
 
 
-def _strang(s, h, inv, cos=math.cos, sin=math.sin):
+def _strang(s, h, inv, par, cos, sin):
     hh = 0.5 * h
     s = _flow1(s, hh, inv, cos, sin)
     s = _flow2(s, hh, inv, cos, sin)
@@ -82,11 +93,11 @@ def _strang(s, h, inv, cos=math.cos, sin=math.sin):
     return _flow1(s, hh, inv, cos, sin)
 
 
-def _yoshida4(s, h, inv, cos=math.cos, sin=math.sin):
+def _yoshida4(s, h, inv, par, cos, sin):
     g1, g2, _ = YOSHIDA_GAMMA
-    s = _strang(s, g1 * h, inv, cos, sin)
-    s = _strang(s, g2 * h, inv, cos, sin)
-    return _strang(s, g1 * h, inv, cos, sin)
+    s = _strang(s, g1 * h, inv, par, cos, sin)
+    s = _strang(s, g2 * h, inv, par, cos, sin)
+    return _strang(s, g1 * h, inv, par, cos, sin)
 
 
 def _rk4_rhs(s, inv):
@@ -103,7 +114,7 @@ def _rk4_rhs(s, inv):
     )
 
 
-def _rk4(s, h, inv, cos=None, sin=None):
+def _rk4(s, h, inv, par, cos, sin):
     k1 = _rk4_rhs(s, inv)
     k2 = _rk4_rhs(tuple(a + 0.5 * h * b for a, b in zip(s, k1)), inv)
     k3 = _rk4_rhs(tuple(a + 0.5 * h * b for a, b in zip(s, k2)), inv)
@@ -133,60 +144,108 @@ def _dmv_coefficients(I, order):
     return c
 
 
-def _make_dmv(I, order):
+def _dmv_parameters(I, order):
+    """(I1, I2, I3, s31, s32, d31, d32, s51, s52, s53, d51, d52, d53) for :func:`_dmv_step`."""
     coef = _dmv_coefficients(I, order)
-    (s31, s32), (d31, d32) = coef["s3"], coef["d3"]
-    (s51, s52, s53), (d51, d52, d53) = coef["s5"], coef["d5"]
-    a1, a2, a3 = I
-    sqrt = math.sqrt
+    return (*I, *coef["s3"], *coef["d3"], *coef["s5"], *coef["d5"])
 
-    def step(s, h, inv, cos=None, sin=None):
-        m1, m2, m3, q0, q1, q2, q3 = s
-        h2 = h * h
-        ham = 0.5 * h2 * (m1 * m1 / a1 + m2 * m2 / a2 + m3 * m3 / a3)
-        nor = 0.5 * h2 * (m1 * m1 + m2 * m2 + m3 * m3)
-        css = 1.0 + s31 * nor + s32 * ham + s51 * nor * nor + s52 * nor * ham + s53 * ham * ham
-        cdd = d31 * nor + d32 * ham + d51 * nor * nor + d52 * nor * ham + d53 * ham * ham
-        j1i, j2i, j3i = css / a1 + cdd, css / a2 + cdd, css / a3 + cdd
-        j1, j2, j3 = 1.0 / j1i, 1.0 / j2i, 1.0 / j3i
-        fad1, fad2, fad3 = j2 - j3, j3 - j1, j1 - j2
-        fac1, fac2, fac3 = fad1 * j1i, fad2 * j2i, fad3 * j3i
-        hh = 0.5 * h
-        b1, b2, b3 = m1 * hh * j1i, m2 * hh * j2i, m3 * hh * j3i
-        c1 = b1 + fac1 * b2 * b3
-        c2 = b2 + fac2 * c1 * b3
-        c3 = b3 + fac3 * c1 * c2
-        for _ in range(100):
-            o1, o2, o3 = c1, c2, c3
-            alpha = 1.0 + c1 * c1 + c2 * c2 + c3 * c3
-            c1 = alpha * b1 + fac1 * c2 * c3
-            c2 = alpha * b2 + fac2 * c1 * c3
-            c3 = alpha * b3 + fac3 * c1 * c2
-            err = abs(o1 - c1) + abs(o2 - c2) + abs(o3 - c3)
-            if err <= 4e-16 * (abs(c1) + abs(c2) + abs(c3)) or err == 0.0:
-                break
-        else:
-            raise InvalidInput("h", h, "a smaller step: the Moser–Veselov fixed-point iteration did not converge (h·|ω| too large)")
+
+def _dmv_step(s, h, inv, par, cos, sin):
+    """One DMV step; a NaN state when the fixed-point iteration does not converge (the driver raises)."""
+    m1, m2, m3, q0, q1, q2, q3 = s
+    a1, a2, a3, s31, s32, d31, d32, s51, s52, s53, d51, d52, d53 = par
+    h2 = h * h
+    ham = 0.5 * h2 * (m1 * m1 / a1 + m2 * m2 / a2 + m3 * m3 / a3)
+    nor = 0.5 * h2 * (m1 * m1 + m2 * m2 + m3 * m3)
+    css = 1.0 + s31 * nor + s32 * ham + s51 * nor * nor + s52 * nor * ham + s53 * ham * ham
+    cdd = d31 * nor + d32 * ham + d51 * nor * nor + d52 * nor * ham + d53 * ham * ham
+    j1i, j2i, j3i = css / a1 + cdd, css / a2 + cdd, css / a3 + cdd
+    j1, j2, j3 = 1.0 / j1i, 1.0 / j2i, 1.0 / j3i
+    fad1, fad2, fad3 = j2 - j3, j3 - j1, j1 - j2
+    fac1, fac2, fac3 = fad1 * j1i, fad2 * j2i, fad3 * j3i
+    hh = 0.5 * h
+    b1, b2, b3 = m1 * hh * j1i, m2 * hh * j2i, m3 * hh * j3i
+    c1 = b1 + fac1 * b2 * b3
+    c2 = b2 + fac2 * c1 * b3
+    c3 = b3 + fac3 * c1 * c2
+    converged = False
+    for _ in range(100):
+        o1, o2, o3 = c1, c2, c3
         alpha = 1.0 + c1 * c1 + c2 * c2 + c3 * c3
-        n0 = q0 - c1 * q1 - c2 * q2 - c3 * q3
-        n1 = q1 + c1 * q0 + c3 * q2 - c2 * q3
-        n2 = q2 + c2 * q0 + c1 * q3 - c3 * q1
-        n3 = q3 + c3 * q0 + c2 * q1 - c1 * q2
-        r = 1.0 / sqrt(n0 * n0 + n1 * n1 + n2 * n2 + n3 * n3)
-        k = 4.0 / (h * alpha)
-        return (m1 + k * fad1 * c2 * c3, m2 + k * fad2 * c1 * c3, m3 + k * fad3 * c1 * c2, n0 * r, n1 * r, n2 * r, n3 * r)
+        c1 = alpha * b1 + fac1 * c2 * c3
+        c2 = alpha * b2 + fac2 * c1 * c3
+        c3 = alpha * b3 + fac3 * c1 * c2
+        err = abs(o1 - c1) + abs(o2 - c2) + abs(o3 - c3)
+        if err <= 4e-16 * (abs(c1) + abs(c2) + abs(c3)) or err == 0.0:
+            converged = True
+            break
+    if not converged:
+        nan = math.nan
+        return (nan, nan, nan, nan, nan, nan, nan)
+    alpha = 1.0 + c1 * c1 + c2 * c2 + c3 * c3
+    n0 = q0 - c1 * q1 - c2 * q2 - c3 * q3
+    n1 = q1 + c1 * q0 + c3 * q2 - c2 * q3
+    n2 = q2 + c2 * q0 + c1 * q3 - c3 * q1
+    n3 = q3 + c3 * q0 + c2 * q1 - c1 * q2
+    r = 1.0 / math.sqrt(n0 * n0 + n1 * n1 + n2 * n2 + n3 * n3)
+    k = 4.0 / (h * alpha)
+    return (m1 + k * fad1 * c2 * c3, m2 + k * fad2 * c1 * c3, m3 + k * fad3 * c1 * c2, n0 * r, n1 * r, n2 * r, n3 * r)
 
-    return step
+
+def _run_free(kind, state, counts, steps, inv, par, cos, sin):
+    """The stepping loop (plain Python; compiled unchanged by numba in :mod:`eulersym.numerics._fast`).
+
+    kind: 0 Strang, 1 Yoshida 4, 2 DMV. Returns the states at the outputs, shape (len(counts) + 1, 7); rows after
+    a failed step are NaN.
+    """
+    out = np.full((len(counts) + 1, 7), np.nan)
+    s = (state[0], state[1], state[2], state[3], state[4], state[5], state[6])
+    for k in range(7):
+        out[0, k] = s[k]
+    for i in range(len(counts)):
+        hk = steps[i]
+        for _ in range(counts[i]):
+            if kind == 0:
+                s = _strang(s, hk, inv, par, cos, sin)
+            elif kind == 1:
+                s = _yoshida4(s, hk, inv, par, cos, sin)
+            else:
+                s = _dmv_step(s, hk, inv, par, cos, sin)
+            if kind < 2:  # the DMV normalises q inside its step
+                r = 1.0 / math.sqrt(s[3] * s[3] + s[4] * s[4] + s[5] * s[5] + s[6] * s[6])
+                s = (s[0], s[1], s[2], s[3] * r, s[4] * r, s[5] * r, s[6] * r)
+        if s[0] != s[0]:
+            break
+        for k in range(7):
+            out[i + 1, k] = s[k]
+    return out
 
 
-def _stepper(I, method):
-    if method == "strang":
-        return _strang
-    if method == "yoshida4":
-        return _yoshida4
-    if method == "rk4":
-        return _rk4
-    return _make_dmv(I, int(method[-1]))
+def _run_rk4(state, counts, steps, inv):
+    """RK4 loop (plain Python only: a reference that is left to drift, |q| included)."""
+    out = np.full((len(counts) + 1, 7), np.nan)
+    s = tuple(state)
+    out[0] = s
+    for i, (n, hk) in enumerate(zip(counts, steps)):
+        for _ in range(n):
+            s = _rk4(s, hk, inv, None, None, None)
+        out[i + 1] = s
+    return out
+
+
+def _fast_runner(fast):
+    """The numba-compiled loop, or None for the plain-Python one (``fast``: None = if installed)."""
+    if not (fast is None or isinstance(fast, bool)):
+        raise InvalidInput("fast", fast, "None (numba when installed), True or False")
+    if fast is False:
+        return None
+    from eulersym.numerics import _fast
+
+    if not _fast.available():
+        if fast:
+            raise InvalidInput("fast", fast, "numba installed (pip install 'eulersym[fast]'), or fast=False/None")
+        return None
+    return _fast.free_body_runner()
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -216,14 +275,6 @@ def output_steps(t, h):
     return counts, dt / counts
 
 
-def _unit_q(q0):
-    q = finite_array("q0", q0, shape=(4,))
-    n = float(np.sqrt(np.sum(q * q)))
-    if abs(n - 1.0) > 1e-6:
-        raise InvalidInput("q0", q0, "a unit quaternion (q0, q1, q2, q3), scalar first, |q| = 1")
-    return q / n
-
-
 def default_step(I, omega0, t):
     """The step used when ``h=None``: 1/64 of the fastest rotation period, capped by the output spacing."""
     w = float(np.max(np.abs(omega0))) * max(I) / min(I)
@@ -232,7 +283,7 @@ def default_step(I, omega0, t):
     return float(min(h, np.min(dt))) if dt.size else 1.0
 
 
-def integrate_free_body(I, omega0, q0, t, *, method="dmv4", h=None, check_body=True):
+def integrate_free_body(I, omega0, q0, t, *, method="dmv4", h=None, check_body=True, fast=None):
     """Integrate the torque-free rigid body (ω and attitude) with a geometric fixed-step method.
 
     Parameters
@@ -252,6 +303,9 @@ def integrate_free_body(I, omega0, q0, t, *, method="dmv4", h=None, check_body=T
         :func:`default_step`.
     check_body : bool, optional
         Require physical moments (triangle inequalities).
+    fast : bool or None, optional
+        Run the stepping loop compiled by numba (the optional ``fast`` extra; cached on disk). ``None`` (default):
+        when numba is installed; ``True``: require it; ``False``: plain Python. Both run the same functions.
 
     Returns
     -------
@@ -276,7 +330,7 @@ def integrate_free_body(I, omega0, q0, t, *, method="dmv4", h=None, check_body=T
     I = tuple(float(x) for x in moments("I", I, body=check_body))
     method = choice("method", method, FREE_BODY_METHODS)
     w0 = finite_array("omega0", omega0, shape=(3,))
-    qq = _unit_q(q0)
+    qq = _unit_quaternion(q0)
     tt = finite_array("t", t, shape=(None,))
     if tt.size == 0:
         raise InvalidInput("t", t, "at least one output time")
@@ -284,20 +338,17 @@ def integrate_free_body(I, omega0, q0, t, *, method="dmv4", h=None, check_body=T
         h = default_step(I, w0, tt)
     counts, steps = output_steps(tt, h)
     inv = (1.0 / I[0], 1.0 / I[1], 1.0 / I[2])
-    step = _stepper(I, method)
     state = tuple(float(x) for x in (I[0] * w0[0], I[1] * w0[1], I[2] * w0[2], *qq))
-    out = np.empty((tt.size, 7))
-    out[0] = state
-    normalise = method in ("strang", "yoshida4")  # the DMV normalises inside its step; RK4 is left to drift
-    sqrt = math.sqrt
-    for k, (n, hk) in enumerate(zip(counts.tolist(), steps.tolist())):
-        for _ in range(n):
-            state = step(state, hk, inv)
-            if normalise:
-                m1, m2, m3, q0_, q1_, q2_, q3_ = state
-                r = 1.0 / sqrt(q0_ * q0_ + q1_ * q1_ + q2_ * q2_ + q3_ * q3_)
-                state = (m1, m2, m3, q0_ * r, q1_ * r, q2_ * r, q3_ * r)
-        out[k + 1] = state
+    if method == "rk4":
+        out = _run_rk4(state, counts.tolist(), steps.tolist(), inv)
+    else:
+        kind = {"strang": 0, "yoshida4": 1}.get(method, 2)
+        par = _dmv_parameters(I, int(method[-1])) if kind == 2 else (0.0,) * 13
+        runner = _fast_runner(fast)
+        if runner is not None:
+            out = runner(kind, state, counts, steps, inv, par)
+        else:
+            out = _run_free(kind, state, counts.tolist(), steps.tolist(), inv, par, None, None)
     if not np.all(np.isfinite(out)):
         raise InvalidInput("h", h, "a step small enough for a finite solution")
     omega = out[:, :3] * np.array(inv)
@@ -335,5 +386,6 @@ def step_free_bodies(I, omega, q, h, *, method="strang"):
     omega = np.asarray(omega, dtype=np.float64)
     q = np.asarray(q, dtype=np.float64)
     s = (omega[0] * I[0], omega[1] * I[1], omega[2] * I[2], q[0], q[1], q[2], q[3])
-    s = _stepper(I, method)(s, float(h), inv, np.cos, np.sin)
+    step = {"strang": _strang, "yoshida4": _yoshida4, "rk4": _rk4}[method]
+    s = step(s, float(h), inv, None, np.cos, np.sin)
     return np.stack([s[0] * inv[0], s[1] * inv[1], s[2] * inv[2]]), np.stack(s[3:])
