@@ -137,6 +137,8 @@ def main(argv: list[str]) -> int:
 
     sympy_import = min(_fresh_process_seconds("import sympy") for _ in range(3))
     cold_check = min(_fresh_process_seconds("from eulersym.cli import main; main(['check'])") for _ in range(2))
+    foundation = min(_fresh_process_seconds(
+        "from eulersym import text\nfor s in ('4.1', '4.2', '4.3', 'Example 4.1'): text.check_all(s)") for _ in range(2))
     importlib.import_module("sympy")
     rows = _rows(args.quick, args.repeat)
 
@@ -149,6 +151,8 @@ def main(argv: list[str]) -> int:
             print(f"{name:<{width}}  {ours:10.4f}  {base:10.4f}  {base / ours:7.1f}x  {base_name}")
     print(f"\ncold `eulersym check` (fresh process): {cold_check:.2f} s; `import sympy` alone: {sympy_import:.2f} s; "
           f"beyond SymPy's import: {cold_check - sympy_import:.2f} s")
+    print(f"cold check of §4.1–4.3 and Example 4.1 (fresh process): {foundation:.2f} s; beyond SymPy's import: "
+          f"{foundation - sympy_import:.2f} s")
     print("ratio = baseline seconds / eulersym seconds (> 1: eulersym is faster)")
     if args.csv:
         with open(args.csv, "w", newline="") as fh:
@@ -158,4 +162,6 @@ def main(argv: list[str]) -> int:
                 writer.writerow([name, f"{ours:.6f}", base_name, "" if base is None else f"{base:.6f}",
                                  "" if base is None else f"{base / ours:.3f}"])
             writer.writerow(["cold eulersym check beyond sympy import", f"{cold_check - sympy_import:.6f}", "", "", ""])
+            writer.writerow(["cold check 4.1-4.3 + Example 4.1 beyond sympy import",
+                             f"{foundation - sympy_import:.6f}", "", "", ""])
     return 0
