@@ -154,21 +154,22 @@ def _omega_cross_L():
     return _omega.cross(angular_momentum(sp.diag(I1, I2, I3), _omega))
 
 
-def _first_principal_axis():
-    from eulersym.inertia import cube, principal_axes
+def _inertia():
+    return importlib.import_module("eulersym.inertia")
 
-    moments, axes = principal_axes(cube(M, a, origin="corner"))
+
+def _corner_cube():
+    return _inertia().cube(M, a, origin="corner")
+
+
+def _first_principal_axis():
+    moments, axes = _inertia().principal_axes(_corner_cube())
     v = axes[:, 0]
     return v if sum(v).is_nonnegative else -v
 
 
 def _corner_cube_times(v):
-    def run():
-        from eulersym.inertia import cube
-
-        return cube(M, a, origin="corner") * sp.Matrix(v)
-
-    return run
+    return lambda: _corner_cube() * sp.Matrix(v)
 
 
 def _entries() -> list[ClosedForm]:
@@ -215,8 +216,7 @@ def _entries() -> list[ClosedForm]:
           "m r × (ω × r) by cross products", lambda: m1 * r.cross(_omega.cross(r))),
         E("4.3.angular_momentum", "4.3", "L = Σ m_i r_i × (ω × r_i) = I ω (two point masses).",
           _particle_sum(_L_term), "inertia.angular_momentum(inertia.point_masses(...), ω)",
-          lambda: importlib.import_module("eulersym.inertia").angular_momentum(
-              importlib.import_module("eulersym.inertia").point_masses(_particles), _omega)),
+          lambda: _inertia().angular_momentum(_inertia().point_masses(_particles), _omega)),
         E("4.3.moments_and_products", "4.3",
           "I_xx = ∫(y² + z²) dm, ..., I_xy = −∫ x y dm, ... (two point masses).",
           _tensor_term(m1, sp.Matrix([x1, y1, z1])) + _tensor_term(m2, sp.Matrix([x2, y2, z2])),
@@ -224,13 +224,11 @@ def _entries() -> list[ClosedForm]:
         E("4.3.kinetic_energy", "4.3", "T = ½ Σ m_i v_i² = ½ ωᵀ I ω (two point masses).",
           sum(_ke_term(m, sp.Matrix(p)) for m, p in _particles),
           "inertia.kinetic_energy(inertia.point_masses(...), ω)",
-          lambda: importlib.import_module("eulersym.inertia").kinetic_energy(
-              importlib.import_module("eulersym.inertia").point_masses(_particles), _omega)),
+          lambda: _inertia().kinetic_energy(_inertia().point_masses(_particles), _omega)),
         E("4.3.kinetic_energy_half_omega_L", "4.3", "T = ½ ω·L (two point masses).",
           sp.Rational(1, 2) * (_omega.T * _particle_sum(_L_term))[0, 0],
           "inertia.kinetic_energy(inertia.point_masses(...), ω)",
-          lambda: importlib.import_module("eulersym.inertia").kinetic_energy(
-              importlib.import_module("eulersym.inertia").point_masses(_particles), _omega)),
+          lambda: _inertia().kinetic_energy(_inertia().point_masses(_particles), _omega)),
         E("4.3.principal_energy", "4.3", "In principal axes T = ½ I1 ω1² + ½ I2 ω2² + ½ I3 ω3².",
           (I1 * omega1**2 + I2 * omega2**2 + I3 * omega3**2) / 2,
           "inertia.kinetic_energy(diag(I1, I2, I3), ω)",
@@ -292,10 +290,10 @@ def _entries() -> list[ClosedForm]:
         # Example 4.1 ------------------------------------------------------------------------------------------
         E("ex4.1.Ixx", "Example 4.1", "Cube about a corner: I_xx = (2/3) M a².", sp.Rational(2, 3) * M * a**2,
           "inertia.cube(M, a, origin='corner')[0, 0]",
-          lambda: importlib.import_module("eulersym.inertia").cube(M, a, origin="corner")[0, 0]),
+          lambda: _corner_cube()[0, 0]),
         E("ex4.1.Ixy", "Example 4.1", "Cube about a corner: I_xy = −(1/4) M a².", -sp.Rational(1, 4) * M * a**2,
           "inertia.cube(M, a, origin='corner')[0, 1]",
-          lambda: importlib.import_module("eulersym.inertia").cube(M, a, origin="corner")[0, 1]),
+          lambda: _corner_cube()[0, 1]),
         E("ex4.1.tensor", "Example 4.1", "The full corner tensor: 2/3 on the diagonal, −1/4 off it (× M a²).",
           M * a**2 * sp.Matrix([
               [sp.Rational(2, 3), -sp.Rational(1, 4), -sp.Rational(1, 4)],
@@ -306,8 +304,7 @@ def _entries() -> list[ClosedForm]:
         E("ex4.1.principal_moments", "Example 4.1", "Principal moments M a²/6 and 11 M a²/12 (twice).",
           [M * a**2 / 6, sp.Rational(11, 12) * M * a**2, sp.Rational(11, 12) * M * a**2],
           "inertia.principal_axes(cube corner tensor)[0] (ascending)",
-          lambda: list(importlib.import_module("eulersym.inertia").principal_axes(
-              importlib.import_module("eulersym.inertia").cube(M, a, origin="corner"))[0])),
+          lambda: list(_inertia().principal_axes(_corner_cube())[0])),
         E("ex4.1.first_axis", "Example 4.1", "The axis of M a²/6 points along the space diagonal (1, 1, 1).",
           sp.Matrix([1, 1, 1]) / sp.sqrt(3), "first column of inertia.principal_axes(cube corner tensor)[1]",
           _first_principal_axis),
