@@ -62,3 +62,10 @@ def test_python_dash_m_is_the_same_command(args):
     proc = subprocess.run([sys.executable, "-m", "eulersym", *args], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout
+
+
+def test_a_closed_pipe_ends_quietly():
+    proc = subprocess.run(f"{sys.executable} -m eulersym check --list | head -1", shell=True, capture_output=True,
+                          text=True, timeout=120)
+    assert proc.stdout.count("\n") == 1
+    assert "Traceback" not in proc.stderr
