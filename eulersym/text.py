@@ -85,10 +85,25 @@ def _call(target: str, *args, **kwargs) -> Callable[[], Any]:
         index = int(rest.rstrip("]"))
 
     def run():
-        result = getattr(importlib.import_module(module_name), name)(*args, **kwargs)
+        try:
+            module = importlib.import_module(module_name)
+        except ModuleNotFoundError as exc:
+            if exc.name != module_name:
+                raise
+            raise DerivationMissing(f"no module {module_name}") from None
+        if not hasattr(module, name):
+            raise DerivationMissing(f"{module_name} has no {name}")
+        result = getattr(module, name)(*args, **kwargs)
         return result if index is None else result[index]
 
     return run
+
+
+class DerivationMissing(LookupError):
+    """The derivation an entry is checked against does not exist (yet): the entry is *pending*.
+
+    Only this marks an entry pending; any exception raised while a derivation runs is an *error*.
+    """
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -405,7 +420,7 @@ def check(id: str, *, points: int = 5, dps: int = 30, seed: int = 0) -> CheckRes
     start = time.perf_counter()
     try:
         derived = entry.derived()
-    except (ImportError, AttributeError) as exc:
+    except DerivationMissing as exc:
         return CheckResult(id, entry.section, "pending", f"derivation not available: {exc}",
                            time.perf_counter() - start)
     except Exception as exc:  # a derivation that raises is a failure of the check, reported, not hidden

@@ -52,6 +52,15 @@ def test_a_missing_derivation_is_pending_and_a_raising_one_is_an_error(monkeypat
     monkeypatch.setitem(text.CLOSED_FORMS, "4.1.dof", dataclasses.replace(entry, _derive=boom))
     assert text.check("4.1.dof").status == "error"
 
+    def attribute_bug():  # a bug inside a derivation is an error, never "pending"
+        return None.foo
+
+    monkeypatch.setitem(text.CLOSED_FORMS, "4.1.dof", dataclasses.replace(entry, _derive=attribute_bug))
+    assert text.check("4.1.dof").status == "error"
+    monkeypatch.setitem(text.CLOSED_FORMS, "4.1.dof", dataclasses.replace(
+        entry, _derive=text._call("eulersym.no_such_module:f")))
+    assert text.check("4.1.dof").status == "pending"
+
 
 def test_unknown_id_and_section_are_bad_input():
     with pytest.raises(InvalidInput, match="id='4.9.nope'"):
