@@ -25,7 +25,8 @@ import numpy as np
 import sympy as sp
 
 from eulersym.errors import InvalidInput, SingularConfiguration
-from eulersym.rotation import _convention, elementary, euler_matrix, quaternion_multiply
+from eulersym.rotation import _convention, _three, elementary, euler_matrix, quaternion_multiply
+from eulersym.validation import finite_array
 from eulersym.symbols import euler_angles, t
 
 __all__ = [
@@ -41,7 +42,6 @@ __all__ = [
 _E = {"x": sp.Matrix([1, 0, 0]), "y": sp.Matrix([0, 1, 0]), "z": sp.Matrix([0, 0, 1])}
 
 
-@functools.lru_cache(maxsize=32)
 def omega_body(convention: str = "zxz") -> sp.Matrix:
     """Body components of the angular velocity in terms of the Euler angles and their rates.
 
@@ -65,14 +65,18 @@ def omega_body(convention: str = "zxz") -> sp.Matrix:
     [-sin(psi(t))*Derivative(theta(t), t) + sin(theta(t))*cos(psi(t))*Derivative(phi(t), t)],
     [                           cos(theta(t))*Derivative(phi(t), t) + Derivative(psi(t), t)]])
     """
-    a, b, c = _convention(convention)
+    return _omega_body(_convention(convention))
+
+
+@functools.lru_cache(maxsize=32)
+def _omega_body(convention: str) -> sp.Matrix:
+    a, b, c = convention
     phi, theta, psi = euler_angles
     Pc, Pb = elementary(c, psi), elementary(b, theta)
     w = Pc * Pb * _E[a] * phi.diff(t) + Pc * _E[b] * theta.diff(t) + _E[c] * psi.diff(t)
     return w.applyfunc(sp.expand)
 
 
-@functools.lru_cache(maxsize=32)
 def omega_space(convention: str = "zxz") -> sp.Matrix:
     """Space components of the angular velocity: ``ω_space = Aᵀ ω_body``, composed without simplification.
 
@@ -83,7 +87,12 @@ def omega_space(convention: str = "zxz") -> sp.Matrix:
     >>> omega_space()[2]
     cos(theta(t))*Derivative(psi(t), t) + Derivative(phi(t), t)
     """
-    a, b, c = _convention(convention)
+    return _omega_space(_convention(convention))
+
+
+@functools.lru_cache(maxsize=32)
+def _omega_space(convention: str) -> sp.Matrix:
+    a, b, c = convention
     phi, theta, psi = euler_angles
     PaT, PbT = elementary(a, phi).T, elementary(b, theta).T
     w = _E[a] * phi.diff(t) + PaT * _E[b] * theta.diff(t) + PaT * PbT * _E[c] * psi.diff(t)
@@ -110,7 +119,6 @@ def angular_velocity_matrix(convention: str = "zxz", frame: str = "body") -> sp.
     return W.applyfunc(sp.expand)
 
 
-@functools.lru_cache(maxsize=32)
 def euler_rate_matrix(convention: str = "zxz") -> sp.Matrix:
     """The matrix J(φ, θ, ψ) with ``ω_body = J · (φ̇, θ̇, ψ̇)``, and its determinant's zero set is the singularity.
 
@@ -119,9 +127,13 @@ def euler_rate_matrix(convention: str = "zxz") -> sp.Matrix:
     >>> sp.trigsimp(euler_rate_matrix().det())
     -sin(theta(t))
     """
-    w = omega_body(convention)
+    return _euler_rate_matrix(_convention(convention))
+
+
+@functools.lru_cache(maxsize=32)
+def _euler_rate_matrix(convention: str) -> sp.Matrix:
     rates = [q.diff(t) for q in euler_angles]
-    return w.jacobian(rates)
+    return _omega_body(convention).jacobian(rates)
 
 
 def euler_rates(omega_body, angles, convention: str = "zxz"):
@@ -155,13 +167,13 @@ def euler_rates(omega_body, angles, convention: str = "zxz"):
     """
     J = euler_rate_matrix(convention)
     syms = list(euler_angles)
-    if len(angles) != 3:
-        raise InvalidInput("angles", angles, "three angles (phi, theta, psi)")
-    if len(omega_body) != 3:
-        raise InvalidInput("omega_body", omega_body, "three body components")
+    angles = _three("angles", angles)
+    omega_body = _three("omega_body", omega_body)
     where = _singular_set(convention)
     numeric = all(not isinstance(v, sp.Basic) for v in [*angles, *omega_body])
     if numeric:
+        angles = finite_array("angles", angles, shape=(3,)).tolist()
+        omega_body = finite_array("omega_body", omega_body, shape=(3,)).tolist()
         f = _rate_matrix_function(convention)
         Jn = np.asarray(f(*[float(a) for a in angles]), dtype=float)
         det = np.linalg.det(Jn)
@@ -205,10 +217,10 @@ def quaternion_rate(q, omega_body):
     >>> quaternion_rate([1.0, 0, 0, 0], [0, 0, 2.0])
     array([0., 0., 0., 1.])
     """
-    if len(q) != 4:
-        raise InvalidInput("q", q, "4 components (scalar first)")
-    if len(omega_body) != 3:
-        raise InvalidInput("omega_body", omega_body, "three body components")
+    q = _three("q", q, 4)
+    omega_body = _three("omega_body", omega_body)
+    if all(not isinstance(v, sp.Basic) for v in [*q, *omega_body]):
+        finite_array("omega_body", omega_body, shape=(3,))
     w = quaternion_multiply(q, [0, *omega_body])
     return w / 2
 

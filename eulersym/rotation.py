@@ -84,11 +84,27 @@ def skew(v):
     >>> skew([1, 2, 3]) @ np.array([0, 0, 1.0])
     array([ 2., -1.,  0.])
     """
-    if _is_numeric(*list(v)):
+    v = _three("v", v)
+    if _is_numeric(*v):
         x, y, z = finite_array("v", v, shape=(3,))
         return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
     x, y, z = [sp.sympify(c) for c in v]
     return sp.Matrix([[0, -z, y], [z, 0, -x], [-y, x, 0]])
+
+
+def _three(argument: str, value, n: int = 3) -> list:
+    """``value`` as a list of ``n`` components, or InvalidInput."""
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != n:
+        raise InvalidInput(argument, value, f"a sequence of {n} components")
+    return list(value)
+
+
+def _angle(argument: str, angle):
+    """A finite angle: a real number or a SymPy expression (NaN and infinities refused)."""
+    value = sp.sympify(angle) if not isinstance(angle, sp.Basic) else angle
+    if value.is_number and (value.has(sp.nan, sp.zoo, sp.oo, -sp.oo) or value.is_real is False):
+        raise InvalidInput(argument, angle, "a finite real angle in radians")
+    return value
 
 
 def _unit_axis(axis):
@@ -96,7 +112,7 @@ def _unit_axis(axis):
         if axis not in _AXES:
             raise InvalidInput("axis", axis, "'x', 'y', 'z' or a 3-vector")
         return _AXES[axis]
-    return axis
+    return _three("axis", axis)
 
 
 def from_axis_angle(axis, angle):
@@ -126,7 +142,7 @@ def from_axis_angle(axis, angle):
     True
     """
     axis = _unit_axis(axis)
-    if _is_numeric(*list(axis), angle):
+    if _is_numeric(*axis, angle):
         n = finite_array("axis", axis, shape=(3,))
         norm = np.linalg.norm(n)
         if norm == 0.0:
@@ -143,7 +159,7 @@ def from_axis_angle(axis, angle):
     if norm2 != 1:
         n = n / sp.sqrt(norm2)
     K = skew(n)
-    angle = sp.sympify(angle)
+    angle = _angle("angle", angle)
     return sp.eye(3) - sp.sin(angle) * K + (1 - sp.cos(angle)) * (K * K).applyfunc(sp.expand)
 
 
@@ -175,7 +191,7 @@ def D(phi):
     [-sin(phi(t)), cos(phi(t)), 0],
     [           0,           0, 1]])
     """
-    return from_axis_angle("z", sp.sympify(phi))
+    return from_axis_angle("z", _angle("phi", phi))
 
 
 def C(theta):
@@ -190,7 +206,7 @@ def C(theta):
     [0,  cos(theta(t)), sin(theta(t))],
     [0, -sin(theta(t)), cos(theta(t))]])
     """
-    return from_axis_angle("x", sp.sympify(theta))
+    return from_axis_angle("x", _angle("theta", theta))
 
 
 def B(psi):
@@ -202,7 +218,7 @@ def B(psi):
     >>> B(psi)[0, :]
     Matrix([[cos(psi(t)), sin(psi(t)), 0]])
     """
-    return from_axis_angle("z", sp.sympify(psi))
+    return from_axis_angle("z", _angle("psi", psi))
 
 
 def _convention(convention: str) -> str:
@@ -218,18 +234,20 @@ def _convention(convention: str) -> str:
 
 
 def _numeric_elementary(axis: str, angle: np.ndarray) -> np.ndarray:
-    """Passive elementary rotations, broadcast over an array of angles: shape angle.shape + (3, 3)."""
+    """Passive elementary rotations, broadcast over an array of angles: shape angle.shape + (3, 3).
+
+    The same matrices as :func:`from_axis_angle` about a coordinate axis (a test pins the two together), laid out
+    for broadcasting.
+    """
     c, s = np.cos(angle), np.sin(angle)
-    one, zero = np.ones_like(c), np.zeros_like(c)
     i = "xyz".index(axis)
     j, k = (i + 1) % 3, (i + 2) % 3
     out = np.zeros(np.shape(angle) + (3, 3))
-    out[..., i, i] = one
+    out[..., i, i] = 1.0
     out[..., j, j] = c
     out[..., k, k] = c
     out[..., j, k] = s
     out[..., k, j] = -s
-    del zero
     return out
 
 
@@ -303,7 +321,10 @@ def is_rotation(A, tol: float | None = None) -> bool:
     if isinstance(A, sp.MatrixBase):
         residual = list(A.T * A - sp.eye(3)) + [A.det(method="berkowitz") - 1]
         return all(zero_exact(r)[0] for r in residual)
-    tol = 1e-10 if tol is None else float(tol)
+    try:
+        tol = 1e-10 if tol is None else float(tol)
+    except (TypeError, ValueError):
+        raise InvalidInput("tol", tol, "a positive tolerance") from None
     if not tol > 0:
         raise InvalidInput("tol", tol, "a positive tolerance")
     return bool(np.max(np.abs(A.T @ A - np.eye(3))) <= tol and abs(np.linalg.det(A) - 1.0) <= tol)
@@ -353,8 +374,12 @@ def axis_angle(A):
         v = v / sp.sqrt(sp.simplify((v.T * v)[0, 0]))
         # orient the axis so that from_axis_angle(v, angle) == A: sin(angle) n = ½ vee(Aᵀ − A)
         s = sp.Matrix([A[1, 2] - A[2, 1], A[2, 0] - A[0, 2], A[0, 1] - A[1, 0]]) / 2
-        if sp.simplify((v.T * s)[0, 0]).is_negative:
+        dot = sp.simplify((v.T * s)[0, 0])
+        if dot.is_negative:
             v = -v
+        elif not dot.is_nonnegative:
+            raise InvalidInput("A", A, "a rotation whose axis orientation can be decided (numeric entries, or symbols "
+                               f"whose signs are known): the sign of sin(angle) = {dot} is not")
         return sp.simplify(v), angle
     R = A.T  # the active rotation
     s = 0.5 * np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])  # sin α · n
@@ -385,8 +410,11 @@ def quaternion_multiply(p, q):
     >>> quaternion_multiply([0, 1, 0, 0], [0, 0, 1, 0])
     array([0., 0., 0., 1.])
     """
-    p0, p1, p2, p3 = p
-    q0, q1, q2, q3 = q
+    p0, p1, p2, p3 = _three("p", p, 4)
+    q0, q1, q2, q3 = _three("q", q, 4)
+    if _is_numeric(p0, p1, p2, p3, q0, q1, q2, q3):
+        finite_array("p", [p0, p1, p2, p3])
+        finite_array("q", [q0, q1, q2, q3])
     out = [
         p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3,
         p0 * q1 + p1 * q0 + p2 * q3 - p3 * q2,
@@ -401,8 +429,9 @@ def quaternion_multiply(p, q):
 def from_quaternion(q):
     """Passive attitude matrix of a unit quaternion (scalar first): ``A = R(q)ᵀ``, ``r_body = A @ r_space``.
 
-    ``R(q) v = q ⊗ (0, v) ⊗ q*`` is the active rotation (body → space); numeric input is normalised first (a zero
-    quaternion is refused); SymPy input is used as given (assumed unit).
+    ``R(q)`` is the active rotation (body → space) defined by conjugation, ``R(q) v = q ⊗ (0, v) ⊗ q*``: its columns
+    are the images of the unit vectors, built with :func:`quaternion_multiply`. Numeric input is normalised first (a
+    zero quaternion is refused); SymPy input is used as given (assumed unit).
 
     Examples
     --------
@@ -410,31 +439,18 @@ def from_quaternion(q):
     >>> np.allclose(from_quaternion([np.cos(a / 2), 0, 0, np.sin(a / 2)]), from_axis_angle("z", a))
     True
     """
-    if _is_numeric(*list(q)):
+    q = _three("q", q, 4)
+    if _is_numeric(*q):
         qa = finite_array("q", q, shape=(4,))
         norm = np.linalg.norm(qa)
         if norm == 0.0:
             raise InvalidInput("q", q, "a non-zero quaternion (scalar first)")
-        w, x, y, z = qa / norm
-        R = np.array(
-            [
-                [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-            ]
-        )
-        return R.T
-    if len(q) != 4:
-        raise InvalidInput("q", q, "4 components (scalar first)")
-    w, x, y, z = [sp.sympify(c) for c in q]
-    R = sp.Matrix(
-        [
-            [w**2 + x**2 - y**2 - z**2, 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), w**2 - x**2 + y**2 - z**2, 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), w**2 - x**2 - y**2 + z**2],
-        ]
-    )
-    return R.T
+        q = list(qa / norm)
+    conjugate = [q[0], -q[1], -q[2], -q[3]]
+    columns = [quaternion_multiply(quaternion_multiply(q, [0, *e]), conjugate)[1:] for e in np.eye(3, dtype=int)]
+    if _is_numeric(*q):
+        return np.column_stack(columns).T
+    return sp.Matrix.hstack(*(sp.Matrix(c).applyfunc(sp.expand) for c in columns)).T
 
 
 def to_quaternion(A) -> np.ndarray:

@@ -111,3 +111,19 @@ def test_property_quaternion_rate_gives_the_angular_velocity(qv, w):
     h = 1e-6
     Adot = (from_quaternion(q + h * qdot) - from_quaternion(q - h * qdot)) / (2 * h)
     np.testing.assert_allclose(-Adot @ from_quaternion(q).T, skew(w), atol=1e-7)
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: euler_rates([float("nan"), 0, 1], [0.1, 0.5, 0.2]),
+        lambda: euler_rates([0, 0, 1], [float("inf"), 0.5, 0.2]),
+        lambda: euler_rates(1, [0.1, 0.5, 0.2]),
+        lambda: quaternion_rate([1, 0, 0, 0], [float("nan"), 0, 0]),
+        lambda: quaternion_rate(1, [1, 0, 0]),
+        lambda: omega_body(["zxz"]),
+    ],
+)
+def test_hostile_input_gives_eulersym_errors(call):
+    with pytest.raises(InvalidInput):
+        call()

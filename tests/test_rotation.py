@@ -173,3 +173,37 @@ def test_bad_input_names_argument_value_and_what_is_valid(call, match):
     with pytest.raises(InvalidInput, match=match) as info:
         call()
     assert "expected" in str(info.value)
+
+
+def test_numeric_elementary_rotations_are_from_axis_angle(rng):
+    from eulersym.rotation import _numeric_elementary
+
+    for axis in "xyz":
+        for angle in rng.uniform(-7, 7, size=5):
+            np.testing.assert_allclose(_numeric_elementary(axis, np.array(angle)), from_axis_angle(axis, angle),
+                                       atol=1e-15)
+
+
+def test_from_quaternion_symbolic_is_orthogonal_on_the_unit_sphere():
+    from eulersym.symbols import q0, q1, q2, q3
+
+    A = from_quaternion([q0, q1, q2, q3])
+    unit = {q0: sp.sqrt(1 - q1**2 - q2**2 - q3**2)}
+    assert compare((A.T * A).xreplace(unit), sp.eye(3)).equal
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: from_axis_angle(5, 1.0),
+        lambda: skew(None),
+        lambda: skew([1, 2]),
+        lambda: quaternion_multiply([1, 2, 3], [1, 0, 0, 0]),
+        lambda: D(float("nan")),
+        lambda: is_rotation(np.eye(3), tol="x"),
+        lambda: axis_angle(from_axis_angle("z", sp.Symbol("a", real=True))),
+    ],
+)
+def test_hostile_input_gives_eulersym_errors(call):
+    with pytest.raises(InvalidInput):
+        call()
