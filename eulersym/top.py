@@ -477,7 +477,8 @@ def steady_precession_rates(theta=theta) -> tuple:
     (I3*omega3(t) - sqrt(-4*I1*M*g*l*cos(theta(t)) + I3**2*omega3(t)**2))/(2*I1*cos(theta(t)))
     """
     value = _theta_value(theta)
-    if value is not _THETA and sp.cos(value).is_zero:
+    cosine = sp.cos(value)
+    if value is not _THETA and (cosine.is_zero or (cosine.is_number and abs(float(cosine)) < 1e-12)):
         raise SingularConfiguration("theta", theta, "cos(theta) != 0 (at theta = pi/2 the quadratic degenerates "
                                     "to the single root M g l/(I3 omega3))")
     q = steady_precession_condition(value).lhs
@@ -545,7 +546,8 @@ def _precession_limits(value) -> tuple:
 def sleeping_top_threshold() -> sp.Expr:
     """The bound on ω3² above which the vertical ("sleeping") top is stable, derived from a double root of f(u).
 
-    For the top spinning upright (θ = 0, θ̇ = 0): ``p_φ = p_ψ = I3 ω3`` and ``E = I3 ω3²/2 + M g l``. Then
+    For the top spinning upright (θ = 0, θ̇ = 0, φ̇ + ψ̇ = ω3), :func:`conserved_momenta` and :func:`energy` give
+    ``p_φ = p_ψ = I3 ω3`` and ``E = I3 ω3²/2 + M g l``. Then
     ``u = 1`` is a double root of :func:`turning_point_cubic`, ``f(u) = (1 − u)² · β (u − u3)``, with the third root
     ``u3 = I3² ω3²/(2 I1 M g l) − 1``. Stable iff the motion cannot leave ``u = 1``, i.e. ``u3 ≥ 1``:
     ``ω3² ≥ 4 M g l I1/I3²``.
@@ -563,8 +565,11 @@ def sleeping_top_threshold() -> sp.Expr:
     >>> sleeping_top_threshold()
     4*I1*M*g*l/I3**2
     """
-    w = sp.Symbol("w", positive=True)
-    upright = {P_PHI: I3 * w, P_PSI: I3 * w, ENERGY: I3 * w**2 / 2 + M * g * l}
+    w = sp.Symbol("w", positive=True)  # the spin about the vertical: φ̇ + ψ̇ at θ = 0
+    rest = {theta.diff(t): 0, psi.diff(t): w - phi.diff(t)}
+    p_phi, p_psi = (sp.expand(p.xreplace(rest).xreplace({theta: 0})) for p in conserved_momenta())
+    e_upright = sp.expand(energy().xreplace(rest).xreplace({theta: 0}))
+    upright = {P_PHI: p_phi, P_PSI: p_psi, ENERGY: e_upright}
     f = sp.expand(turning_point_cubic().xreplace(upright))
     if sp.expand(f.subs(U, 1)) != 0 or sp.expand(sp.diff(f, U).subs(U, 1)) != 0:
         raise CheckFailed(f"u = 1 is not a double root for the upright top: {f}")
