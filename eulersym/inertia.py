@@ -810,7 +810,7 @@ def point_masses(masses: Iterable[tuple]) -> sp.Matrix:
 
 def parallel_axis(I_cm: Any, M: Any, d: Any) -> Any:
     r"""Steiner's theorem: the tensor about the point displaced by ``d`` from the centre of mass,
-    :math:`I = I_{cm} + M(|d|^2 \mathbf 1 - d\, d^T)`.
+    :math:`I = I_{cm} + M(|d|^2 \mathbf 1 - d\, d^T)` — the tensor of the mass ``M`` concentrated at ``d``.
 
     Parameters
     ----------
@@ -839,13 +839,13 @@ def parallel_axis(I_cm: Any, M: Any, d: Any) -> Any:
     """
     kind, I_cm = _as_tensor("I_cm", I_cm, body=True)
     d_items = _vector3("d", d)
-    if kind == "numpy" and not any(_is_sympy(c) for c in d_items) and not _is_sympy(M):
-        M = float(_positive("M", M))
-        dv = np.array(d_items, dtype=float)
-        return I_cm + M * (dv @ dv * np.eye(3) - np.outer(dv, dv))
     M = _positive("M", M)
-    dv = sp.Matrix([sp.sympify(c) for c in d_items])
-    return (sp.Matrix(I_cm) + M * ((dv.T * dv)[0] * sp.eye(3) - dv * dv.T)).applyfunc(sp.expand)
+    # Σ m r = 0 about the centre of mass, so the cross terms of ∫ρ((r−d)²1 − (r−d)(r−d)ᵀ) vanish and what is left
+    # is the tensor of the whole mass concentrated at d — the definition applied to one point mass.
+    shift = point_masses([(M, d_items)])
+    if kind == "numpy" and not any(_is_sympy(c) for c in d_items) and not _is_sympy(M):
+        return I_cm + np.array(shift, dtype=float)
+    return (sp.Matrix(I_cm) + shift).applyfunc(sp.expand)
 
 
 def principal_axes(I: Any, *, body: bool = True) -> tuple:
