@@ -839,11 +839,12 @@ def parallel_axis(I_cm: Any, M: Any, d: Any) -> Any:
     """
     kind, I_cm = _as_tensor("I_cm", I_cm, body=True)
     d_items = _vector3("d", d)
+    numeric = kind == "numpy" and not any(_is_sympy(c) for c in d_items) and not _is_sympy(M)
     M = _positive("M", M)
     # Σ m r = 0 about the centre of mass, so the cross terms of ∫ρ((r−d)²1 − (r−d)(r−d)ᵀ) vanish and what is left
     # is the tensor of the whole mass concentrated at d — the definition applied to one point mass.
     shift = point_masses([(M, d_items)])
-    if kind == "numpy" and not any(_is_sympy(c) for c in d_items) and not _is_sympy(M):
+    if numeric:
         return I_cm + np.array(shift, dtype=float)
     return (sp.Matrix(I_cm) + shift).applyfunc(sp.expand)
 
