@@ -80,6 +80,7 @@ __all__ = [
     "rotating_frame_derivative",
     "euler_equations",
     "euler_poisson_equations",
+    "euler_poisson_invariants",
     "symmetric_precession_rate",
     "symmetric_transverse_equation",
     "torque_free_symmetric_solution",
@@ -440,6 +441,29 @@ def euler_poisson_equations(I=_PRINCIPAL, com=(0, 0, l)) -> tuple:
     """
     omega_dot, gamma_dot = _euler_poisson(_inertia_matrix(I), _vector3("com", com))
     return sp.Matrix(omega_dot), sp.Matrix(gamma_dot)
+
+
+def euler_poisson_invariants(I=_PRINCIPAL, com=(0, 0, l)) -> tuple:
+    """The conserved quantities of :func:`euler_poisson_equations`: ``(E, |Γ|², L·Γ)``.
+
+    ``E = T + V`` with ``T`` from :func:`energy` and ``V = M g (χ·Γ)`` the height of the centre of mass (``Γ`` is the
+    upward vertical in body components, ``χ`` the pivot → centre-of-mass vector); ``L = I ω`` from
+    :func:`eulersym.inertia.angular_momentum`. ``|Γ|²`` is conserved because ``Γ̇ = Γ × ω ⟂ Γ``, ``L·Γ`` (the vertical
+    component of L) because the gravity torque is horizontal.
+
+    Examples
+    --------
+    >>> E, gamma2, L_gamma = euler_poisson_invariants()
+    >>> sp.expand(E - energy())
+    M*g*l*Gamma3(t)
+    """
+    inertia_matrix = _inertia_matrix(I)
+    chi = sp.Matrix(_vector3("com", com))
+    gamma = sp.Matrix([Gamma1, Gamma2, Gamma3])
+    omega = sp.Matrix(_OMEGA)
+    E = energy(inertia_matrix, omega) + M * g * (chi.T * gamma)[0, 0]
+    L = _inertia.angular_momentum(inertia_matrix, omega)
+    return E, (gamma.T * gamma)[0, 0], sp.expand((L.T * gamma)[0, 0])
 
 
 # ----------------------------------------------------------------------------------------------------------------

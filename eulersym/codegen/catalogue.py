@@ -168,7 +168,6 @@ _ANGLES = frozen_symbols(S.euler_angles)
 OMEGA = tuple(_OMEGA[f] for f in S.omega_symbols)
 OMEGA_DOT = tuple(_OMEGA[f.diff(S.t)] for f in S.omega_symbols)
 GAMMA = tuple(_GAMMA[f] for f in (S.Gamma1, S.Gamma2, S.Gamma3))
-GAMMA_DOT = tuple(_GAMMA[f.diff(S.t)] for f in (S.Gamma1, S.Gamma2, S.Gamma3))
 QUAT = tuple(_QUAT[f] for f in (S.q0, S.q1, S.q2, S.q3))
 ANGLES = tuple(_ANGLES[f] for f in S.euler_angles)
 RATES = tuple(_ANGLES[f.diff(S.t)] for f in S.euler_angles)
@@ -286,20 +285,12 @@ def _build_heavy_top_euler_angles() -> ModuleSpec:
 
 def _build_heavy_top_euler_poisson() -> ModuleSpec:
     dynamics = importlib.import_module("eulersym.dynamics")
-    derived = dynamics.euler_poisson_equations()
+    omega_dot, gamma_dot = dynamics.euler_poisson_equations()
     frozen = {**_OMEGA, **_GAMMA}
-    if len(derived) == 2 and all(isinstance(m, sp.MatrixBase) for m in derived):  # (omega_dot, Gamma_dot)
-        rates = [freeze_state(e, frozen) for m in derived for e in m]
-    else:  # equations in the derivatives
-        rates = list(first_order([freeze_state(_residual(e), frozen) for e in derived], (*OMEGA_DOT, *GAMMA_DOT)))
+    rates = [freeze_state(e, frozen) for m in (omega_dot, gamma_dot) for e in m]
     q_dot = _quaternion_rhs()
-    omega = sp.Matrix(S.omega_symbols)
-    gamma = sp.Matrix([S.Gamma1, S.Gamma2, S.Gamma3])
-    I = tuple(S.moments)
-    chi = sp.Matrix([0, 0, S.l])  # the centre of mass, body components (the derivation's default)
-    energy = dynamics.energy(I, omega) + S.M * S.g * chi.dot(gamma)
-    L = sp.diag(*I) * omega
-    invariants = _freeze_all([energy, gamma.dot(gamma), L.dot(gamma), sum(q ** 2 for q in (S.q0, S.q1, S.q2, S.q3))])
+    energy, gamma_norm2, l_dot_gamma = dynamics.euler_poisson_invariants()
+    invariants = _freeze_all([energy, gamma_norm2, l_dot_gamma, sum(q ** 2 for q in (S.q0, S.q1, S.q2, S.q3))])
     return _ode(
         "heavy_top_euler_poisson",
         "The heavy top in the non-singular Euler–Poisson form, centre of mass at l·e3 in the body: "
