@@ -41,6 +41,7 @@ import contextlib
 import difflib
 import functools
 import importlib
+import math
 import json
 import random
 import re
@@ -458,8 +459,12 @@ def _normalize(obj, argument: str):
     if isinstance(obj, bool):
         raise InvalidInput(argument, obj, "a formula, not a truth value")
     if isinstance(obj, (int, float)):
+        if isinstance(obj, float) and not math.isfinite(obj):
+            raise InvalidInput(argument, obj, "a finite number or a formula")
         return sp.nsimplify(obj) if isinstance(obj, float) else sp.Integer(obj)
     if isinstance(obj, sp.Basic):
+        if obj.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
+            raise InvalidInput(argument, obj, "a finite formula (no NaN or infinity)")
         if isinstance(obj, sp.logic.boolalg.BooleanAtom):
             raise InvalidInput(argument, obj, "a formula; an equation that SymPy already evaluated to "
                                               f"{obj} is not one (build it with Eq(..., evaluate=False))")

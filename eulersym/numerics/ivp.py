@@ -50,15 +50,10 @@ MIN_RTOL = 100 * np.finfo(float).eps
 
 
 def _omega_from_euler_angles(y):
-    """Body ω from zxz angles and rates: ω = φ̇ (A ẑ) + θ̇ (B(ψ) x̂) + ψ̇ ẑ with A ẑ = (sθ sψ, sθ cψ, cθ)."""
-    try:  # the generated kinematics kernel, when it has landed
-        from eulersym.generated import kinematics  # type: ignore
+    """Body ω from zxz angles and rates, rows = times, with the generated kinematics kernel."""
+    from eulersym.generated import kinematics
 
-        return np.asarray(kinematics.omega_body_batched(*y.T)).T.reshape(-1, 3)
-    except Exception:  # noqa: BLE001 - fall back to the same relation written out
-        phi, theta, psi, dphi, dtheta, dpsi = y.T
-        st, ct, sp, cp = np.sin(theta), np.cos(theta), np.sin(psi), np.cos(psi)
-        return np.stack([dphi * st * sp + dtheta * cp, dphi * st * cp - dtheta * sp, dphi * ct + dpsi], axis=1)
+    return np.asarray(kinematics.omega_body_batched(*y.T)).T.reshape(-1, 3)
 
 
 def integrate_ivp(module, y0, t, params, *, method="DOP853", rtol=1e-10, atol=1e-12, layout=None):
