@@ -427,6 +427,26 @@ def _phase(sol, t):
     return r, j
 
 
+def _rescale(w, tt):
+    """Map a huge or tiny ω0 to order one: Euler's equations are homogeneous, ω(t) = s·ω̂(s t) with ω̂(0) = ω0/s.
+
+    ``s`` is a power of two, so the scaling is exact; it is 1 for |ω0| within 2^±64.
+    """
+    top = float(np.max(np.abs(w)))
+    if top == 0.0 or 2.0**-64 <= top <= 2.0**64:
+        return w, tt, 1.0
+    scale = 2.0 ** math.frexp(top)[1]
+    scaled_t = tt * scale
+    if not np.all(np.isfinite(scaled_t)):
+        raise InvalidInput("t", _times_summary(tt),
+                           f"times with |omega0|·|t| inside the float range (|omega0| ≈ {top:.3g})")
+    return w / scale, scaled_t, scale
+
+
+def _times_summary(tt) -> str:
+    return f"array of {tt.size} times up to {np.max(np.abs(tt)):.3g}"
+
+
 def _validate(I, omega0, t, check_body):
     I = tuple(float(x) for x in moments("I", I, body=check_body))
     w = finite_array("omega0", omega0, shape=(3,))
@@ -499,7 +519,8 @@ def free_rigid_body_exact(I, omega0, t, *, check_body=True):
     True
     """
     I, w, tt = _validate(I, omega0, t, check_body)
-    return _omega(_setup(I, w), w, tt)
+    w, tt, scale = _rescale(w, tt)
+    return scale * _omega(_setup(I, w), w, tt)
 
 
 def _unit_quaternion(q0):
@@ -629,8 +650,9 @@ def free_rigid_body_attitude_exact(I, omega0, q0, t, *, check_body=True):
     """
     I, w, tt = _validate(I, omega0, t, check_body)
     q0 = _unit_quaternion(q0)
+    w, tt, scale = _rescale(w, tt)
     sol = _setup(I, w)
-    omega = _omega(sol, w, tt)
+    omega = scale * _omega(sol, w, tt)
     if isinstance(sol, _Constant):
         q = quaternion_multiply(q0, _quat_exp(tt[:, None] * w[None, :]))
     elif isinstance(sol, _Symmetric):
