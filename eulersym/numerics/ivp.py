@@ -21,7 +21,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from eulersym.errors import InvalidInput
 from eulersym.numerics.trajectory import Trajectory
@@ -129,6 +128,8 @@ def integrate_ivp(module, y0, t, params, *, method="DOP853", rtol=1e-10, atol=1e
     if method in _IMPLICIT and hasattr(module, "jac"):
         jac = module.jac
         kwargs["jac"] = lambda time, y: np.asarray(jac(time, y, *params), dtype=np.float64)
+    from scipy.integrate import solve_ivp  # imported here: closed-form and splitting runs never need it
+
     sol = solve_ivp(f, (tt[0], tt[-1]), y0, method=method, t_eval=tt, rtol=rtol, atol=atol, **kwargs)
     if sol.status != 0 or not np.all(np.isfinite(sol.y)) or sol.y.shape[1] != tt.size:
         raise InvalidInput("rtol", rtol, f"a tolerance {method} can reach on this problem ({sol.message})")
