@@ -24,6 +24,7 @@ __version__ = "0.1.0"
 _SUBMODULES = (
     "errors",
     "symbols",
+    "quaternion",
     "rotation",
     "kinematics",
     "inertia",

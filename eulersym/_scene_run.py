@@ -15,6 +15,7 @@ import numpy as np
 from scipy.integrate import DOP853
 from scipy.spatial.transform import Rotation
 
+from eulersym import quaternion as _quaternion
 from eulersym.errors import InvalidInput
 from eulersym.scene import Result, Scene
 from eulersym._scene_plan import heavy_top_frame, ivp_tolerances, make_plan
@@ -431,7 +432,7 @@ def _torque_free(scene, plan, call, t, moments, omega0, q0, rot0, members, batch
         if wants_q:
             y0 = np.concatenate([omega0, q0], axis=1).T
             Y, calls = dop853_batched(gen.rhs_batched, y0, t, params=I, rtol=_rtol(scene), atol=_atol(scene), progress=bar.fraction)
-            return np.moveaxis(Y[:, :3], (0, 1, 2), (1, 2, 0)), _normalise(np.moveaxis(Y[:, 3:], (0, 1, 2), (1, 2, 0))), None, calls
+            return np.moveaxis(Y[:, :3], (0, 1, 2), (1, 2, 0)), _quaternion.normalize(np.moveaxis(Y[:, 3:], (0, 1, 2), (1, 2, 0))), None, calls
         zeros = np.zeros(batch)
         Y, calls = dop853_batched(gen.rhs_batched, omega0.T, t, params=(*I, zeros, zeros, zeros), rtol=_rtol(scene), atol=_atol(scene), progress=bar.fraction)
         return np.moveaxis(Y, (0, 1, 2), (1, 2, 0)), None, None, calls
@@ -443,7 +444,7 @@ def _torque_free(scene, plan, call, t, moments, omega0, q0, rot0, members, batch
     else:
         y0, params = omega0[0], I + (0.0, 0.0, 0.0)
     traj = numerics.integrate_ivp(gen, y0, t, params, method=method, rtol=_rtol(scene), atol=_atol(scene))
-    return traj.omega[None], (_normalise(traj.q)[None] if wants_q and traj.q is not None else None), None, traj.n_rhs_calls
+    return traj.omega[None], (_quaternion.normalize(traj.q)[None] if wants_q and traj.q is not None else None), None, traj.n_rhs_calls
 
 
 def _free_body_step(scene, I, omega0, t):
@@ -463,10 +464,6 @@ def _atol(scene) -> float:
     return ivp_tolerances(scene.accuracy)[1]
 
 
-def _normalise(q):
-    return q / np.linalg.norm(q, axis=-1, keepdims=True)
-
-
 # ---- heavy top ----------------------------------------------------------------------------------------------
 
 
@@ -484,7 +481,7 @@ def _heavy_top(scene, plan, call, t, moments, omega0, q0, rot0, members, batch, 
         Y, calls = dop853_batched(gen.rhs_batched, y0, t, params=params, rtol=_rtol(scene), atol=_atol(scene), progress=bar.fraction, takes_out=True)
         Y = np.moveaxis(Y, (0, 1, 2), (1, 2, 0))  # (batch, n, state)
         wants_q = "attitude" in scene.outputs or "euler_angles" in scene.outputs or "invariants" in scene.outputs
-        return Y[..., :3], (_normalise(Y[..., 6:10]) if wants_q else Y[..., 6:10]), Y[..., 3:6], calls
+        return Y[..., :3], (_quaternion.normalize(Y[..., 6:10]) if wants_q else Y[..., 6:10]), Y[..., 3:6], calls
     I = tuple(float(x) for x in moments[0])
     if call == "integrate_heavy_top":
         I = (I[0], I[0], I[2])  # symmetric to round-off (the plan checked I1 = I2 to 1e-12)
@@ -494,7 +491,7 @@ def _heavy_top(scene, plan, call, t, moments, omega0, q0, rot0, members, batch, 
         y0 = np.concatenate([omega0[0], gamma0[0], q0[0]])
         traj = numerics.integrate_ivp(gen, y0, t, I + (M[0], g[0], l[0]), method=plan.options.get("ivp_method", "DOP853"), rtol=_rtol(scene), atol=_atol(scene))
     gamma = traj.gamma if getattr(traj, "gamma", None) is not None else quaternion_to_rotation(traj.q).inv().apply([0.0, 0.0, 1.0])
-    return traj.omega[None], _normalise(traj.q)[None], np.asarray(gamma)[None], traj.n_rhs_calls
+    return traj.omega[None], _quaternion.normalize(traj.q)[None], np.asarray(gamma)[None], traj.n_rhs_calls
 
 
 def _heavy_top_step(scene, I, M, g, l, omega0, t):
@@ -539,7 +536,7 @@ def _torqued(scene, plan, call, t, moments, omega0, q0, rot0, members, batch, ba
     if call == "batched":
         Y, calls = dop853_batched(fun, y0, t, params=params, rtol=_rtol(scene), atol=_atol(scene), progress=bar.fraction)
         Y = np.moveaxis(Y, (0, 1, 2), (1, 2, 0))
-        return Y[..., :3], (_normalise(Y[..., 3:7]) if wants_q else None), None, calls
+        return Y[..., :3], (_quaternion.normalize(Y[..., 3:7]) if wants_q else None), None, calls
     method = plan.options.get("ivp_method", "DOP853")
     if not wants_q:
         params = tuple(moments[0]) + tuple(N[0])
@@ -550,7 +547,7 @@ def _torqued(scene, plan, call, t, moments, omega0, q0, rot0, members, batch, ba
     sol = solve_ivp(lambda tt, y: fun(tt, y[:, None], *params)[:, 0], (t[0], t[-1]), y0[:, 0], method=method, t_eval=t, rtol=_rtol(scene), atol=_atol(scene))
     if not sol.success:
         raise InvalidInput("accuracy", scene.accuracy, f"an accuracy {method} can reach ({sol.message})")
-    return sol.y[:3].T[None], _normalise(sol.y[3:7].T)[None], None, sol.nfev
+    return sol.y[:3].T[None], _quaternion.normalize(sol.y[3:7].T)[None], None, sol.nfev
 
 
 _MOTIONS = {"torque-free": _torque_free, "heavy top": _heavy_top, "torque": _torqued}

@@ -34,6 +34,7 @@ import numpy as np
 import sympy as sp
 
 from eulersym.errors import InvalidInput
+from eulersym.quaternion import hamilton
 from eulersym.validation import finite_array
 
 __all__ = [
@@ -415,12 +416,7 @@ def quaternion_multiply(p, q):
     if _is_numeric(p0, p1, p2, p3, q0, q1, q2, q3):
         finite_array("p", [p0, p1, p2, p3])
         finite_array("q", [q0, q1, q2, q3])
-    out = [
-        p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3,
-        p0 * q1 + p1 * q0 + p2 * q3 - p3 * q2,
-        p0 * q2 - p1 * q3 + p2 * q0 + p3 * q1,
-        p0 * q3 + p1 * q2 - p2 * q1 + p3 * q0,
-    ]
+    out = list(hamilton((p0, p1, p2, p3), (q0, q1, q2, q3)))
     if _is_numeric(*p, *q):
         return np.array(out, dtype=float)
     return sp.Matrix(out)

@@ -48,6 +48,7 @@ from fractions import Fraction
 import numpy as np
 from scipy.special import elliprf, elliprj
 
+from eulersym import quaternion as _quaternion
 from eulersym.errors import InvalidInput
 from eulersym.validation import finite_array, moments
 
@@ -195,31 +196,18 @@ def jacobi_sncndn(u, mc, *, rootmc=None):
 # Quaternions (scalar first)
 # ----------------------------------------------------------------------------------------------------------------
 def quaternion_multiply(p, q):
-    """Hamilton product ``p ⊗ q`` of quaternions (scalar first), broadcasting over leading axes.
+    """Hamilton product ``p ⊗ q`` of quaternions (scalar first), broadcasting over leading axes
+    (:func:`eulersym.quaternion.multiply`).
 
     Examples
     --------
     >>> quaternion_multiply([0, 1, 0, 0], [0, 0, 1, 0])   # i j = k
     array([0., 0., 0., 1.])
     """
-    p = np.asarray(p, dtype=np.float64)
-    q = np.asarray(q, dtype=np.float64)
-    p0, p1, p2, p3 = np.moveaxis(p, -1, 0)
-    q0, q1, q2, q3 = np.moveaxis(q, -1, 0)
-    return np.stack(
-        [
-            p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3,
-            p0 * q1 + p1 * q0 + p2 * q3 - p3 * q2,
-            p0 * q2 - p1 * q3 + p2 * q0 + p3 * q1,
-            p0 * q3 + p1 * q2 - p2 * q1 + p3 * q0,
-        ],
-        axis=-1,
-    )
+    return _quaternion.multiply(p, q)
 
 
-def _quat_conj(q):
-    q = np.asarray(q, dtype=np.float64)
-    return q * np.array([1.0, -1.0, -1.0, -1.0])
+_quat_conj = _quaternion.conjugate
 
 
 def _quat_exp(v):

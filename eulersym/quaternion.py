@@ -1,0 +1,72 @@
+"""Quaternions, scalar first: the one Hamilton product that the symbolic and the numeric layers share (SymPy-free).
+
+``q = (q0, q1, q2, q3) = (cos α/2, sin α/2 · n)`` describes the body's orientation: the active rotation ``R(q)``
+maps body to space components, ``R(q) v = q ⊗ (0, v) ⊗ q*``, and the text's passive matrix is ``A = R(q)ᵀ``
+(:func:`eulersym.rotation.from_quaternion`).
+
+Examples
+--------
+>>> multiply([0, 1, 0, 0], [0, 0, 1, 0])   # i j = k
+array([0., 0., 0., 1.])
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["hamilton", "multiply", "conjugate", "normalize"]
+
+
+def hamilton(p, q) -> tuple:
+    """The components of ``p ⊗ q`` from four components each, of any type that has + − × (floats, arrays, SymPy).
+
+    Examples
+    --------
+    >>> hamilton((1, 2, 3, 4), (5, 6, 7, 8))
+    (-60, 12, 30, 24)
+    """
+    p0, p1, p2, p3 = p
+    q0, q1, q2, q3 = q
+    return (
+        p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3,
+        p0 * q1 + p1 * q0 + p2 * q3 - p3 * q2,
+        p0 * q2 - p1 * q3 + p2 * q0 + p3 * q1,
+        p0 * q3 + p1 * q2 - p2 * q1 + p3 * q0,
+    )
+
+
+def multiply(p, q) -> np.ndarray:
+    """Hamilton product of float quaternions, broadcasting over leading axes: shape ``(..., 4)``.
+
+    Examples
+    --------
+    >>> multiply([[1, 0, 0, 0], [0, 1, 0, 0]], [0, 0, 1, 0])
+    array([[0., 0., 1., 0.],
+           [0., 0., 0., 1.]])
+    """
+    p = np.moveaxis(np.asarray(p, dtype=np.float64), -1, 0)
+    q = np.moveaxis(np.asarray(q, dtype=np.float64), -1, 0)
+    return np.stack(np.broadcast_arrays(*hamilton(p, q)), axis=-1)
+
+
+def conjugate(q) -> np.ndarray:
+    """``q* = (q0, −q1, −q2, −q3)``, the inverse of a unit quaternion.
+
+    Examples
+    --------
+    >>> conjugate([1.0, 2.0, 3.0, 4.0])
+    array([ 1., -2., -3., -4.])
+    """
+    return np.asarray(q, dtype=np.float64) * np.array([1.0, -1.0, -1.0, -1.0])
+
+
+def normalize(q) -> np.ndarray:
+    """``q / |q|`` along the last axis.
+
+    Examples
+    --------
+    >>> normalize([0.0, 3.0, 0.0, 4.0])
+    array([0. , 0.6, 0. , 0.8])
+    """
+    q = np.asarray(q, dtype=np.float64)
+    return q / np.linalg.norm(q, axis=-1, keepdims=True)
