@@ -12,7 +12,7 @@ from functools import lru_cache
 
 import numpy as np
 
-__all__ = ["available", "free_body_runner", "heavy_top_runner"]
+__all__ = ["available", "select", "free_body_runner", "heavy_top_runner"]
 
 
 def available() -> bool:
@@ -28,6 +28,29 @@ def available() -> bool:
     except ImportError:
         return False
     return True
+
+
+def select(fast, runner):
+    """The compiled loop ``runner()`` per the ``fast`` option, or None for the plain-Python loop.
+
+    ``fast``: None = compiled when numba is installed, True = compiled (numba required), False = plain Python.
+
+    Examples
+    --------
+    >>> select(False, free_body_runner) is None
+    True
+    """
+    from eulersym.errors import InvalidInput
+
+    if not (fast is None or isinstance(fast, bool)):
+        raise InvalidInput("fast", fast, "None (numba when installed), True or False")
+    if fast is False:
+        return None
+    if not available():
+        if fast:
+            raise InvalidInput("fast", fast, "numba installed (pip install 'eulersym[fast]'), or fast=False/None")
+        return None
+    return runner()
 
 
 @lru_cache(maxsize=1)
@@ -56,8 +79,9 @@ def heavy_top_runner():
     from numba.extending import register_jitable
 
     from eulersym.numerics import heavy_top as H
+    from eulersym.quaternion import hamilton
 
-    for fn in (H._rotate_back, H._exp_half, H._qmul, H._free, H._kick, H._renormalise):
+    for fn in (hamilton, H._rotate_back, H._exp_half, H._free, H._kick, H._renormalise):
         register_jitable(fn)
     run = numba.njit(cache=True)(H._run_top)
 

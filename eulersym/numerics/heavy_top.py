@@ -26,9 +26,11 @@ import math
 import numpy as np
 
 from eulersym.errors import InvalidInput
+from eulersym.numerics import _fast
 from eulersym.numerics.exact import _unit_quaternion
 from eulersym.numerics.splitting import YOSHIDA_GAMMA, output_steps
 from eulersym.numerics.trajectory import Trajectory
+from eulersym.quaternion import hamilton
 from eulersym.validation import choice, finite_array, moments, positive
 
 __all__ = ["integrate_heavy_top", "HEAVY_TOP_METHODS", "sleeping_top_threshold_numeric"]
@@ -57,22 +59,13 @@ def _exp_half(tau, w0, w1, w2):
     return math.cos(half), s * w0, s * w1, s * w2
 
 
-def _qmul(a0, a1, a2, a3, b0, b1, b2, b3):
-    return (
-        a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3,
-        a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
-        a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
-        a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0,
-    )
-
-
 def _free(s, tau, i1inv, nu_coef):
     """Exact flow of the free symmetric top for time τ."""
     m0, m1, m2, g0, g1, g2, q0, q1, q2, q3 = s
     # ω_a = m / I1: m is fixed, Γ and q turn
     p = _exp_half(tau, m0 * i1inv, m1 * i1inv, m2 * i1inv)
     g0, g1, g2 = _rotate_back(*p, g0, g1, g2)
-    q0, q1, q2, q3 = _qmul(q0, q1, q2, q3, *p)
+    q0, q1, q2, q3 = hamilton((q0, q1, q2, q3), p)
     # ω_b = ν e3: m, Γ and q turn about e3
     half = 0.5 * tau * nu_coef * m2
     c, sn = math.cos(half), math.sin(half)
@@ -115,20 +108,6 @@ def _run_top(state, counts, steps, subs, i1inv, nu_coef, mgl):
         for k in range(10):
             out[i + 1, k] = s[k]
     return out, kicks
-
-
-def _fast_runner(fast):
-    if not (fast is None or isinstance(fast, bool)):
-        raise InvalidInput("fast", fast, "None (numba when installed), True or False")
-    if fast is False:
-        return None
-    from eulersym.numerics import _fast
-
-    if not _fast.available():
-        if fast:
-            raise InvalidInput("fast", fast, "numba installed (pip install 'eulersym[fast]'), or fast=False/None")
-        return None
-    return _fast.heavy_top_runner()
 
 
 def integrate_heavy_top(I, M, g, l, omega0, q0, t, *, h=None, method="strang", fast=None):
@@ -195,7 +174,7 @@ def integrate_heavy_top(I, M, g, l, omega0, q0, t, *, h=None, method="strang", f
     state = tuple(float(x) for x in (I[0] * w0[0], I[1] * w0[1], I[2] * w0[2], *gamma0, *qq))
     i1inv, nu_coef = 1.0 / I[0], 1.0 / I[2] - 1.0 / I[0]
     subs = (1.0,) if method == "strang" else YOSHIDA_GAMMA
-    runner = _fast_runner(fast)
+    runner = _fast.select(fast, _fast.heavy_top_runner)
     if runner is not None:
         out, kicks = runner(state, counts, steps, subs, i1inv, nu_coef, mgl)
     else:

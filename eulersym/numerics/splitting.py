@@ -30,6 +30,7 @@ import math
 import numpy as np
 
 from eulersym.errors import InvalidInput
+from eulersym.numerics import _fast
 from eulersym.numerics.exact import _unit_quaternion
 from eulersym.numerics.trajectory import Trajectory
 from eulersym.validation import choice, finite_array, moments
@@ -233,24 +234,6 @@ def _run_rk4(state, counts, steps, inv):
     return out
 
 
-def _fast_runner(fast):
-    """The numba-compiled loop, or None for the plain-Python one (``fast``: None = if installed)."""
-    if not (fast is None or isinstance(fast, bool)):
-        raise InvalidInput("fast", fast, "None (numba when installed), True or False")
-    if fast is False:
-        return None
-    from eulersym.numerics import _fast
-
-    if not _fast.available():
-        if fast:
-            raise InvalidInput("fast", fast, "numba installed (pip install 'eulersym[fast]'), or fast=False/None")
-        return None
-    return _fast.free_body_runner()
-
-
-# ----------------------------------------------------------------------------------------------------------------
-# Drivers
-# ----------------------------------------------------------------------------------------------------------------
 def output_steps(t, h):
     """Split each output interval of ``t`` into equal steps no longer than ``h``: returns (counts, step sizes).
 
@@ -344,7 +327,7 @@ def integrate_free_body(I, omega0, q0, t, *, method="dmv4", h=None, check_body=T
     else:
         kind = {"strang": 0, "yoshida4": 1}.get(method, 2)
         par = _dmv_parameters(I, int(method[-1])) if kind == 2 else (0.0,) * 13
-        runner = _fast_runner(fast)
+        runner = _fast.select(fast, _fast.free_body_runner)
         if runner is not None:
             out = runner(kind, state, counts, steps, inv, par)
         else:
