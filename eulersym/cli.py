@@ -22,6 +22,13 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "bench": ("eulersym.bench:cli", "time eulersym against a baseline in the same run"),
 }
 
+#: Subcommands that take ``--model FILE``: a user's model is handled by :mod:`eulersym.model.cli`.
+_MODEL_ROUTES: dict[str, str] = {
+    "derive": "eulersym.model.cli:derive",
+    "generate": "eulersym.model.cli:generate",
+    "verify": "eulersym.model.cli:verify",
+}
+
 _USAGE = "usage: eulersym {" + ",".join(COMMANDS) + "} [args...]\n"
 
 
@@ -51,6 +58,8 @@ def main(argv: list[str] | None = None) -> int:
         sys.stderr.write(_USAGE + f"eulersym: error: unknown command {name!r}; valid: {', '.join(COMMANDS)}\n")
         return 2
     target = COMMANDS[name][0]
+    if name in _MODEL_ROUTES and "--model" in rest:  # a user's model: eulersym.model.cli handles the subcommand
+        target = _MODEL_ROUTES[name]
     module_name, func_name = target.split(":")
     func = getattr(importlib.import_module(module_name), func_name)
     try:
