@@ -161,17 +161,10 @@ def _region(shape: str, origin: str, dims: tuple) -> inertia.Region:
 
 
 @functools.lru_cache(maxsize=64)
-def _centre_placeholder(shape: str, origin: str) -> sp.ImmutableMatrix:
+def _centre_placeholder(shape: str, origin: str, n: int) -> sp.ImmutableMatrix:
     if shape == "point" or origin == "center":
         return _ZERO  # a "center" origin is, by definition, the centre of mass
-    n = len(_shape_dims(shape))
     return sp.ImmutableMatrix(inertia.center_of_mass(1, _region(shape, origin, _PLACEHOLDERS[:n])))
-
-
-def _shape_dims(shape: str) -> tuple:
-    from eulersym.model.spec import SHAPES
-
-    return SHAPES[shape]
 
 
 def shape_centre(shape: str, origin: str, dims) -> sp.ImmutableMatrix:
@@ -185,7 +178,7 @@ def shape_centre(shape: str, origin: str, dims) -> sp.ImmutableMatrix:
     Matrix([[0, 0, 3*h/4]])
     """
     dims = tuple(dims)
-    centre = _centre_placeholder(shape, origin)
+    centre = _centre_placeholder(shape, origin, len(dims))
     return sp.ImmutableMatrix(centre.xreplace(dict(zip(_PLACEHOLDERS, dims))))
 
 
