@@ -119,12 +119,15 @@ class _Values:
         if not np.all(np.isfinite(arr)) or np.any(np.abs(arr.imag) > 1e-12 * max(1.0, np.max(np.abs(arr)))):
             raise InvalidInput(key, raw, "a real, finite tensor at the parameters' defaults")
         arr = arr.real
+        if raw is None:  # a derived tensor: show it
+            raw = [[float(f"{x:.6g}") for x in row] for row in arr]
         scale = float(np.max(np.abs(arr))) or 1.0
         eig = np.linalg.eigvalsh((arr + arr.T) / 2)
         shown = [float(f"{e:.6g}") for e in eig]
         if eig[0] <= 1e-14 * scale:
             raise InvalidInput(key, raw, f"a positive-definite tensor (its principal moments are {shown} at the "
-                               "parameters' defaults)")
+                               "parameters' defaults; a thin rod, or point masses on one line, have no moment "
+                               "about that line, and the equations of motion need all three)")
         if eig[0] + eig[1] < eig[2] * (1 - 1e-12):
             raise InvalidInput(key, raw, f"the tensor of a body: its principal moments {shown} must satisfy "
                                "I1 + I2 >= I3 (the triangle inequality), at the parameters' defaults")
@@ -308,7 +311,7 @@ def assemble(data: dict) -> Assembly:
         centre = _ZERO
         derived_centre = False
     if derived_centre:
-        values.body_tensor("body", data["body"], I)
+        values.body_tensor("body", None, I)
     gravity = sp.Integer(0)
     if pivoted:
         key = "pivot.l" if pivot.get("l") else "pivot.centre_of_mass"

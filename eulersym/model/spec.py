@@ -485,6 +485,10 @@ def _rotor(value: Any, check: _Checker):
 # The model
 
 
+def _drop_none(table: dict) -> dict:
+    return {k: v for k, v in table.items() if v is not None}
+
+
 def _distribution_version(name: str) -> str:
     try:
         return metadata.version(name)
@@ -658,14 +662,37 @@ class Model:
         return self._data["pivot"] is not None
 
     def to_dict(self) -> dict:
-        """The normalised model: what :attr:`digest` hashes (numbers as floats, expressions as stripped strings).
+        """The normalised model as a mapping :meth:`from_dict` reads back (numbers as floats, expressions as
+        stripped strings, defaults filled in): what :attr:`digest` hashes.
 
         Examples
         --------
-        >>> Model(body={"moments": [1, 2, 3]}).to_dict()["body"]
-        {'moments': [1.0, 2.0, 3.0], 'mass': None}
+        >>> m = Model(body={"moments": [1, 2, 3], "mass": 2}, pivot={"l": 0.1})
+        >>> m.to_dict()
+        {'name': 'model', 'body': {'moments': [1.0, 2.0, 3.0], 'mass': 2.0}, 'pivot': {'g': 9.81, 'l': 0.1}}
+        >>> Model.from_dict(m.to_dict()) == m
+        True
         """
-        return json.loads(json.dumps(self._data))
+        data = json.loads(json.dumps(self._data))
+        out: dict = {"name": data["name"]}
+        if data["parameters"]:
+            out["parameters"] = {k: v for k, v in data["parameters"]}
+        body = _drop_none(data["body"])
+        if "parts" in body:
+            body["parts"] = [_drop_none(part) for part in body["parts"]]
+        out["body"] = body
+        pivot = data["pivot"]
+        if pivot is not None:
+            com, by_l = pivot.pop("centre_of_mass"), pivot.pop("l")
+            if com is not None:
+                pivot.update({"l": com[2]} if by_l else {"centre_of_mass": com})
+            out["pivot"] = pivot
+        torque = _drop_none(data["torque"])
+        if torque:
+            out["torque"] = torque
+        if data["rotor"] is not None:
+            out["rotor"] = {"h": data["rotor"]}
+        return out
 
     @cached_property
     def digest(self) -> str:
