@@ -392,10 +392,21 @@ def lagrange_equations(mech: Mechanics, convention: str = "zxz") -> list:
     True
     """
     L = lagrangian(mech, convention)
+    # Differentiate with the angles and rates frozen into plain symbols (cheaper than functions of t), the time
+    # derivative by the chain rule: d/dt f(q, q̇, t) = Σ ∂f/∂q_i q̇_i + ∂f/∂q̇_i q̈_i + ∂f/∂t.
+    q = [sp.Dummy(a.func.__name__, real=True) for a in euler_angles]
+    qd = [sp.Dummy(a.func.__name__ + "dot", real=True) for a in euler_angles]
+    qdd = [sp.Dummy(a.func.__name__ + "ddot", real=True) for a in euler_angles]
+    freeze = {**{a.diff(t): s for a, s in zip(euler_angles, qd)}, **dict(zip(euler_angles, q))}
+    thaw = {**dict(zip(q, euler_angles)), **{s: a.diff(t) for a, s in zip(euler_angles, qd)},
+            **{s: a.diff(t, 2) for a, s in zip(euler_angles, qdd)}}
+    frozen = L.xreplace(freeze)
     out = []
-    for q in euler_angles:
-        qd = q.diff(t)
-        out.append(sp.Eq(sp.expand(sp.diff(L, qd).diff(t) - sp.diff(L, q)), 0, evaluate=False))
+    for j in range(3):
+        p = sp.diff(frozen, qd[j])
+        rate = sp.diff(p, t) + sum(sp.diff(p, q[i]) * qd[i] + sp.diff(p, qd[i]) * qdd[i] for i in range(3))
+        expr = sp.expand(rate - sp.diff(frozen, q[j]))
+        out.append(sp.Eq(expr.xreplace(thaw), 0, evaluate=False))
     return out
 
 

@@ -397,8 +397,8 @@ def kovalevskaya_integral(mech: Mechanics) -> sp.Expr | None:
     u2 = _dot(u, u)
     k = _rational(mech.mass * mech.gravity) / C
     wu, wv = _dot(w, u), _dot(w, v)
-    real = (wu ** 2 - wv ** 2) / u2 - k * _dot(G, u)
-    imag = 2 * wu * wv / u2 - k * _dot(G, v)
+    real = sp.cancel(sp.expand((wu ** 2 - wv ** 2) / u2)) - sp.expand(k * _dot(G, u))
+    imag = sp.cancel(sp.expand(2 * wu * wv / u2)) - sp.expand(k * _dot(G, v))
     return real ** 2 + imag ** 2
 
 
