@@ -23,7 +23,8 @@ def _members(state, par, hs, t, subs, kind, out):
     for b in _range(B):
         s = (state[0, b], state[1, b], state[2, b], state[3, b], state[4, b], state[5, b], state[6, b], state[7, b],
              state[8, b], state[9, b])
-        p = (par[0, b], par[1, b], par[2, b], par[3, b], par[4, b], par[5, b], par[6, b], par[7, b], par[8, b])
+        p = (par[0, b], par[1, b], par[2, b], par[3, b], par[4, b], par[5, b], par[6, b], par[7, b], par[8, b],
+             par[9, b])
         for k in range(10):
             out[b, 0, k] = s[k]
         for i in range(n_out - 1):
@@ -33,7 +34,7 @@ def _members(state, par, hs, t, subs, kind, out):
             for _ in range(n):
                 for gam in subs:
                     s = _substep(s, gam * hk, p, kind, None, None)
-                s = _renormalise(s)
+                s = _renormalise(s, p)
             for k in range(10):
                 out[b, i + 1, k] = s[k]
     return out
@@ -66,14 +67,14 @@ def _compiled(parallel: bool):
 
 
 def member_runner(parallel: bool = False):
-    """``runner(state (10, B), par (9, B), hs (B,), t (n,), subs, kind) -> out (B, n, 10)``, compiled.
+    """``runner(state (10, B), par (10, B), hs (B,), t (n,), subs, kind) -> out (B, n, 10)``, compiled.
 
     Examples
     --------
     >>> import numpy as np
     >>> run = member_runner()
     >>> s = np.array([[0.0], [0.0], [1.0], [0.0], [0.0], [1.0], [1.0], [0.0], [0.0], [0.0]])
-    >>> par = np.array([[1.0], [1.0], [1.0], [0.0], [0.0], [0.0], [0.0], [0.0], [0.0]])
+    >>> par = np.array([[1.0], [1.0], [1.0], [0.0], [0.0], [0.0], [0.0], [0.0], [0.0], [1.0]])
     >>> out = run(s, par, np.array([0.1]), np.array([0.0, 1.0]), (1.0,), 0)
     >>> out.shape
     (1, 2, 10)

@@ -102,13 +102,13 @@ def _run_numpy(state, par, hs, t, subs, kind):
     for hval in np.unique(hs):
         idx = np.nonzero(hs == hval)[0]
         s = tuple(state[k, idx] for k in range(10))
-        p = tuple(par[k, idx] for k in range(9))
+        p = tuple(par[k, idx] for k in range(10))
         for i, n in enumerate(_counts(t, float(hval))):
             hk = (t[i + 1] - t[i]) / n
             for _ in range(n):
                 for gam in subs:
                     s = _substep(s, gam * hk, p, kind, np.cos, np.sin)
-                s = _renormalise(s)
+                s = _renormalise(s, p)
             out[idx, i + 1] = np.stack(s, axis=1)
     return out
 
