@@ -57,7 +57,7 @@ def local_client(n_workers: int, *, processes: bool = True, memory_limit="auto")
     from distributed import Client, LocalCluster
 
     cluster = LocalCluster(n_workers=int(n_workers), threads_per_worker=1, processes=processes,
-                           dashboard_address=None, memory_limit=memory_limit, silence_logs=50)
+                           dashboard_address=":0", memory_limit=memory_limit, silence_logs=50)
     client = Client(cluster)
     client._eulersym_owns_cluster = cluster  # closed with the client by :func:`close`
     return client
