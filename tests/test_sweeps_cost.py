@@ -143,14 +143,15 @@ def test_default_budget_is_at_most_two_gib():
 
 def test_refusal_is_quick_and_small_in_a_fresh_process():
     """The plan refuses a 10^9-member sweep before allocating: well under a second and 100 MB."""
-    code = ("import resource, time; t = time.perf_counter()\n"
+    code = ("import time; t = time.perf_counter()\n"
             "from eulersym.sweeps.cost import estimate, check\n"
             "from eulersym.errors import InvalidInput\n"
             "e = estimate(members=10**9, points=1001, state=10, output_values=3, engine='dop853', rate=10.0, t_end=1.0,"
             " accuracy=1e-8)\n"
             "try:\n    check(e)\nexcept InvalidInput:\n    pass\n"
-            "print(time.perf_counter() - t, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)")
+            "hwm = [l.split()[1] for l in open('/proc/self/status') if l.startswith('VmHWM')][0]\n"
+            "print(time.perf_counter() - t, hwm)")
     start = time.perf_counter()
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
-    assert float(out[0]) < 1.0 and int(out[1]) < 100 * 1024, out  # ru_maxrss in KiB
+    assert float(out[0]) < 1.0 and int(out[1]) < 100 * 1024, out  # VmHWM (this process's peak RSS) in KiB
     assert time.perf_counter() - start < 30
