@@ -783,11 +783,11 @@ class Model:
     def prove(self, candidate: str):
         """Whether ``candidate`` (a string in the model's names) is conserved
         (:func:`eulersym.model.integrals.prove`)."""
+        if not isinstance(candidate, str):
+            raise InvalidInput("candidate", candidate, "a string: an expression in the model's names")
         from eulersym.model import integrals
         from eulersym.model.expressions import parse
 
-        if not isinstance(candidate, str):
-            raise InvalidInput("candidate", candidate, "a string: an expression in the model's names")
         mech = self.mechanics
         return integrals.prove(mech, parse(candidate, mech, argument="candidate", shape="scalar"))
 
