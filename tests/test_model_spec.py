@@ -576,3 +576,47 @@ def test_expression_refusals(text, shape, match):
 def test_expression_namespace_refuses_reserved_parameters():
     with pytest.raises(InvalidInput, match="parameters.t"):
         namespace({"t": 1})
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# Delegation to the derivation half (eulersym.model.derive / integrals / kernels)
+
+
+@pytest.fixture(scope="module")
+def damped_gyrostat():
+    return Model(name="damped gyrostat", parameters={"c": 0.1, "h3": 0.5},
+                 body={"moments": [1, 2, 3]}, torque={"body": "-c*omega"}, rotor={"h": [0, 0, "h3"]})
+
+
+def test_delegation_equations_and_invariants(damped_gyrostat):
+    eqs = damped_gyrostat.equations()
+    assert eqs is not None
+    verdict = damped_gyrostat.prove("dot(omega, inertia*omega)/2")
+    c = sp.Symbol("c", real=True)
+    assert not verdict.conserved
+    assert sp.expand(verdict.rate + c * sum(w**2 for w in OMEGA)) == 0  # dE/dt = −c |ω|²
+    assert damped_gyrostat.prove("q0^2 + q1^2 + q2^2 + q3^2").conserved
+    with pytest.raises(InvalidInput, match="candidate"):
+        damped_gyrostat.prove("omga1")
+    with pytest.raises(InvalidInput, match="candidate"):
+        damped_gyrostat.prove(["omega1"])
+    assert damped_gyrostat.invariants()
+
+
+def test_delegation_kernels(damped_gyrostat, tmp_path):
+    path = damped_gyrostat.generate(tmp_path)
+    assert Path(path).exists() and damped_gyrostat.digest in Path(path).read_text()
+    module = damped_gyrostat.compile()
+    assert tuple(module.PARAMETERS) == ("c", "h3") and tuple(module.DEFAULTS) == (0.1, 0.5)
+    y = np.array([0.1, 0.2, 0.3, 1.0, 0.0, 0.0, 0.0])
+    assert tuple(module.STATE) == ("omega1", "omega2", "omega3", "q0", "q1", "q2", "q3")
+    dy = np.asarray(module.rhs(0.0, y, 0.1, 0.5), dtype=float)
+    w = y[:3]
+    L = np.diag([1.0, 2.0, 3.0]) @ w + [0, 0, 0.5]
+    expected = np.linalg.solve(np.diag([1.0, 2.0, 3.0]), -0.1 * w - np.cross(w, L))
+    assert np.allclose(dy[:3], expected)
+
+
+def test_delegation_check_of_a_heavy_top_from_a_scene():
+    report = Model.from_toml(SCENES / "heavy-top-nutation.toml").check()
+    assert report.ok
