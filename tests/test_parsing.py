@@ -314,6 +314,15 @@ def test_huge_roots_of_numbers_are_refused_at_once(text):
     assert time.perf_counter() - start < 1.0
 
 
+@pytest.mark.parametrize("text", ["(" + "9" * 30 + "^12 + 3)^(5/7)", "(sqrt(2)*" + "9" * 30 + "^12)^(5/7)"])
+def test_roots_of_powers_of_big_numbers_are_refused_at_once(text):
+    """SymPy would raise the 360-digit base to the numerator 5 and look for 7th powers in it (seconds)."""
+    start = time.perf_counter()
+    with pytest.raises(UnsafeExpression, match="large prime factors times the power's numerator"):
+        parse(text)
+    assert time.perf_counter() - start < 1.0
+
+
 def test_moderate_roots_still_work():
     assert parse("2^(1/3)") == sp.Integer(2) ** sp.Rational(1, 3)
     assert parse("2^0.123456") == sp.Integer(2) ** sp.Rational(1929, 15625)

@@ -137,6 +137,7 @@ def test_latex_fragments(text):
 # The cases the ten-minute fuzz of issue 14 found, kept as examples.
 @pytest.mark.parametrize("text", ["640^-640^-64", "[x] + 1", "[x] + [y, z]", "①", "٣", "١٢٣", "x^(1/9999999)",
                                   "2^(3/10000001)", "(1/3)^(-640^-64)", "sqrt(2)^(640^-64)", "9**9**9",
-                                  "exp(exp(exp(x)))", "(" * 50 + "x" + ")" * 50, "1" * 40, "[[x], [y, z]]"])
+                                  "exp(exp(exp(x)))", "(" * 50 + "x" + ")" * 50, "1" * 40, "[[x], [y, z]]",
+                                  "(" + "9" * 30 + "^12 + 3)^(5/7)"])
 def test_issue_14_cases(text):
     _call(parse, text)
