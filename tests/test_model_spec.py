@@ -200,6 +200,7 @@ def test_rotated_part_against_monte_carlo(rng):
     {"quaternion": [1, 1, 0, 0]},  # normalised
     {"axis": [1, 0, 0], "angle": "pi/2"},
     {"euler": [0, "pi/2", 0], "convention": "zxz"},
+    [0, "pi/2", 0],
 ])
 def test_orientations_agree(orientation):
     """A quarter turn about x, five ways: a rod along z ends up along -y (v_model = R v_part)."""
@@ -207,6 +208,14 @@ def test_orientations_agree(orientation):
                               {"shape": "sphere", "mass": 1, "R": 1}]}, pivot={})
     assert mat_equal(m.centre_of_mass, [0, -sp.Rational(1, 2), 0])
     assert mat_equal(m.inertia, sp.diag(sp.Rational(4, 3), 0, sp.Rational(4, 3)) + sp.eye(3) * sp.Rational(2, 5))
+
+
+@pytest.mark.parametrize("inline", [{"euler": [0, "pi/2", 0]}, {"euler": [0, "pi/2", 0], "convention": "zxz"},
+                                    {"quaternion": [1, 1, 0, 0]}, {"axis": [1, 0, 0], "angle": "pi/2"}])
+def test_orientation_keys_on_the_part(inline):
+    m = Model(body={"parts": [{"shape": "rod", "mass": 1, "L": 2, "origin": "end", **inline},
+                              {"shape": "sphere", "mass": 1, "R": 1}]}, pivot={})
+    assert mat_equal(m.centre_of_mass, [0, -sp.Rational(1, 2), 0])
 
 
 def test_point_and_moments_parts():
@@ -399,6 +408,12 @@ BAD = [
     ({"body": {"parts": [{"shape": "cube", "a": 1, "mass": 1, "orientation": {"axis": [1, 0, 0]}}]}},
      "body.parts\\[0\\].orientation.angle", "angle"),
     ({"body": {"parts": []}}, "body.parts", "non-empty"),
+    ({"body": {"parts": [{"shape": "cube", "a": 1, "mass": 1, "euler": [0, 0, 0], "orientation": [1, 0, 0, 0]}]}},
+     "body.parts\\[0\\].euler", "one orientation"),
+    ({"body": {"parts": [{"shape": "cube", "a": 1, "mass": 1, "orientation": [1, 0]}]}},
+     "body.parts\\[0\\].orientation", "quaternion"),
+    ({"body": {"parts": [{"shape": "cube", "a": 1, "mass": 1, "euler": [0, 0, 0], "quaternion": [1, 0, 0, 0]}]}},
+     "body.parts\\[0\\].orientation", "one of"),
     ({"body": {"parts": [{"shape": "cube", "a": 1, "mass": 1}], "mass": 2}}, "body.mass", "each part"),
     ({"body": {"shape": "cone", "mass": 1, "R": 0.1}}, "body.h", "dimension h"),
     ({"body": {"shape": "cone", "mass": 1, "R": 0.1, "hh": 0.2}}, "body.hh", "did you mean 'h'"),

@@ -13,7 +13,8 @@ A model is the physics part of a scene (a scene file is a model file plus ``[ini
     # [[body.parts]]                        # each: a shape with mass and dimensions, or moments/tensor + mass,
     # shape = "cylinder"  mass = 1.0  R = 0.1  h = 0.02
     # position = [0, 0, 0.1]                # where the part's origin sits (from the pivot, for a pivoted body)
-    # orientation = {euler = [0, 1.5708, 0], convention = "zxz"}   # or {quaternion = [...]}, {axis, angle}
+    # orientation = {euler = [0, 1.5708, 0], convention = "zxz"}   # or {quaternion = [...]}, {axis, angle};
+    #                                       # or on the part: euler = [...] (+ convention), quaternion = [...]
     mass = 0.5
     [pivot]                       # a fixed point; without it the body is free
     centre_of_mass = [0, 0, 0.04] # body frame, from the pivot (or l = 0.04 for [0, 0, l]); g = 9.81 by default
@@ -34,7 +35,8 @@ Shapes and their dimensions (:mod:`eulersym.inertia`): ``cube`` (a), ``cuboid`` 
 shape's *origin* (``center``; cube/cuboid ``corner``; cylinder ``base``; cone ``apex`` (the default); rod
 ``end``) is the pivot for a pivoted shape, and the point placed at ``position`` for a part.
 
-Orientation of a part: its axes are turned relative to the model frame as a body's axes relative to space by the
+Orientation of a part (``orientation = {...}``, or the same keys written on the part; a 4-list is a quaternion, a
+3-list zxz Euler angles): its axes are turned relative to the model frame as a body's axes relative to space by the
 same attitude — ``v_model = R v_part`` with ``R = R(q)`` for ``quaternion = [q0, q1, q2, q3]`` (scalar first),
 ``R = Aᵀ`` with ``A = euler_matrix(φ, θ, ψ, convention)`` for ``euler = [φ, θ, ψ]`` (radians), and the turn by
 ``angle`` about ``axis`` for ``{axis, angle}``; the part's tensor becomes ``R I Rᵀ``.
@@ -109,6 +111,7 @@ MAX_FILE_BYTES = 1 << 20
 
 _BODY_KINDS = ("moments", "tensor", "shape", "parts")
 _ORIENTATIONS = ("quaternion", "euler", "axis")
+_ORIENTATION_KEYS = ("quaternion", "euler", "convention", "axis", "angle")
 
 
 def _did_you_mean(key: str, valid) -> str:
@@ -288,6 +291,12 @@ def _orientation(key: str, value: Any, check: _Checker):
     if value is None:
         return None
     if isinstance(value, (list, tuple)):
+        if len(value) == 3:
+            return {"euler": check.vector(key, value), "convention": "zxz"}
+        if len(value) != 4:
+            raise InvalidInput(key, value, "a quaternion [q0, q1, q2, q3] (scalar first), Euler angles "
+                               "[phi, theta, psi] (zxz, radians), or a table {euler, convention}, {quaternion}, "
+                               "{axis, angle}")
         return {"quaternion": _quaternion(key, value, check)}
     table = _table(key, value, ("quaternion", "euler", "convention", "axis", "angle"))
     given = [k for k in _ORIENTATIONS if k in table]
@@ -414,7 +423,13 @@ def _parts(value: Any, check: _Checker) -> list:
     for i, part in enumerate(value):
         key = f"body.parts[{i}]"
         table = _table(key, part, ("shape", "moments", "tensor", "mass", "origin", "dimensions", "a", "b", "c",
-                                   "R", "h", "L", "position", "orientation"))
+                                   "R", "h", "L", "position", "orientation", *_ORIENTATION_KEYS))
+        inline = {k: table.pop(k) for k in _ORIENTATION_KEYS if k in table}
+        if inline:  # quaternion = [...], euler = [...] + convention, axis + angle written on the part itself
+            if "orientation" in table:
+                k = next(iter(inline))
+                raise InvalidInput(f"{key}.{k}", inline[k], f"one orientation: {key}.orientation is given too")
+            table["orientation"] = inline
         given = [k for k in ("moments", "tensor", "shape") if k in table]
         if len(given) != 1:
             raise InvalidInput(key, part, "one of shape (with mass and dimensions), moments or tensor (with mass)"
