@@ -120,6 +120,16 @@ def _did_you_mean(key: str, valid) -> str:
     return "one of " + ", ".join(repr(v) for v in valid) + (f" (did you mean {close[0]!r}?)" if close else "")
 
 
+def _sequence(value: Any) -> list | None:
+    """``value`` as a list when it is a list, tuple or array (not a string or a table), else None."""
+    if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__len__") or not hasattr(value, "__iter__"):
+        return None
+    try:
+        return list(value)
+    except TypeError:
+        return None
+
+
 def _table(key: str, value: Any, valid) -> dict:
     if not isinstance(value, Mapping):
         raise InvalidInput(key, value, f"a table with keys among {', '.join(valid)}")
@@ -182,7 +192,7 @@ class _Checker:
         if isinstance(value, str):
             return self.text(key, value, context)
         if isinstance(value, bool) or not isinstance(value, numbers.Real):
-            if isinstance(value, (list, tuple)):
+            if _sequence(value) is not None:
                 raise InvalidInput(key, value, "a number or an expression string, not a list (a vector where "
                                    "a scalar belongs)")
             raise InvalidInput(key, value, "a number or an expression string of the parameters")
@@ -206,13 +216,14 @@ class _Checker:
                 return self.text(key, value, context)
             raise InvalidInput(key, value, f"{n} components [x, y, z] (numbers or expression strings), not one "
                                "string" if n == 3 else f"{n} components")
-        if not isinstance(value, (list, tuple)):
+        items = _sequence(value)
+        if items is None:
             raise InvalidInput(key, value, f"a list of {n} components" + (" (a scalar where a vector belongs)"
                                                                           if isinstance(value, numbers.Real)
                                                                           else ""))
-        if len(value) != n:
-            raise InvalidInput(key, value, f"a list of {n} components, not {len(value)}")
-        return [self.number(f"{key}[{i}]", v, context=context, sign=sign) for i, v in enumerate(value)]
+        if len(items) != n:
+            raise InvalidInput(key, value, f"a list of {n} components, not {len(items)}")
+        return [self.number(f"{key}[{i}]", v, context=context, sign=sign) for i, v in enumerate(items)]
 
 
 # ------------------------------------------------------------------------------------------------------------
@@ -290,7 +301,8 @@ def _shape_keys(key: str, table: dict, shape_key: str = "shape") -> dict:
 def _orientation(key: str, value: Any, check: _Checker):
     if value is None:
         return None
-    if isinstance(value, (list, tuple)):
+    if _sequence(value) is not None:
+        value = _sequence(value)
         if len(value) == 3:
             return {"euler": check.vector(key, value), "convention": "zxz"}
         if len(value) != 4:
@@ -341,9 +353,10 @@ def _moments(key: str, value: Any, check: _Checker) -> list:
 
 
 def _tensor(key: str, value: Any, check: _Checker) -> list:
-    if not isinstance(value, (list, tuple)) or len(value) != 3:
+    rows = _sequence(value)
+    if rows is None or len(rows) != 3:
         raise InvalidInput(key, value, "a 3×3 symmetric inertia tensor [[I11, I12, I13], [I21, ...], [...]]")
-    rows = [check.vector(f"{key}[{i}]", row) for i, row in enumerate(value)]
+    rows = [check.vector(f"{key}[{i}]", row) for i, row in enumerate(rows)]
     for i in range(3):
         for j in range(i + 1, 3):
             a, b = rows[i][j], rows[j][i]
@@ -415,12 +428,12 @@ def _body(value: Any, check: _Checker, pivoted: bool) -> dict:
 
 
 def _parts(value: Any, check: _Checker) -> list:
-    if not isinstance(value, (list, tuple)) or not value:
+    if _sequence(value) is None or not _sequence(value):
         raise InvalidInput("body.parts", value, "a non-empty list of parts ([[body.parts]] tables)")
     if len(value) > MAX_PARTS:
         raise InvalidInput("body.parts", f"{len(value)} parts", f"at most {MAX_PARTS} parts")
     parts = []
-    for i, part in enumerate(value):
+    for i, part in enumerate(_sequence(value)):
         key = f"body.parts[{i}]"
         table = _table(key, part, ("shape", "moments", "tensor", "mass", "origin", "dimensions", "a", "b", "c",
                                    "R", "h", "L", "position", "orientation", *_ORIENTATION_KEYS))
