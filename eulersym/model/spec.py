@@ -669,7 +669,13 @@ class Model:
     # ---- plain facts (SymPy-free) --------------------------------------------------------------------------
     @property
     def name(self) -> str:
-        """The model's name."""
+        """The model's name.
+
+        Examples
+        --------
+        >>> Model(name="spinner", body={"moments": [1, 2, 3]}).name
+        'spinner'
+        """
         return self._data["name"]
 
     @property
@@ -685,7 +691,13 @@ class Model:
 
     @property
     def pivoted(self) -> bool:
-        """Whether the body turns about a fixed pivot."""
+        """Whether the body turns about a fixed pivot.
+
+        Examples
+        --------
+        >>> Model(body={"moments": [1, 1, 2], "mass": 1}, pivot={"l": 0.1}).pivoted
+        True
+        """
         return self._data["pivot"] is not None
 
     def to_dict(self) -> dict:
@@ -766,50 +778,112 @@ class Model:
 
     @property
     def mass(self):
-        """The total mass (SymPy), derived for a shape or parts; None for a free body given without one."""
+        """The total mass (SymPy), derived for a shape or parts; None for a free body given without one.
+
+        Examples
+        --------
+        >>> Model(body={"parts": [{"shape": "sphere", "mass": 1, "R": 1},
+        ...                       {"shape": "point", "mass": 0.5, "position": [2, 0, 0]}]}).mass
+        3/2
+        """
         return self._assembly.mass
 
     @property
     def centre_of_mass(self):
         """The centre of mass (3×1, SymPy): from the pivot for a pivoted body; for a free body, where the shape
-        (from its origin) or the parts put it in the model frame (zero for moments or a tensor)."""
+        (from its origin) or the parts put it in the model frame (zero for moments or a tensor).
+
+        Examples
+        --------
+        A cone on its apex: 3h/4 up the axis, derived from the region.
+
+        >>> Model(body={"shape": "cone", "mass": 1, "R": 0.05, "h": 0.2}, pivot={}).centre_of_mass.T
+        Matrix([[0, 0, 3/20]])
+        """
         return self._assembly.centre_of_mass
 
     @property
     def inertia(self):
         """The inertia tensor (3×3, SymPy) in the model frame: about the pivot, or the centre of mass of a free
-        body (never silently in principal axes)."""
+        body (never silently in principal axes).
+
+        Examples
+        --------
+        Two point masses on the x axis and a small sphere, about their centre of mass:
+
+        >>> Model(body={"parts": [{"shape": "point", "mass": 1, "position": [1, 0, 0]},
+        ...                       {"shape": "point", "mass": 1, "position": [-1, 0, 0]},
+        ...                       {"shape": "sphere", "mass": 5, "R": 0.1}]}).inertia.diagonal()
+        Matrix([[1/50, 101/50, 101/50]])
+        """
         return self.mechanics.inertia
 
     # ---- derivations (eulersym.model.derive / integrals / kernels) --------------------------------------------
     def equations(self):
-        """The equations of motion, Newton–Euler route (:func:`eulersym.model.derive.equations`)."""
+        """The equations of motion, Newton–Euler route (:func:`eulersym.model.derive.equations`).
+
+        Examples
+        --------
+        >>> eqs = Model(body={"moments": [1, 1, 2]}, torque={"body": "[0, 0, 0.5]"}).equations()
+        >>> eqs.omega_dot[2]
+        1/4
+        """
         from eulersym.model import derive
 
         return derive.equations(self.mechanics)
 
     def lagrangian(self, convention: str = "zxz"):
-        """The Lagrangian in Euler angles of ``convention`` (:func:`eulersym.model.derive.lagrangian`)."""
+        """The Lagrangian in Euler angles of ``convention`` (:func:`eulersym.model.derive.lagrangian`).
+
+        Examples
+        --------
+        >>> from eulersym.symbols import phi, psi
+        >>> L = Model(body={"moments": [1, 1, 2]}).lagrangian()
+        >>> L.diff(phi), L.diff(psi)  # a free symmetric body: precession and spin angles are cyclic
+        (0, 0)
+        """
         from eulersym.model import derive
 
         return derive.lagrangian(self.mechanics, convention)
 
     def check(self):
-        """The two routes proven identical (:func:`eulersym.model.derive.check`)."""
+        """The two routes proven identical (:func:`eulersym.model.derive.check`).
+
+        Examples
+        --------
+        >>> Model(body={"moments": [1, 1, 2], "mass": 1}, pivot={"l": 0.1}).check().ok
+        True
+        """
         from eulersym.model import derive
 
         return derive.check(self.mechanics)
 
     def invariants(self):
         """The integrals of motion the structure implies, each with a proven verdict
-        (:func:`eulersym.model.integrals.invariants`)."""
+        (:func:`eulersym.model.integrals.invariants`).
+
+        Examples
+        --------
+        >>> verdicts = Model(body={"moments": [1, 2, 3]}).invariants()
+        >>> all(v.conserved for v in verdicts.values())
+        True
+        """
         from eulersym.model import integrals
 
         return integrals.invariants(self.mechanics)
 
     def prove(self, candidate: str):
         """Whether ``candidate`` (a string in the model's names) is conserved
-        (:func:`eulersym.model.integrals.prove`)."""
+        (:func:`eulersym.model.integrals.prove`).
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> damped = Model(parameters={"c": 0.1}, body={"moments": [1, 2, 3]}, torque={"body": "-c*omega"})
+        >>> verdict = damped.prove("dot(omega, inertia*omega)/2")
+        >>> verdict.conserved, sp.expand(verdict.rate)
+        (False, -c*omega1**2 - c*omega2**2 - c*omega3**2)
+        """
         if not isinstance(candidate, str):
             raise InvalidInput("candidate", candidate, "a string: an expression in the model's names")
         from eulersym.model import integrals
@@ -819,13 +893,29 @@ class Model:
         return integrals.prove(mech, parse(candidate, mech, argument="candidate", shape="scalar"))
 
     def generate(self, directory):
-        """Write the model's kernel module into ``directory`` (:func:`eulersym.model.kernels.generate`)."""
+        """Write the model's kernel module into ``directory`` (:func:`eulersym.model.kernels.generate`).
+
+        Examples
+        --------
+        >>> import tempfile, pathlib
+        >>> with tempfile.TemporaryDirectory() as d:
+        ...     path = Model(name="spinner", body={"moments": [1, 2, 3]}).generate(d)
+        ...     pathlib.Path(path).suffix
+        '.py'
+        """
         from eulersym.model import kernels
 
         return kernels.generate(self.mechanics, directory, digest=self.digest)
 
     def compile(self):
-        """The model's kernel functions in memory (:func:`eulersym.model.kernels.compile`)."""
+        """The model's kernel functions in memory (:func:`eulersym.model.kernels.compile`).
+
+        Examples
+        --------
+        >>> kernel = Model(body={"moments": [1, 2, 3]}).compile()
+        >>> kernel.STATE[:3], [float(x) for x in kernel.rhs(0.0, [0, 0, 1, 1, 0, 0, 0])[:3]]
+        (('omega1', 'omega2', 'omega3'), [0.0, 0.0, 0.0])
+        """
         from eulersym.model import kernels
 
         return kernels.compile(self.mechanics)
