@@ -537,6 +537,8 @@ def test_digest_ignores_spelling_but_not_physics():
     p2 = Model(parameters={"b": 2.0, "a": 1.0}, body={"moments": [1, 2, 3]})
     assert p1.digest != p2.digest  # the parameters' order is the generated functions' argument order
     assert a == Model.from_dict(a.to_dict()) and a.digest == Model.from_dict(a.to_dict()).digest
+    heavy = {"moments": [1, 1, 2], "mass": 1}
+    assert Model(body=heavy, pivot={"l": 0.1}).digest == Model(body=heavy, pivot={"centre_of_mass": [0, 0, 0.1]}).digest
 
 
 def test_digest_stable_across_processes_and_hash_seeds():

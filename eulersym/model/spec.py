@@ -743,7 +743,10 @@ class Model:
         >>> a.digest == Model(body={"moments": [1.0, 2.0, 3.0]}).digest, len(a.digest)
         (True, 64)
         """
-        payload = {"model": self._data, "eulersym": _distribution_version("eulersym"),
+        data = json.loads(json.dumps(self._data))
+        if data["pivot"] is not None:
+            del data["pivot"]["l"]  # l = 0.1 is centre_of_mass = [0, 0, 0.1]; the flag only names the key
+        payload = {"model": data, "eulersym": _distribution_version("eulersym"),
                    "sympy": _distribution_version("sympy")}
         text = json.dumps(payload, sort_keys=True, separators=(",", ":"), ensure_ascii=True)
         return hashlib.sha256(text.encode("ascii")).hexdigest()
