@@ -25,7 +25,11 @@ Names (the canonical symbols of :mod:`eulersym.symbols`):
 - **rule for other names**: a name that occurs in the quantity being verified against (``known``) takes that
   symbol, with its assumptions; any other name becomes a *positive* real symbol (the unknowns of a hand derivation
   in mechanics — lengths, masses, rates of a problem — are positive; comparisons sample them in [0.5, 2]).
-  ``e`` is a plain name, not Euler's number: write ``exp(1)``.
+  ``e`` is a plain name, not Euler's number: write ``exp(1)``;
+- **a namespace of one's own** (what :mod:`eulersym.model` uses): ``names=`` gives names that take precedence
+  over all of the above (symbols, 3-vectors, 3×3 matrices), ``functions=`` extra functions whose arguments may be
+  vectors (their kinds are checked before the call), and ``strict=True`` refuses every other name with a
+  did-you-mean instead of making it a positive symbol.
 
 Limits, each refused with :class:`~eulersym.errors.UnsafeExpression` (or ``InvalidInput``) naming the argument,
 the value and what is valid, in time and memory bounded by the input length:
