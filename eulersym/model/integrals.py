@@ -273,38 +273,31 @@ def prove(mech: Mechanics, expr, *, name: str = "H", seed: int = 0) -> Verdict:
         notes.append("gamma written as A(q) z (the state carries no vertical)")
     rate = _rate(mech, H)
     first = compare(rate, sp.Integer(0), seed=seed)
-    constraints: tuple = ()
     if first.exact is True:
-        how = first.method
-        conserved, exact, shown = True, True, sp.Integer(0)
-    else:
-        reduced, constraints = _constrained(mech, rate)
+        return Verdict(name, expr, True, sp.Integer(0), "; ".join([first.method, *notes]), None, True)
+    reduced, constraints = _constrained(mech, rate)
+    if constraints:
+        second = compare(reduced, sp.Integer(0), seed=seed)
+        if second.exact is True:
+            how = (f"{second.method}, on the constraint surface {', '.join(constraints)} (the rate's numerator "
+                   "reduced modulo the constraints: remainder zero)")
+            return Verdict(name, expr, True, sp.Integer(0), "; ".join([how, *notes]), None, True, constraints)
+        rate, first = reduced, second
+    shown = _tidy(rate)
+    cx = _counterexample(mech, shown, seed)
+    if cx is not None:
+        exact = True
+        how = "dH/dt is not zero: counterexample" + (" on the constraint surface" if GAMMA[0] in state else "")
         if constraints:
-            second = compare(reduced, sp.Integer(0), seed=seed)
-            if second.exact is True:
-                how = f"{second.method}, on the constraint surface {', '.join(constraints)} (the rate's numerator " \
-                      "reduced modulo the constraints: remainder zero)"
-                conserved, exact, shown = True, True, sp.Integer(0)
-            else:
-                rate, first = reduced, second
-        if first.exact is not True:
-            shown = _tidy(rate)
-            cx = _counterexample(mech, shown, seed)
-            if cx is not None:
-                conserved, exact = False, True
-                how = "dH/dt is not zero: counterexample on the constraint surface" if constraints or \
-                    GAMMA[0] in state else "dH/dt is not zero: counterexample"
-                if constraints:
-                    how += f" (rate reduced modulo {', '.join(constraints)})"
-            elif first.numeric:
-                conserved, exact = False, False
-                how = f"undecided: {first.method}; not claimed conserved"
-            else:
-                conserved, exact = False, True
-                how = f"dH/dt is not zero: {first.method}"
-                cx = first.counterexample
-            return Verdict(name, expr, conserved, shown, "; ".join([how, *notes]), cx, exact, constraints)
-    return Verdict(name, expr, conserved, shown, "; ".join([how, *notes]), None, exact, constraints)
+            how += f" (rate reduced modulo {', '.join(constraints)})"
+    elif first.numeric:
+        exact = False
+        how = f"undecided: {first.method}; not claimed conserved"
+    else:
+        exact = True
+        how = f"dH/dt is not zero: {first.method}"
+        cx = first.counterexample
+    return Verdict(name, expr, False, shown, "; ".join([how, *notes]), cx, exact, constraints)
 
 
 # ----------------------------------------------------------------------------------------------------------------
