@@ -284,7 +284,9 @@ def prove(mech: Mechanics, expr, *, name: str = "H", seed: int = 0) -> Verdict:
         surface = " on the constraint surface |Gamma| = |q| = 1" if GAMMA[0] in state else " (with |q| = 1)"
         how = f"dH/dt is not zero: exact evaluation at a rational state{surface}"
         return Verdict(name, expr, False, _tidy(rate), "; ".join([how, *notes]), cx, True)
-    first = compare(rate, sp.Integer(0), seed=seed)
+    # One fraction: the rate is zero exactly when its numerator is (denominators are the tensor's determinant and
+    # the parameters' expressions of the model, non-zero for a body).
+    first = compare(sp.fraction(sp.together(rate))[0], sp.Integer(0), seed=seed)
     if first.exact is True:
         return Verdict(name, expr, True, sp.Integer(0), "; ".join([first.method, *notes]), None, True)
     reduced, constraints = _constrained(mech, rate)
