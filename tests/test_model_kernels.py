@@ -196,3 +196,15 @@ def test_bad_input(tmp_path):
     with pytest.raises(InvalidInput, match="folder"):
         kernels.generate(B.damped(), tmp_path / "file")
     assert kernels.module_name(B.spin_up()) == "spin_up"
+
+
+def test_bench_models_quick_runs_end_to_end(capsys):
+    """`eulersym bench models --quick` runs (its figures are not asserted: timings are not tests)."""
+    from eulersym.bench import available
+    from eulersym.bench.models import main
+
+    assert "models" in available()
+    assert main(["--quick"]) in (0, 1)
+    out = capsys.readouterr().out
+    assert "beyond SymPy" in out and "hand-written vectorised NumPy" in out and "DISAGREES" not in out
+    assert "PyDy lambdify" in out or "pydy is not installed" in out
