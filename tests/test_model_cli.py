@@ -85,3 +85,14 @@ def test_console_script_in_a_fresh_process(tmp_path):
                             capture_output=True, text=True)
     assert result.returncode == 0, result.stdout + result.stderr
     assert "conserved: dH/dt = 0" in result.stdout
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.text(alphabet="omega123q0gamt*+-/^()[], .xyzC", max_size=30))
+def test_any_integral_text_gets_a_verdict_or_a_clean_refusal(text):
+    """Property: whatever is typed, verify answers 0, 1 or 2 through the CLI, never with an uncaught exception."""
+    assert main(["verify", "--model", "kovalevskaya", "--integral", text]) in (0, 1, 2)
