@@ -12,7 +12,10 @@ of the child processes beside the wall seconds (CPU time is what a loaded machin
   (numba already imported; its own runtime start-up, which imports ``scipy.linalg``, is part of that first call
   and is also shown apart);
 - ``eulersym check`` cold ≤ 1.5 s beyond SymPy's import (``python -c "import sympy"``, alternated);
-- ``eulersym verify`` of one hand derivation ≤ 0.5 s beyond SymPy's import.
+- ``eulersym verify`` of one hand derivation ≤ 0.5 s beyond SymPy's import;
+- in process, the exact free-body oracle ``free_rigid_body_exact`` at two output times, warm, a new body each
+  call ≤ 200 µs per call (baseline: ``solve_ivp`` DOP853 to the same two times at rtol 1e-10), and its cost per
+  output point flat from 10⁴ to 10⁶ points (exponent of time against points ≤ 1.05).
 
 Run ``eulersym bench startup`` (``--runs N``; ``--quick``: 3 rounds).
 """
@@ -139,6 +142,53 @@ def one(x):
 """
 
 
+def _oracle(runs: int):
+    """(median s per call at 2 times with a new body, same for solve_ivp, the cost exponent, {k: s per point}).
+
+    CPU seconds of this process (``time.process_time``): on a loaded machine a run longer than a scheduler slice is
+    descheduled, which would inflate long runs' wall time per point and fake a growing cost.
+    """
+    import numpy as np
+    from scipy.integrate import solve_ivp
+
+    from eulersym.numerics.exact import free_rigid_body_exact
+
+    rng = np.random.default_rng(13)
+    bodies = [(tuple(np.sort(rng.uniform(1.0, 2.0, 3))), rng.normal(size=3)) for _ in range(200)]
+    times = np.array([0.0, 5.0])
+    free_rigid_body_exact(*bodies[0], times)
+    per_call = []
+    for _ in range(max(runs, 3)):
+        start = time.process_time()
+        for I, w in bodies:
+            free_rigid_body_exact(I, w, times)
+        per_call.append((time.process_time() - start) / len(bodies))
+
+    def euler(I):
+        a, b, c = (I[1] - I[2]) / I[0], (I[2] - I[0]) / I[1], (I[0] - I[1]) / I[2]
+        return lambda _, w: [a * w[1] * w[2], b * w[2] * w[0], c * w[0] * w[1]]
+
+    baseline = []
+    for _ in range(max(runs, 3)):
+        start = time.process_time()
+        for I, w in bodies[:20]:
+            solve_ivp(euler(I), (0.0, 5.0), w, method="DOP853", t_eval=times, rtol=1e-10, atol=1e-12)
+        baseline.append((time.process_time() - start) / 20)
+    per_point = {}
+    I, w = (1.0, 2.0, 3.0), np.array([1e-3, 1.0, 1e-3])
+    for k in (4, 5, 6):
+        t = np.linspace(0.0, 1e4, 10**k)
+        free_rigid_body_exact(I, w, t)
+        samples = []
+        for _ in range(max(runs, 3)):
+            start = time.process_time()
+            free_rigid_body_exact(I, w, t)
+            samples.append(time.process_time() - start)
+        per_point[k] = statistics.median(samples) / 10**k
+    exponent = 1.0 + float(np.log10(per_point[6] / per_point[4])) / 2.0
+    return statistics.median(per_call), statistics.median(baseline), exponent, per_point
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the start-up benchmarks; print each figure with its floor; 0 when every floor is met (1 otherwise).
 
@@ -222,6 +272,17 @@ def main(argv: list[str] | None = None) -> int:
     ver = res["eulersym verify (one hand derivation)"]
     floor("eulersym verify beyond SymPy's import", f"{ver[0] - sympy_t[0]:.2f} s (CPU {ver[1] - sympy_t[1]:.2f} s)",
           "≤ 0.5 s", ver[0] - sympy_t[0] <= 0.5)
+
+    # 6. The exact oracle, in process.
+    print()
+    per_call, baseline, exponent, per_point = _oracle(runs)
+    print(f"free_rigid_body_exact, 2 times, new body    {per_call * 1e6:7.1f} µs CPU per call (median)")
+    print(f"solve_ivp DOP853 to the same 2 times        {baseline * 1e6:7.1f} µs CPU per call (median)  "
+          f"→ {ratio_text(baseline, per_call)}")
+    floor("free_rigid_body_exact per call (2 times, new body)", f"{per_call * 1e6:.0f} µs", "≤ 200 µs",
+          per_call <= 200e-6)
+    print("  per output point: " + ", ".join(f"10^{k}: {v * 1e9:.0f} ns" for k, v in per_point.items()))
+    floor("free_rigid_body_exact cost exponent, 10⁴ → 10⁶ points", f"{exponent:.3f}", "≤ 1.05", exponent <= 1.05)
 
     missed = floors.count(False)
     print(f"\n{'all floors met' if not missed else f'{missed} floor(s) missed'} ({load_text()})")
