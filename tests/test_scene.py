@@ -17,9 +17,10 @@ from scipy.spatial.transform import Rotation
 
 from eulersym.errors import InvalidInput
 from eulersym.scene import OUTPUTS, Plan, Result, Scene, Sweep, bundled, load, simulate
-from eulersym._scene_io import _atomic, save
-from eulersym._scene_plan import classify_moments, heavy_top_frame, make_plan
-from eulersym._scene_run import dop853_batched, quaternion_to_rotation, rotate_to_body, rotation_to_quaternion
+from eulersym.scene.dop853 import dop853_batched
+from eulersym.scene.frames import quaternion_to_rotation, rotate_to_body, rotation_to_quaternion
+from eulersym.scene.io import _atomic, save
+from eulersym.scene.plan import classify_moments, heavy_top_frame, make_plan
 
 BUNDLED = ("tennis-racket", "symmetric-precession", "heavy-top-nutation", "sleeping-top-above", "sleeping-top-below", "cube-diagonal")
 
@@ -388,7 +389,7 @@ def test_quaternion_helpers_agree_with_scipy(rng):
 def test_progress_bar_only_when_enabled():
     import io
 
-    from eulersym._scene_io import Progress
+    from eulersym.scene.progress import Progress
 
     quiet, loud = io.StringIO(), io.StringIO()
     for stream, enabled in ((quiet, False), (loud, True)):

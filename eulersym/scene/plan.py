@@ -1,18 +1,118 @@
-"""The plan logic of :mod:`eulersym.scene`: pure, SymPy-free, and free of the numerics and generated kernels.
+"""The plan of a scene: pure, SymPy-free, free of the numerics and the kernels — which engine gets the motion and why.
 
-Given a :class:`~eulersym.scene.Scene` (and, once derived, its principal moments), decide what is derived, which
-kernels are used, whether a closed form replaces integration, which integrator meets the accuracy at least cost,
-what is propagated, and what is skipped — each with a reason.
+Given a scene (read only through its attributes: ``regime``, ``batch``, ``outputs``, ``method``, ``accuracy``, the
+body, the attitude) and, once derived, its principal moments, decide what is derived, which kernels are used,
+whether a closed form replaces integration, which integrator meets the accuracy at least cost, what is propagated,
+and what is skipped — each with a reason. The plan only chooses: ``plan.options["engine"]`` names the module of
+:mod:`eulersym.scene.engines` that gets the motion, and :func:`eulersym.scene.simulate` drives it.
+
+Extension point: a new engine is a module in :mod:`eulersym.scene.engines` (listed in ``ENGINES`` there) and a
+branch here that sets ``options["engine"]`` to its name, with the steps and skips that explain the choice.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+from typing import Mapping
+
 import numpy as np
 
 from eulersym.errors import InvalidInput
-from eulersym.scene import SPLITTING_ACCURACY, SYMMETRY_RTOL, Plan, Step, _values
+from eulersym.scene.values import values_of as _values
 
-__all__ = ["make_plan", "classify_moments", "heavy_top_frame", "ivp_tolerances"]
+__all__ = [
+    "Step",
+    "Plan",
+    "make_plan",
+    "classify_moments",
+    "heavy_top_frame",
+    "ivp_tolerances",
+    "SYMMETRY_RTOL",
+    "SPLITTING_ACCURACY",
+]
+
+#: Relative tolerance under which two principal moments count as equal (symmetric top).
+SYMMETRY_RTOL = 1e-12
+#: Looser than this accuracy, a symmetric heavy top uses the second-order splitting (cheaper per step, conserves
+#: |Γ| and L·Γ exactly); tighter, DOP853 on the Euler–Poisson kernel at rtol = accuracy.
+SPLITTING_ACCURACY = 1e-5
+
+
+@dataclass(frozen=True)
+class Step:
+    """One line of a plan: ``action`` ('derive', 'kernel', 'closed form', 'integrate', 'compute' or 'skip'),
+    ``what`` and ``reason``.
+
+    Examples
+    --------
+    >>> print(Step("skip", "attitude", "only ω is asked for"))
+      skip         attitude — only ω is asked for
+    """
+
+    action: str
+    what: str
+    reason: str
+
+    def __str__(self) -> str:
+        return f"  {self.action:<12} {self.what} — {self.reason}"
+
+
+@dataclass(frozen=True)
+class Plan:
+    """What a scene's run derives, emits, integrates and skips, each with a reason.
+
+    Attributes
+    ----------
+    scene : str
+        The scene's name.
+    regime : str
+        'torque-free', 'heavy top' or 'torque'.
+    body : str
+        'spherical', 'symmetric', 'asymmetric' or 'derived' (decided after the inertia derivation).
+    engine : str
+        How the motion is obtained, e.g. 'closed form: elliptic', 'integrate: DOP853 on heavy_top_euler_poisson'.
+    derive : tuple of str
+        Derivations that will run (SymPy), e.g. 'inertia.cube', 'inertia.principal_axes'.
+    kernels : tuple of str
+        Generated kernels (``eulersym.generated.<name>``) used; committed, so nothing is emitted at run time.
+    propagate : tuple of str
+        State propagated in time: 'omega', and 'attitude' only when an output or the torque needs it.
+    steps, skipped : tuple of Step
+        What will be done and what is skipped, with reasons.
+    batch : int
+        Number of sweep members (1 without a sweep).
+    method : str
+        The runner's name (e.g. 'free_rigid_body_exact', 'batched').
+    options : mapping
+        What the driver needs: ``options["engine"]`` names the module of :mod:`eulersym.scene.engines` that gets
+        the motion; ``ivp_method``, ``module`` where they apply.
+
+    Examples
+    --------
+    >>> from eulersym.scene import Scene
+    >>> plan = Scene(moments=(1, 1, 2), mass=1, l=0.1, omega=(0, 0, 50), euler=(0, 0.3, 0), t_end=1).plan()
+    >>> plan.regime, plan.kernels
+    ('heavy top', ('heavy_top_euler_poisson',))
+    """
+
+    scene: str
+    regime: str
+    body: str
+    engine: str
+    derive: tuple
+    kernels: tuple
+    propagate: tuple
+    steps: tuple
+    skipped: tuple
+    batch: int = 1
+    method: str = ""
+    options: Mapping = field(default_factory=dict, compare=False)
+
+    def __str__(self) -> str:
+        head = f"plan for {self.scene!r} ({self.regime}, {self.body} body"
+        head += f", sweep of {self.batch} members)" if self.batch > 1 else ")"
+        return "\n".join([head, *map(str, self.steps), *map(str, self.skipped)])
+
 
 
 def ivp_tolerances(accuracy: float) -> tuple:
@@ -147,7 +247,7 @@ def make_plan(scene, moments=None) -> Plan:
             if batch > 1:
                 steps.append(Step("compute", f"{batch} sweep members", "one closed-form evaluation per member, each vectorised over the output times"))
             options["call"] = call
-        elif method == "splitting":
+        elif method == "splitting" and batch == 1:
             engine = "integrate: splitting (Moser–Veselov, modified moments, order 4)"
             steps.append(Step("integrate", "eulersym.numerics.integrate_free_body(method='dmv4')", "asked for: geometric, |L| conserved to round-off, energy bounded"))
             options["call"] = "integrate_free_body"
@@ -224,7 +324,7 @@ def make_plan(scene, moments=None) -> Plan:
             steps.append(Step("compute", "attitude", "propagated: a space-fixed torque has body components A N that follow the attitude"))
         elif not needs_q:
             skipped.append(Step("skip", "attitude propagation", "body-fixed torque and no attitude output: Euler's equations close on ω"))
-    if regime != "torque-free" and batch > 1 and method not in ("auto", "DOP853"):
+    if batch > 1 and method not in ("auto", "DOP853", "closed-form"):
         steps.append(Step("compute", f"method {method!r}", "a sweep runs on the batched DOP853 path (the only batched integrator)"))
 
     first = [s for s in steps if s.action == "derive" or s.what == "principal frame about e3"]
@@ -245,6 +345,7 @@ def make_plan(scene, moments=None) -> Plan:
         skipped.append(Step("skip", "invariants", "not asked for"))
     if "polhode" in outputs:
         steps.append(Step("compute", "polhode", "ω in the principal frame, on the energy ellipsoid ω·Iω = 2E"))
+    options["engine"] = ENGINE_OF_CALL[options["call"]]
     return Plan(
         scene=scene.name,
         regime=regime,
@@ -259,6 +360,18 @@ def make_plan(scene, moments=None) -> Plan:
         method=options.get("call", ""),
         options=options,
     )
+
+
+#: The old runner names (``plan.method``) → the engine module of :mod:`eulersym.scene.engines` that runs them.
+ENGINE_OF_CALL = {
+    "free_rigid_body_exact": "free_body_exact",
+    "free_rigid_body_attitude_exact": "free_body_exact",
+    "integrate_free_body": "free_body_splitting",
+    "integrate_heavy_top": "heavy_top_splitting",
+    "integrate_ivp": "ivp",
+    "ivp_combined": "ivp",
+    "batched": "batched_dop853",
+}
 
 
 def _axis3_symmetric(known: np.ndarray) -> bool:

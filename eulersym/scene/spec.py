@@ -1,22 +1,4 @@
-"""Scenes: describe a body and what you want to know; eulersym derives, emits and integrates only that.
-
-A :class:`Scene` says *what*: the body (principal moments, a full inertia tensor, or a named shape with mass and
-dimensions), an optional fixed pivot with the centre of mass at distance ``l`` along body axis 3 (the heavy top),
-gravity ``g``, an optional constant torque (body- or space-fixed), the initial attitude (Euler angles in a named
-convention, a unit quaternion, or axis–angle) and angular velocity (body or space components), the end time, the
-outputs wanted and the accuracy wanted. :meth:`Scene.plan` says *how* — which derivations and kernels are needed and
-no others, a closed form wherever one exists, otherwise the integrator expected to meet the accuracy at least
-cost — and what is skipped, and why. :func:`simulate` runs the plan and returns a :class:`Result`.
-
-Conventions (as everywhere in eulersym). The attitude is the unit quaternion q = (q0, q1, q2, q3), scalar first,
-whose active rotation R(q) maps body components to space components, ``v_space = R(q) @ v_body``; the text's
-passive matrix is ``A = R(q).T`` so that ``r_body = A @ r_space``, and for the default convention ``"zxz"``
-``A = B(psi) C(theta) D(phi)``. Angular velocity is in body components unless a name says ``space``. The body-frame
-upward vertical is ``Gamma = A @ (0, 0, 1)``, and ``Gamma3 = cos(theta)``. A pivoted body has its centre of mass at
-``l * e3`` in the body frame; its moments are about the pivot.
-
-Sweeps: wherever a scene takes a number it may take a list of numbers or a range ``{start, stop, num}`` instead;
-the members are the outer product of all swept values, run in one vectorised pass on the batched kernels.
+"""What the user asked: a :class:`Scene` (the body, its start, the time span, the outputs), validated.
 
 The TOML layout (every key optional unless marked; ``eulersym simulate --list`` names bundled examples to copy)::
 
@@ -40,52 +22,30 @@ The TOML layout (every key optional unless marked; ``eulersym simulate --list`` 
     accuracy = 1e-8
     method = "auto"                      # auto, closed-form, splitting, DOP853, RK45, Radau, LSODA
 
-Examples
---------
->>> scene = Scene(moments=(1.0, 2.0, 3.0), omega=(0.01, 1.0, 0.01), t_end=10.0, outputs=("omega",))
->>> plan = scene.plan()
->>> plan.engine
-'closed form: elliptic'
->>> plan.propagate
-('omega',)
->>> result = simulate(scene)
->>> result.omega.shape, result.attitude is None
-((1001, 3), True)
+Validation raises :class:`~eulersym.errors.InvalidInput` naming the keyword (or the TOML key), the value and what
+is valid. :meth:`Scene.plan` asks the pure :mod:`eulersym.scene.plan` what a run would do.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import difflib
 import functools
 import math
 import numbers
 import os
 import tomllib
-from dataclasses import dataclass, field
-from importlib import resources
 from typing import Any, Mapping
 
 import numpy as np
 
-from eulersym.errors import InvalidInput
 from eulersym import validation
+from eulersym.errors import InvalidInput
+from eulersym.scene.catalog import bundled
+from eulersym.scene.plan import SYMMETRY_RTOL, Plan, make_plan
+from eulersym.scene.values import Sweep, did_you_mean as _did_you_mean, number as _number, scalar as _scalar
+from eulersym.scene.values import values_of as _values, vector as _vector
 
-__all__ = [
-    "Scene",
-    "Sweep",
-    "Plan",
-    "Step",
-    "Result",
-    "simulate",
-    "bundled",
-    "load",
-    "cli",
-    "OUTPUTS",
-    "METHODS",
-    "SHAPES",
-    "CONVENTIONS",
-]
+__all__ = ["Scene", "load", "OUTPUTS", "METHODS", "SHAPES", "SHAPE_ORIGINS", "CONVENTIONS", "ACCURACY_RANGE"]
 
 #: The outputs a scene may ask for.
 OUTPUTS = ("omega", "attitude", "euler_angles", "invariants", "polhode")
@@ -106,11 +66,6 @@ SHAPE_ORIGINS = {"cube": ("center", "corner"), "cuboid": ("center", "corner"), "
 CONVENTIONS = ("zxz", "xyx", "yzy", "zyz", "xzx", "yxy", "xyz", "yzx", "zxy", "xzy", "zyx", "yxz")
 #: Accuracies the plan accepts (relative error wanted on the outputs).
 ACCURACY_RANGE = (1e-13, 1e-1)
-#: Relative tolerance under which two principal moments count as equal (symmetric top).
-SYMMETRY_RTOL = 1e-12
-#: Looser than this accuracy, a symmetric heavy top uses the second-order splitting (cheaper per step, conserves
-#: |Γ| and L·Γ exactly); tighter, DOP853 on the Euler–Poisson kernel at rtol = accuracy.
-SPLITTING_ACCURACY = 1e-5
 
 _DEFAULTS = {
     "name": "scene",
@@ -175,100 +130,7 @@ _TOML_PATHS = {
 }
 
 
-def _did_you_mean(key: str, valid) -> str:
-    valid = sorted(valid)
-    close = difflib.get_close_matches(key, valid, n=1, cutoff=0.5)
-    hint = f" (did you mean {close[0]!r}?)" if close else ""
-    return "one of " + ", ".join(repr(v) for v in valid) + hint
-
-
-# --------------------------------------------------------------------------------------------------------------
-# Sweeps
-# --------------------------------------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class Sweep:
-    """A swept number: the scene runs once per value (all sweeps of a scene form an outer-product grid).
-
-    Give a list ``[1, 2, 3]`` or a range ``{"start": 0, "stop": 1, "num": 11}`` (inclusive, evenly spaced)
-    wherever a scene takes a number.
-
-    Examples
-    --------
-    >>> Sweep.of("omega[2]", {"start": 10, "stop": 20, "num": 3}).values
-    (10.0, 15.0, 20.0)
-    >>> len(Sweep.of("mass", [1, 2]))
-    2
-    """
-
-    values: tuple
-
-    def __len__(self) -> int:
-        return len(self.values)
-
-    @classmethod
-    def of(cls, argument: str, value) -> "Sweep":
-        """Build a sweep from a list, tuple, 1-D array or ``{start, stop, num}`` mapping."""
-        if isinstance(value, Mapping):
-            keys = set(value)
-            if keys != {"start", "stop", "num"}:
-                extra = sorted(keys - {"start", "stop", "num"})
-                if extra:
-                    raise InvalidInput(f"{argument}.{extra[0]}", value[extra[0]], _did_you_mean(extra[0], ("start", "stop", "num")))
-                raise InvalidInput(argument, dict(value), "a range {start, stop, num} with all three keys")
-            start = _number(f"{argument}.start", value["start"])
-            stop = _number(f"{argument}.stop", value["stop"])
-            num = value["num"]
-            if isinstance(num, bool) or not isinstance(num, numbers.Integral) or num < 1:
-                raise InvalidInput(f"{argument}.num", num, "a positive integer number of values")
-            values = np.linspace(start, stop, int(num))
-        else:
-            values = [_number(f"{argument}[{k}]", v) for k, v in enumerate(value)]
-            if not values:
-                raise InvalidInput(argument, value, "a non-empty list of numbers to sweep over")
-        return cls(tuple(float(v) for v in values))
-
-
-def _number(argument: str, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
-        raise InvalidInput(argument, value, "a real number")
-    out = float(value)
-    if not math.isfinite(out):
-        raise InvalidInput(argument, value, "a finite number (no NaN or infinity)")
-    return out
-
-
-def _scalar(argument: str, value, *, sweepable: bool = True):
-    """A float, or a :class:`Sweep` where a list/range is given and sweeping is allowed."""
-    if isinstance(value, Sweep):
-        return value
-    if isinstance(value, (list, tuple, np.ndarray, Mapping)):
-        if not sweepable:
-            raise InvalidInput(argument, value, "a single number (this value cannot be swept)")
-        return Sweep.of(argument, value)
-    return _number(argument, value)
-
-
-def _vector(argument: str, value, n: int, *, sweepable: bool = True) -> tuple:
-    if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__len__"):
-        raise InvalidInput(argument, value, f"a list of {n} numbers")
-    if len(value) != n:
-        raise InvalidInput(argument, value, f"a list of {n} numbers, got {len(value)}")
-    return tuple(_scalar(f"{argument}[{k}]", v, sweepable=sweepable) for k, v in enumerate(value))
-
-
-def _values(x) -> np.ndarray:
-    """All values a (possibly swept) scalar takes."""
-    return np.asarray(x.values if isinstance(x, Sweep) else (x,), dtype=float)
-
-
-# --------------------------------------------------------------------------------------------------------------
-# Scene
-# --------------------------------------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True, init=False)
+@dataclasses.dataclass(frozen=True, init=False)
 class Scene:
     """A rigid-body scene: the body, its start, the time span and the outputs wanted (validated at construction).
 
@@ -506,7 +368,7 @@ class Scene:
         """The output times, ``linspace(0, t_end, points)``."""
         return np.linspace(0.0, self.t_end, self.points)
 
-    def plan(self) -> "Plan":
+    def plan(self) -> Plan:
         """What :func:`simulate` will derive, emit, integrate and skip, and why (pure: runs nothing).
 
         Examples
@@ -521,8 +383,6 @@ class Scene:
           skip         Euler angles — not asked for
           skip         invariants — not asked for
         """
-        from eulersym._scene_plan import make_plan
-
         return make_plan(self)
 
 
@@ -709,203 +569,6 @@ def _check_consistency(out: dict) -> None:
                 raise InvalidInput("method", "splitting", "the splitting needs a symmetric top (I1 = I2); use 'auto'")
 
 
-# --------------------------------------------------------------------------------------------------------------
-# Plan and Result (the plan logic lives in eulersym._scene_plan, the runners in eulersym._scene_run)
-# --------------------------------------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class Step:
-    """One line of a plan: ``action`` ('derive', 'kernel', 'closed form', 'integrate', 'compute' or 'skip'),
-    ``what`` and ``reason``.
-
-    Examples
-    --------
-    >>> print(Step("skip", "attitude", "only ω is asked for"))
-      skip         attitude — only ω is asked for
-    """
-
-    action: str
-    what: str
-    reason: str
-
-    def __str__(self) -> str:
-        return f"  {self.action:<12} {self.what} — {self.reason}"
-
-
-@dataclass(frozen=True)
-class Plan:
-    """What a scene's run derives, emits, integrates and skips, each with a reason.
-
-    Attributes
-    ----------
-    scene : str
-        The scene's name.
-    regime : str
-        'torque-free', 'heavy top' or 'torque'.
-    body : str
-        'spherical', 'symmetric', 'asymmetric' or 'derived' (decided after the inertia derivation).
-    engine : str
-        How the motion is obtained, e.g. 'closed form: elliptic', 'integrate: DOP853 on heavy_top_euler_poisson'.
-    derive : tuple of str
-        Derivations that will run (SymPy), e.g. 'inertia.cube', 'inertia.principal_axes'.
-    kernels : tuple of str
-        Generated kernels (``eulersym.generated.<name>``) used; committed, so nothing is emitted at run time.
-    propagate : tuple of str
-        State propagated in time: 'omega', and 'attitude' only when an output or the torque needs it.
-    steps, skipped : tuple of Step
-        What will be done and what is skipped, with reasons.
-    batch : int
-        Number of sweep members (1 without a sweep).
-
-    Examples
-    --------
-    >>> plan = Scene(moments=(1, 1, 2), mass=1, l=0.1, omega=(0, 0, 50), euler=(0, 0.3, 0), t_end=1).plan()
-    >>> plan.regime, plan.kernels
-    ('heavy top', ('heavy_top_euler_poisson',))
-    """
-
-    scene: str
-    regime: str
-    body: str
-    engine: str
-    derive: tuple
-    kernels: tuple
-    propagate: tuple
-    steps: tuple
-    skipped: tuple
-    batch: int = 1
-    method: str = ""
-    options: Mapping = field(default_factory=dict, compare=False)
-
-    def __str__(self) -> str:
-        head = f"plan for {self.scene!r} ({self.regime}, {self.body} body"
-        head += f", sweep of {self.batch} members)" if self.batch > 1 else ")"
-        return "\n".join([head, *map(str, self.steps), *map(str, self.skipped)])
-
-
-@dataclass(frozen=True, eq=False)
-class Result:
-    """The outcome of :func:`simulate`.
-
-    Attributes
-    ----------
-    t : ndarray (n,)
-        Output times.
-    omega : ndarray (n, 3), or (batch, n, 3) for a sweep
-        Body angular velocity in the scene's body frame.
-    attitude : ndarray (n, 4) or None
-        Unit quaternions (scalar first), ``v_space = R(q) v_body``; None when no output needs the attitude.
-    euler_angles : ndarray (n, 3) or None
-        Angles of the scene's convention (phi, theta, psi for 'zxz'), phi and psi unwrapped.
-    polhode : ndarray (n, 3) or None
-        ω in the principal frame: the polhode on the energy ellipsoid ω·Iω = 2E.
-    invariants : mapping name → ndarray (n,) or (batch, n)
-    drift : mapping name → float
-        max |I(t) − I(0)| / |I(0)| (absolute where I(0) = 0), the maximum over members.
-    plan : Plan
-        The plan that ran (resolved: derived moments known).
-    derivations : tuple of str
-        The derivations that ran (SymPy), in order; empty when none was needed.
-    propagated : tuple of str
-        What was propagated in time ('omega', 'attitude', 'gamma').
-    timings : mapping stage → seconds
-    sweep : mapping label → ndarray (batch,)
-        Swept values per member (empty without a sweep).
-    moments, axes : ndarray
-        Principal moments and the principal axes (columns, in the scene's body frame, det +1).
-    n_rhs_calls : int
-        Kernel evaluations (0 for a closed form).
-    notes : tuple of str
-        Facts for the report (turning points, the sleeping-top threshold, ...).
-    gamma : ndarray (n, 3) or None
-        The body-frame upward vertical Γ (heavy top), Γ3 = cos θ.
-    turning_points : (θ1, θ2) or None
-        Heavy top with Euler-angle output: the nutation's turning points (radians), derived by eulersym.top.
-
-    Examples
-    --------
-    >>> r = simulate(Scene(moments=(1, 2, 3), omega=(0.1, 1, 0.2), t_end=4, points=5, outputs=("omega", "polhode")))
-    >>> r.t.tolist(), r.omega.shape, r.attitude is None, r.propagated
-    ([0.0, 1.0, 2.0, 3.0, 4.0], (5, 3), True, ('omega',))
-    >>> bool(np.allclose(r.polhode, r.omega))  # principal moments given: the body frame is the principal frame
-    True
-    """
-
-    t: np.ndarray
-    omega: np.ndarray
-    attitude: np.ndarray | None
-    euler_angles: np.ndarray | None
-    polhode: np.ndarray | None
-    invariants: Mapping
-    drift: Mapping
-    plan: Plan
-    derivations: tuple
-    propagated: tuple
-    timings: Mapping
-    sweep: Mapping
-    moments: np.ndarray
-    axes: np.ndarray
-    n_rhs_calls: int = 0
-    notes: tuple = ()
-    gamma: np.ndarray | None = None
-    turning_points: tuple | None = None
-
-    def report(self) -> str:
-        """A short text report: the plan, the invariants' drift, the timings and notes.
-
-        Examples
-        --------
-        >>> r = simulate(Scene(moments=(1, 2, 3), omega=(0.01, 1, 0), t_end=5, points=11))
-        >>> "drift" in r.report()
-        True
-        """
-        from eulersym._scene_io import report
-
-        return report(self)
-
-
-def simulate(scene: Scene, *, progress: bool = False) -> Result:
-    """Run a scene's plan and return its :class:`Result`.
-
-    Parameters
-    ----------
-    scene : Scene
-    progress : bool
-        Draw a progress bar on standard error (the command line turns it on for a terminal only).
-
-    Examples
-    --------
-    Torque-free symmetric top: ω3 is constant and (ω1, ω2) turns at Ω = (I1 − I3)/I1 · ω3, from the closed form.
-
-    >>> r = simulate(Scene(moments=(2, 2, 1), omega=(0.3, 0, 5), t_end=2, outputs=("omega", "invariants")))
-    >>> r.plan.engine, r.derivations, round(r.drift["energy"], 12)
-    ('closed form: trigonometric', (), 0.0)
-    """
-    if not isinstance(scene, Scene):
-        raise InvalidInput("scene", scene, "an eulersym.scene.Scene (Scene(...) or Scene.from_toml(path))")
-    from eulersym._scene_run import run
-
-    return run(scene, progress=progress)
-
-
-# --------------------------------------------------------------------------------------------------------------
-# Bundled scenes and the command line
-# --------------------------------------------------------------------------------------------------------------
-
-
-def bundled() -> dict:
-    """``{name: path}`` of the scenes shipped with eulersym (``eulersym/scenes/*.toml``).
-
-    Examples
-    --------
-    >>> sorted(bundled())[:3]
-    ['cube-diagonal', 'heavy-top-nutation', 'sleeping-top-above']
-    """
-    folder = resources.files("eulersym.scenes")
-    return {p.name[:-5]: str(p) for p in sorted(folder.iterdir(), key=lambda p: p.name) if p.name.endswith(".toml")}
-
-
 def load(scene) -> Scene:
     """A Scene from a Scene, a TOML path, or a bundled scene's name.
 
@@ -927,18 +590,3 @@ def load(scene) -> Scene:
     if os.path.exists(text) or text.endswith(".toml"):
         return Scene.from_toml(text)
     raise InvalidInput("SCENE", text, "a TOML file or a bundled scene: " + _did_you_mean(text, names))
-
-
-def cli(argv: list) -> int:
-    """``eulersym simulate SCENE [--explain] [-o out.npz|out.csv] [--plot out.png] [--list]``.
-
-    Examples
-    --------
-    >>> cli(["--list"])  # doctest: +ELLIPSIS
-    bundled scenes (eulersym simulate NAME; copy the TOML to start your own):
-    ...
-    0
-    """
-    from eulersym._scene_io import main
-
-    return main(argv)

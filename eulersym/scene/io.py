@@ -1,85 +1,26 @@
-"""Input and output of :mod:`eulersym.scene`: the ``eulersym simulate`` command, reports, files, plots, progress.
+"""Output of a run: ``.npz`` / ``.csv`` files and plots.
 
 Files are written to a temporary file in the target's folder and then renamed over the target, so an error never
-leaves a partial file behind.
+leaves a partial file behind. (The text report is :func:`eulersym.scene.result.report`, re-exported here.)
+
+Extension point: new file formats go in :func:`save` (and ``OUTPUT_SUFFIXES``), new plot panels in :func:`plot`.
 """
 
 from __future__ import annotations
 
-import argparse
 import importlib.util
 import os
-import sys
 import tempfile
-import time
 
 import numpy as np
 
 from eulersym.errors import InvalidInput
+from eulersym.scene.result import report
 
-__all__ = ["Progress", "report", "save", "plot", "main"]
+__all__ = ["report", "save", "plot", "check_target", "require_matplotlib", "OUTPUT_SUFFIXES", "PLOT_SUFFIXES"]
 
 OUTPUT_SUFFIXES = (".npz", ".csv")
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
-
-
-class Progress:
-    """A one-line progress bar on a terminal (standard error); silent when ``enabled`` is false.
-
-    Examples
-    --------
-    >>> bar = Progress("demo", enabled=False)
-    >>> bar.fraction(0.5); bar.done()
-    """
-
-    def __init__(self, label: str, *, enabled: bool, stream=None, width: int = 30):
-        self.label, self.enabled, self.width = label, bool(enabled), width
-        self.stream = stream if stream is not None else sys.stderr
-        self._last = 0.0
-
-    def fraction(self, f: float) -> None:
-        if not self.enabled:
-            return
-        now = time.monotonic()
-        if f < 1 and now - self._last < 0.1:
-            return
-        self._last = now
-        filled = int(round(self.width * min(max(f, 0.0), 1.0)))
-        self.stream.write(f"\r{self.label} [{'#' * filled}{' ' * (self.width - filled)}] {100 * f:5.1f}%")
-        self.stream.flush()
-
-    def stage(self, text: str, f: float) -> None:
-        self.fraction(f)
-
-    def done(self) -> None:
-        if self.enabled:
-            self.stream.write("\r" + " " * (len(self.label) + self.width + 12) + "\r")
-            self.stream.flush()
-
-
-def _fmt_time(seconds: float) -> str:
-    if seconds < 1e-3:
-        return f"{seconds * 1e6:.0f} µs"
-    if seconds < 1:
-        return f"{seconds * 1e3:.1f} ms"
-    return f"{seconds:.2f} s"
-
-
-def report(result) -> str:
-    """The short text report of a Result: plan, what ran, invariants' drift, notes, timings."""
-    plan = result.plan
-    lines = [str(plan), ""]
-    lines.append(f"ran: {plan.engine}; {len(result.t)} output times" + (f" × {plan.batch} members" if plan.batch > 1 else ""))
-    lines.append("derivations: " + (", ".join(result.derivations) if result.derivations else "none (no SymPy needed)"))
-    lines.append("propagated: " + ", ".join(result.propagated) + (f"; kernel calls: {result.n_rhs_calls}" if result.n_rhs_calls else ""))
-    if result.drift:
-        lines.append("invariants drift (max relative): " + ", ".join(f"{k} {v:.2e}" for k, v in result.drift.items()))
-    lines += result.notes
-    lines.append("timings: " + ", ".join(f"{k} {_fmt_time(v)}" for k, v in result.timings.items()))
-    return "\n".join(lines)
-
-
-# ---- files --------------------------------------------------------------------------------------------------
 
 
 def _atomic(path: str, writer) -> None:
@@ -165,8 +106,18 @@ def save(result, path: str) -> None:
 def plot(result, path: str) -> None:
     """Plot what the scene's outputs make meaningful: ω components; θ(t) between the turning points (heavy top);
     the polhode on the energy ellipsoid; for a two-parameter heavy-top sweep, the map of the largest tilt.
-    Needs the optional ``plot`` extra (matplotlib)."""
-    _require_matplotlib(path)
+    Needs the optional ``plot`` extra (matplotlib).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from eulersym.scene import Scene, simulate
+    >>> path = os.path.join(tempfile.mkdtemp(), "omega.png")
+    >>> plot(simulate(Scene(moments=(1, 2, 3), omega=(0.1, 1, 0), t_end=1, points=11)), path)
+    >>> open(path, "rb").read(4)
+    b'\x89PNG'
+    """
+    require_matplotlib(path)
     import matplotlib
 
     matplotlib.use("Agg")
@@ -228,12 +179,14 @@ def plot(result, path: str) -> None:
     plt.close(fig)
 
 
-def _require_matplotlib(path):
+def require_matplotlib(path):
+    """Refuse ``--plot`` without matplotlib (the optional plot extra), naming the install command."""
     if importlib.util.find_spec("matplotlib") is None:
         raise InvalidInput("--plot", path, "matplotlib, from the optional plot extra: pip install 'eulersym[plot]'")
 
 
-def _check_target(flag: str, path: str, suffixes) -> None:
+def check_target(flag: str, path: str, suffixes) -> None:
+    """Refuse an output path with the wrong suffix, in a missing folder, or naming a folder, before any work."""
     if os.path.splitext(path)[1].lower() not in suffixes:
         raise InvalidInput(flag, path, "a file ending in " + " or ".join(suffixes))
     folder = os.path.dirname(os.path.abspath(path))
@@ -241,54 +194,3 @@ def _check_target(flag: str, path: str, suffixes) -> None:
         raise InvalidInput(flag, path, f"a path in an existing folder ({folder} does not exist)")
     if os.path.isdir(path):
         raise InvalidInput(flag, path, "a file name, not a folder")
-
-
-# ---- the command --------------------------------------------------------------------------------------------
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):  # exit status 2 through eulersym.cli, with the usage line
-        raise InvalidInput("arguments", message, self.format_usage().strip())
-
-
-def _parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="eulersym simulate", description="Run a scene: a TOML file or a bundled scene's name.")
-    p.add_argument("scene", nargs="?", metavar="SCENE", help="a TOML file or a bundled name (see --list)")
-    p.add_argument("--explain", action="store_true", help="print the plan (what is derived, integrated, skipped, and why) and stop")
-    p.add_argument("-o", "--output", metavar="OUT", help="write the result to OUT.npz or OUT.csv")
-    p.add_argument("--plot", metavar="PNG", help="plot to PNG (needs the plot extra: matplotlib)")
-    p.add_argument("--list", action="store_true", help="list the bundled scenes")
-    return p
-
-
-def main(argv) -> int:
-    """``eulersym simulate``; see :func:`eulersym.scene.cli`."""
-    from eulersym.scene import Scene, bundled, load, simulate
-
-    args = _parser().parse_args(list(argv))
-    if args.list:
-        print("bundled scenes (eulersym simulate NAME; copy the TOML to start your own):")
-        for name, path in bundled().items():
-            print(f"  {name:<22} {Scene.from_toml(path).description}")
-        return 0
-    if args.scene is None:
-        raise InvalidInput("SCENE", None, "a TOML file or a bundled scene name (eulersym simulate --list)")
-    scene = load(args.scene)
-    if args.explain:
-        print(scene.plan())
-        return 0
-    if args.output:
-        _check_target("-o", args.output, OUTPUT_SUFFIXES)
-    if args.plot:
-        _check_target("--plot", args.plot, PLOT_SUFFIXES)
-        _require_matplotlib(args.plot)
-    result = simulate(scene, progress=sys.stderr.isatty())
-    print(f"scene {scene.name!r}" + (f" — {scene.description}" if scene.description else ""))
-    print(report(result))
-    if args.output:
-        save(result, args.output)
-        print(f"wrote {args.output}")
-    if args.plot:
-        plot(result, args.plot)
-        print(f"wrote {args.plot}")
-    return 0
