@@ -52,7 +52,7 @@ from eulersym.numerics import _decimal_elliptic as _de
 from eulersym.numerics.exact import _phase, _two_prod, jacobi_sncndn
 from eulersym.validation import finite_array, moments
 
-__all__ = ["heavy_top_exact", "HeavyTopMotion", "euler_to_quaternion"]
+__all__ = ["heavy_top_exact", "HeavyTopMotion", "euler_to_quaternion", "BATCH_PRECISE"]
 
 
 @dataclass(frozen=True)
@@ -241,6 +241,17 @@ def _W_decimal_half(n, one_minus_n, mc):
     return out
 
 
+def _W_decimal(s_sq, c_sq, d_sq, n, one_minus_n):
+    """W(x) = ∫₀ˣ dy/(1 − n sn² y) for 0 ≤ x ≤ K from sn² x, cn² x, dn² x (decimal, Carlson)."""
+    if s_sq <= 0:
+        return Decimal(0)
+    s = s_sq.sqrt()
+    out = s * _de.rf_(c_sq, d_sq, Decimal(1))
+    if n != 0:
+        out += n / 3 * s * s_sq * _de.rj_(c_sq, d_sq, Decimal(1), one_minus_n + n * c_sq)
+    return out
+
+
 def _W(x, n, one_minus_n, mc, rootmc):
     """W(x) = ∫₀ˣ dy/(1 − n sn² y) for |x| ≤ K (SciPy's Carlson R_F, R_J)."""
     s, c, _ = jacobi_sncndn(np.abs(x), mc, rootmc=rootmc)
@@ -299,10 +310,16 @@ def _setup(I1, I3, M, g, l, omega, q):
         # near a pole the difference loses digits; the root identities (b ∓ σa)² = −f(±σ) do not:
         # (b − σa)² = |β| y2 (1 − w1)(w3 − 1),  (b + σa)² = |β| z1 (1 + w2)(1 + w3)
         w1d, w2d, w3d = w0 + x1, w0 + x2, w0 + x3
-        if y2 < Decimal("1e-20") and w3d > 1:
+        if y2 < Decimal("1e-20") and w3d > 1 and w1d < 1:
             y2 = Bn * Bn / (A * (1 - w1d) * (w3d - 1))
-        if z1 < Decimal("1e-20"):
+        if z1 < Decimal("1e-20") and w2d > -1:
             z1 = Bf * Bf / (A * (1 + w2d) * (1 + w3d))
+        # a pass closer to the pole than doubles resolve (< 1e-140 rad) is a pass through it: the angle's jump
+        # of ±2π there is the sign change of the signed half angle (same q); its rate term goes
+        if y2 < Decimal("1e-280"):
+            y2, Bn = Decimal(0), Decimal(0)
+        if z1 < Decimal("1e-280"):
+            z1, Bf = Decimal(0), Decimal(0)
         span = x3 - x1
         mc = (x3 - x2) / span
         m = delta / span
@@ -340,11 +357,17 @@ def _setup(I1, I3, M, g, l, omega, q):
             period=per_dd[0], period_lo=per_dd[1], omega3=float(w[2]), nutation_period=float(nutation),
             turning=tuple(sorted(turning)),
         )
+        # W(τ0) and W(τ0 − K) at t = 0, to 50 digits: near a pole W is steep, and a rounded τ0 would shift every later angle
+        W0n = _W_decimal(s_sq, c_sq, d_sq, near_n, near_1mn) * (-1 if tau0 < 0 else 1) if Bn != 0 else Decimal(0)
+        S_sq, C_sq = c_sq / d_sq, mc * s_sq / d_sq  # sn², cn² of τ0 ∓ K (cd², k′² sd²), dn² = m_c/dn²τ0
+        W0f = _W_decimal(S_sq, C_sq, mc / d_sq, far_n, far_1mn) if Bf != 0 else Decimal(0)
+        W0f, j0f = (W0f, -1.0) if tau0 < 0 else (-W0f, 0.0)  # τ0 − K in [−2K, 0]: wrapped by 2K when τ0 < 0
         near = dict(base=float(y2), signed=(y2 == 0), at_pole=(one_m_w0 == 0), B=float(Bn), n=float(near_n), one_minus_n=float(near_1mn),
                     coef=float(near_coef), rate=_dd(nu_near), per=_dd(near_per))
         far = dict(base=float(z1), signed=(z1 == 0), at_pole=(one_p_w0 == 0), B=float(Bf), n=float(far_n), one_minus_n=float(far_1mn),
                    coef=float(far_coef), rate=_dd(far_rate), per=_dd(far_per))
-    return _finish(motion, near, far, omega, q)
+        start = {"near": (float(W0n), 0.0), "far": (float(W0f), j0f)}
+    return _finish(motion, near, far, omega, q, start)
 
 
 def _steady(sigma, w0, one_m_w0, one_p_w0, Bn, Bf, nu_near, nu_far, w, u0):
@@ -368,7 +391,7 @@ def _pairs(sigma):
     return ((1, 2), (0, 3)) if sigma > 0 else ((0, 3), (1, 2))
 
 
-def _finish(motion, near, far, omega, q):
+def _finish(motion, near, far, omega, q, start=None):
     """Fix the angles χ0 from q0 (and, where a half angle starts at zero, from the direction q̇0)."""
     proto = _Motion(near=None, far=None, **motion)
     qn = np.asarray(q, dtype=np.float64)
@@ -393,15 +416,7 @@ def _finish(motion, near, far, omega, q):
             half = math.atan2(ds * dsign, dc * dsign)
         out.append(2.0 * half)
     chi_near0, chi_far0 = out
-    W0n = W0f = j0n = j0f = 0.0
-    if not motion["steady"]:
-        r0, j0 = _phase(proto, zero)
-        j0n = float(j0[0])
-        W0n = float(_W(r0, near["n"], near["one_minus_n"], motion["mc"], motion["rootmc"])[0]) if near["B"] else 0.0
-        x0 = r0 - motion["K"]
-        j0f = j0n - 1.0 if x0[0] < -motion["K"] else j0n
-        x0 = np.where(x0 < -motion["K"], x0 + motion["period"], x0)
-        W0f = float(_W(x0, far["n"], far["one_minus_n"], motion["mc"], motion["rootmc"])[0]) if far["B"] else 0.0
+    (W0n, j0n), (W0f, j0f) = (start["near"], start["far"]) if start else ((0.0, 0.0), (0.0, 0.0))
     return _Motion(near=_Pole(**near, W0=W0n, j0=j0n, chi0=chi_near0),
                    far=_Pole(**far, W0=W0f, j0=j0f, chi0=chi_far0), **motion)
 
@@ -552,8 +567,9 @@ def _members(I, M, g, l, omega0, q0):
                                "(for I1 != I2 integrate: there is no closed form)")
         if not Mv[k] > 0:
             raise InvalidInput("M", float(Mv[k]), "a positive mass")
-        if not gv[k] > 0:
-            raise InvalidInput("g", float(gv[k]), "a positive gravitational acceleration")
+        if gv[k] == 0:
+            raise InvalidInput("g", float(gv[k]), "a non-zero gravitational acceleration (g = 0 is torque-free: "
+                               "use free_rigid_body_attitude_exact)")
         if lv[k] == 0:
             raise InvalidInput("l", float(lv[k]), "a non-zero distance from the pivot to the centre of mass "
                                "(l = 0 is torque-free: use free_rigid_body_attitude_exact)")
@@ -563,7 +579,51 @@ def _members(I, M, g, l, omega0, q0):
     return batched, nb, Iarr, Mv, gv, lv, w, qq
 
 
-def heavy_top_exact(I, M, g, l, omega0, q0, t):
+def _gamma_of(q):
+    """Γ = R(q)ᵀ ẑ of a unit quaternion."""
+    a, b, c, d = q
+    return np.array([2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d])
+
+
+def _snap_to_poles(q):
+    """A tilt θ (or π − θ) below 2e-17 rad is taken as exactly upright (down): a change of q0 below half an ulp of
+    its unit components, and a pass through the pole that the double phase could not resolve."""
+    q = np.array(q, dtype=np.float64)
+    n2 = float(np.sum(q * q))
+    if q[1] * q[1] + q[2] * q[2] < 1e-34 * n2:
+        q[1] = q[2] = 0.0
+    elif q[0] * q[0] + q[3] * q[3] < 1e-34 * n2:
+        q[0] = q[3] = 0.0
+    return q
+
+
+#: Up to this many members, :func:`heavy_top_exact` computes every member's constants to 50 digits (~10 ms each).
+BATCH_PRECISE = 64
+
+
+def _batch(batched, nb, Iarr, Mv, gv, lv, w, qq, tt):
+    """All members at once in double precision; the members that path leaves out, one by one, precisely."""
+    from eulersym.numerics._heavy_top_batch import batch_motion
+
+    snapped = np.array([_snap_to_poles(x) for x in qq])
+    ok, omega, gamma, q, euler, period, turning = batch_motion(Iarr[:, 0], Iarr[:, 2], Mv * gv * lv, w, snapped, tt)
+    for k in np.flatnonzero(~ok):
+        one = heavy_top_exact(Iarr[k], Mv[k], gv[k], lv[k], w[k], qq[k], tt, precise=True)
+        omega[k], gamma[k], q[k], euler[k], period[k], turning[k] = (one.omega, one.gamma, one.q, one.euler,
+                                                                      one.period, one.turning_points)
+    start = tt == 0.0
+    if np.any(start):
+        omega[:, start] = w[:, None, :]
+        unit = snapped / np.sqrt(np.sum(snapped * snapped, axis=1, keepdims=True))
+        q[:, start] = unit[:, None, :]
+        gamma[:, start] = np.array([_gamma_of(x) for x in unit])[:, None, :]
+    if not batched:
+        return HeavyTopMotion(t=tt, omega=omega[0], gamma=gamma[0], q=q[0], euler=euler[0], period=float(period[0]),
+                              turning_points=turning[0])
+    return HeavyTopMotion(t=tt, omega=omega, gamma=gamma, q=q, euler=euler, period=period, turning_points=turning)
+
+
+def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None):
     """The heavy symmetric top in closed form: ω(t), Γ(t), q(t) and the Euler angles at any times.
 
     Solves ``I ω̇ + ω × I ω = M g l Γ × e3``, ``Γ̇ = Γ × ω``, ``q̇ = ½ q ⊗ (0, ω)`` exactly (see the module
@@ -577,7 +637,7 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t):
     I : array_like, shape (3,) or (B, 3)
         Moments about the pivot ``(I1, I1, I3)``; the first two must be equal.
     M, g : float or array_like (B,)
-        Mass and gravitational acceleration, positive.
+        Mass (positive) and gravitational acceleration (non-zero; only ``M g l`` enters).
     l : float or array_like (B,)
         Signed distance from the pivot to the centre of mass along e3 (negative: below the pivot), non-zero.
     omega0 : array_like, shape (3,) or (B, 3)
@@ -586,6 +646,11 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t):
         Unit attitude quaternion at t = 0 (:func:`euler_to_quaternion` makes one from zxz Euler angles).
     t : array_like, shape (n,)
         Times (any order, negative allowed).
+    precise : bool or None, optional
+        True: every member's constants to 50 digits and the phase in double-double (round-off error at any t,
+        ~10 ms per member). False: all members at once in double precision (error ~1e-16 × the number of
+        nutation periods; members at a double root, near a pole or the separatrix still go the precise way).
+        None (default): precise up to :data:`BATCH_PRECISE` members.
 
     Returns
     -------
@@ -595,7 +660,7 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t):
     Raises
     ------
     eulersym.errors.InvalidInput
-        ``I1 != I2``, non-physical moments, non-positive M or g, ``l = 0``, non-unit q0, non-finite input.
+        ``I1 != I2``, non-physical moments, non-positive M, ``g = 0`` or ``l = 0``, non-unit q0, non-finite input.
     eulersym.errors.SingularConfiguration
         A start exactly on a separatrix (the top tends to the vertical as t → ∞: no periodic closed form).
 
@@ -614,10 +679,20 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t):
     """
     batched, nb, Iarr, Mv, gv, lv, w, qq = _members(I, M, g, l, omega0, q0)
     tt = finite_array("t", np.atleast_1d(np.asarray(t, dtype=np.float64)) if np.ndim(t) == 0 else t, shape=(None,))
+    if precise is None:
+        precise = nb <= BATCH_PRECISE
+    if not precise:
+        return _batch(batched, nb, Iarr, Mv, gv, lv, w, qq, tt)
     outs = ([], [], [], [], [], [])
     for k in range(nb):
-        mo = _setup(Iarr[k, 0], Iarr[k, 2], Mv[k], gv[k], lv[k], w[k], qq[k])
+        mo = _setup(Iarr[k, 0], Iarr[k, 2], Mv[k], gv[k], lv[k], w[k], _snap_to_poles(qq[k]))
         omega, gamma, q, euler = _evaluate(mo, tt)
+        start = tt == 0.0  # the start itself (also where a pass through a pole at t = 0 is below the phase resolution)
+        if np.any(start):
+            q_start = _snap_to_poles(qq[k]) / math.sqrt(float(np.sum(qq[k] * qq[k])))
+            omega[start] = w[k]
+            q[start] = q_start
+            gamma[start] = _gamma_of(q_start)
         for lst, val in zip(outs, (omega, gamma, q, euler, mo.nutation_period, mo.turning)):
             lst.append(val)
     arrays = [np.stack(x) for x in outs]
