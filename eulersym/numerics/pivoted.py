@@ -75,7 +75,7 @@ COMPOSITIONS = {
 }
 #: ``C_p`` of the step rule (see the module docstring), calibrated on a seeded random suite of tops
 #: (``tests/test_numerics_batched.py`` checks the rule meets the accuracy asked) with a safety factor.
-ERROR_CONSTANT = {"strang": 1.0, "yoshida4": 1.0, "yoshida6": 1.0}
+ERROR_CONSTANT = {"strang": 0.05, "yoshida4": 0.07, "yoshida6": 0.005}
 _FREE_FLOWS = ("axes", "symmetric")
 
 
