@@ -30,6 +30,7 @@ from eulersym.numerics import _fast
 from eulersym.numerics.pivoted import (
     COMPOSITIONS,
     PIVOTED_METHODS,
+    _compiled_runner,
     _prepare,
     _renormalise,
     _substep,
@@ -199,10 +200,8 @@ def integrate_pivoted_batch(inertia, M, g, c, omega0, q0, t, *, rotor=(0.0, 0.0,
     kind = 0 if free_flow == "axes" else 1
     subs = COMPOSITIONS[method]
     if _fast.select(fast, lambda: True):
-        from eulersym.numerics import _batched_fast
-
         use_parallel = B >= PARALLEL_MIN_MEMBERS if parallel is None else parallel
-        out = _batched_fast.member_runner(use_parallel)(state, par, hs, tt, subs, kind)
+        out = _compiled_runner(use_parallel)(state, par, hs, tt, subs, kind)
     else:
         out = _run_numpy(state, par, hs, tt, subs, kind)
     if not np.all(np.isfinite(out)):
