@@ -181,7 +181,7 @@ def summary(result) -> tuple:
     >>> from eulersym.scene import Scene, simulate
     >>> names, rows = summary(simulate(Scene(moments=(1, 2, 3), omega=(0.1, [1, 2], 0), t_end=1, points=3)))
     >>> names[:3], rows.shape
-    (['member', 'omega[1]', 'omega1_end'], (2, 11))
+    (['member', 'omega[1]', 'omega1_end'], (2, 10))
     """
     batch = result.plan.batch
     omega = result.omega if batch > 1 else result.omega[None]
