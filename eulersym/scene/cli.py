@@ -32,8 +32,11 @@ description = "a heavy symmetric top released at 30 degrees"
 moments = [1.2e-3, 1.2e-3, 4.0e-4]   # principal moments I1, I2, I3 (kg m²); about the pivot for a pivoted body
 # tensor = [[1.2e-3, 0, 0], [0, 1.2e-3, 0], [0, 0, 4.0e-4]]   # a full inertia tensor in the body frame (kg m²)
 # shape = "cone"            # cube, cuboid, sphere, cylinder, cone, ellipsoid (uniform; tensor derived)
-# R = 0.03                  # the shape's dimensions (m): a (cube), a b c (cuboid, ellipsoid), R (sphere),
-# h = 0.08                  #   R h (cylinder, cone)
+# R = 0.03                  # the shape's dimensions (m): R (sphere), R and h (cylinder, cone),
+# h = 0.08                  #   a (cube), a, b and c (cuboid, ellipsoid)
+# a = 0.1
+# b = 0.05
+# c = 0.02
 # origin = "apex"           # cube/cuboid: "center" | "corner"; cone: "apex" | "center"
 mass = 0.5                  # M (kg): required for a shape and for a pivoted body
 

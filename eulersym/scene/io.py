@@ -17,7 +17,7 @@ import numpy as np
 from eulersym.errors import InvalidInput
 from eulersym.scene.result import report
 
-__all__ = ["report", "save", "plot", "summary", "summary_path", "quantity_label", "clean_leftovers", "check_target",
+__all__ = ["report", "save", "plot", "figure", "summary", "summary_path", "quantity_label", "clean_leftovers", "check_target",
            "require_matplotlib", "OUTPUT_SUFFIXES", "PLOT_SUFFIXES"]
 
 OUTPUT_SUFFIXES = (".npz", ".csv")
@@ -283,6 +283,26 @@ def plot(result, path: str) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
+    fig = figure(result)
+    _atomic(path, lambda tmp: fig.savefig(tmp, format=os.path.splitext(path)[1][1:], dpi=110), argument="--plot")
+    plt.close(fig)
+
+
+def figure(result):
+    """The matplotlib figure :func:`plot` saves (one panel per output; see there).
+
+    Examples
+    --------
+    >>> from eulersym.scene import Scene, simulate
+    >>> fig = figure(simulate(Scene(moments=(1, 2, 3), omega=(0.1, 1, 0), t_end=1, points=11)))
+    >>> [ax.get_ylabel() for ax in fig.axes]
+    ['ω, body components (rad/s)', 'relative drift (I(t) − I(0)) / |I(0)|']
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
     from matplotlib.ticker import MaxNLocator
 
     plan = result.plan
@@ -408,8 +428,7 @@ def plot(result, path: str) -> None:
             ax.legend(fontsize=8)
     fig.suptitle(f"{plan.scene}: {plan.engine}", fontsize=11)
     fig.tight_layout()
-    _atomic(path, lambda tmp: fig.savefig(tmp, format=os.path.splitext(path)[1][1:], dpi=110), argument="--plot")
-    plt.close(fig)
+    return fig
 
 
 def _readable_limits(ax) -> None:
