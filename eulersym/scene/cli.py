@@ -11,12 +11,9 @@ from eulersym.scene.io import OUTPUT_SUFFIXES, PLOT_SUFFIXES, check_target, plot
 from eulersym.scene.run import simulate
 from eulersym.scene.spec import Scene, load, rate_bound
 
-#: A command-line run that the estimate puts beyond this many kernel evaluations (all members together) is refused
-#: with the estimate: about an hour of scalar kernel calls. The estimate is rough by design (≈ STEPS_PER_RADIAN steps
-#: of an adaptive integrator per radian the fastest motion turns, 13 kernel calls per DOP853 step).
+#: A one-member run that the estimate (:mod:`eulersym.sweeps.cost`) puts beyond this many kernel evaluations is
+#: refused with the estimate: about an hour of scalar kernel calls. A sweep has the sweeps' own budget.
 WORK_LIMIT = 1e9
-STEPS_PER_RADIAN = 2.0
-CALLS_PER_STEP = 13
 
 #: ``eulersym simulate --template``: every key of a scene file, annotated (SI units in the comments; any consistent
 #: system works). It loads as it is (a test runs it).
@@ -142,27 +139,46 @@ def cli(argv: list) -> int:
     return 0
 
 
-def work_estimate(scene, plan=None) -> float | None:
-    """Kernel evaluations an integrating plan is expected to need (all members), or None for a closed form.
+def _engine_of(plan) -> str:
+    """The cost model's name (:data:`eulersym.sweeps.cost.ENGINES`) for the way a plan gets the motion."""
+    if not plan.engine.startswith("integrate"):
+        return "closed-form"
+    return "yoshida4" if "splitting" in plan.engine else "dop853"
+
+
+def work_estimate(scene, plan=None):
+    """The cost of running ``scene`` (bytes and kernel evaluations), from :func:`eulersym.sweeps.cost.estimate`:
+    the engine the plan chose, the body's fastest rate (:func:`eulersym.scene.spec.rate_bound`), every member.
 
     Examples
     --------
-    >>> work_estimate(load("tennis-racket")) is None
-    True
+    >>> e = work_estimate(load("tennis-racket"))
+    >>> e.engine, e.members
+    ('closed-form', 1)
     """
+    from eulersym.sweeps import cost
+
     plan = scene.plan() if plan is None else plan
-    if not plan.engine.startswith("integrate"):
-        return None
-    return rate_bound(scene) * scene.t_end * STEPS_PER_RADIAN * CALLS_PER_STEP * scene.batch
+    heavy = scene.regime == "heavy top"
+    outputs = scene.outputs
+    values = 3 + 4 * ("attitude" in outputs or "euler_angles" in outputs) + 3 * ("euler_angles" in outputs)
+    values += 3 * heavy + 5 * ("invariants" in outputs) + 3 * ("polhode" in outputs)
+    return cost.estimate(members=scene.batch, points=scene.points, state=10 if heavy else 7, output_values=values,
+                         engine=_engine_of(plan), rate=rate_bound(scene), t_end=scene.t_end,
+                         accuracy=scene.accuracy)
 
 
 def _refuse_endless(scene) -> None:
-    """No silent endless run: refuse an integration whose estimate passes :data:`WORK_LIMIT`, with the estimate."""
-    work = work_estimate(scene)
-    if work is None or work <= WORK_LIMIT:
-        return
-    radians = rate_bound(scene) * scene.t_end
-    raise InvalidInput("time.end", scene.t_end, f"a run within about {WORK_LIMIT:.0e} kernel evaluations: this one "
-                                                f"integrates ≈ {radians:.3g} rad of rotation ({scene.batch} member(s)), "
-                                                f"≈ {work:.2g} evaluations, roughly {work * 5e-6 / 3600:.2g} hours; "
-                                                "shorten [time] end or sweep fewer members")
+    """No silent endless run: refuse a scene whose estimate passes the memory budget or the work budget
+    (:data:`WORK_LIMIT` kernel evaluations for one member, integrated by scalar kernels; the sweeps' budget for a
+    sweep), with the estimate (:func:`eulersym.sweeps.cost.check`)."""
+    from eulersym.sweeps import cost
+
+    estimate = work_estimate(scene)
+    work = WORK_LIMIT if scene.batch == 1 else cost.DEFAULT_WORK_BUDGET
+    try:
+        cost.check(estimate, work=work)
+    except InvalidInput as exc:
+        radians = rate_bound(scene) * scene.t_end
+        raise InvalidInput("SCENE", f"{scene.name}: {exc.value}", f"{exc.expected} (the body turns ≈ {radians:.3g} "
+                                                                   f"rad by t_end = {scene.t_end:g})") from None
