@@ -373,3 +373,22 @@ def test_a_constant_line_is_not_hidden_by_an_offset():
     fig.canvas.draw()
     low, high = ax.get_ylim()
     assert high - low > 0.1 and ax.yaxis.get_offset_text().get_text() == ""
+
+
+def test_a_missing_dimension_is_named_where_it_goes(tmp_path, capsys):
+    path = _write(tmp_path / "cyl.toml", """
+        [body]
+        shape = "cylinder"
+        mass = 1
+        R = 0.05
+        [initial]
+        omega = [0, 0, 100]
+        [time]
+        end = 1
+    """)
+    _exit_2(capsys, path, needles=("body.h=None", "it needs R, h"), forbidden=("dimensions.",))
+
+
+def test_an_array_value_is_shown_on_one_line():
+    err = InvalidInput("u", np.arange(40.0).reshape(8, 5) * 1e281, "finite arguments")
+    assert "\n" not in str(err) and str(err).startswith("u=array([[") and len(str(err)) < 200

@@ -317,6 +317,8 @@ class Scene:
             rest = exc.argument[len(base):]
             if exc.argument.startswith("dimensions.") and exc.argument in where:
                 raise InvalidInput(where[exc.argument], exc.value, exc.expected) from None
+            if exc.argument.startswith("dimensions."):  # a dimension the file lacks: it goes in [body]
+                raise InvalidInput("body." + exc.argument[len("dimensions."):], exc.value, exc.expected) from None
             if base in where:
                 raise InvalidInput(where[base] + rest, exc.value, exc.expected) from None
             if base in _TOML_PATHS:  # a key the file lacks: name where it would go
