@@ -406,6 +406,13 @@ def test_strict_names(text, match):
         parse(text, names={"k": _k}, strict=True, argument="torque")
 
 
+def test_strict_reads_d_name_over_dt_as_a_quotient():
+    """With names of one's own, "domega1/dt" is the parameter domega1 divided by the parameter dt, not a rate."""
+    d, dt = sp.Symbol("domega1", real=True), sp.Symbol("dt", real=True)
+    assert parse("domega1/dt", names={"domega1": d, "dt": dt}, strict=True) == d / dt
+    assert parse("domega1/dt") == S.omega1.diff(S.t)  # the verify reading is unchanged
+
+
 def test_strict_keeps_pi_functions_and_spaced_products():
     assert parse("k (2 + pi)", names={"k": _k}, strict=True) == _k * (2 + sp.pi)
     assert parse("sin(k)^2 + max(k, 1)", names={"k": _k}, strict=True) == sp.sin(_k) ** 2 + sp.Max(_k, 1)
