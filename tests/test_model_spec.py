@@ -302,6 +302,11 @@ def test_names_tables_match_the_parser():
     assert N.FORBIDDEN == parsing._FORBIDDEN_NAMES
 
 
+def test_a_pivot_without_gravity_needs_no_mass_nor_centre():
+    m = Model(body={"moments": [1, 2, 3]}, pivot={"g": 0}, torque={"body": "[0, 0, 1]"})
+    assert m.pivoted and m.mass is None and m.centre_of_mass == sp.zeros(3, 1) and m.mechanics.gravity == 0
+
+
 def test_rotor_and_default_gravity():
     m = Model(body={"moments": [1, 1, 2], "mass": 1}, pivot={"l": 0.1}, rotor={"h": [0, 0, 0.5]})
     assert m.mechanics.rotor == sp.Matrix([0, 0, R("0.5")]) and m.mechanics.gravity == R("9.81")
