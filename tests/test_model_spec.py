@@ -319,7 +319,7 @@ def test_rotor_and_default_gravity():
 
 
 def test_every_bundled_scene_is_a_model():
-    files = sorted(SCENES.glob("*.toml"))
+    files = sorted(SCENES.glob("*.toml")) + sorted((SCENES.parent / "models").glob("*.toml"))
     assert files
     for path in files:
         m = Model.from_toml(path)
