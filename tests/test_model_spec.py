@@ -643,6 +643,17 @@ def test_digest_stable_across_processes_and_hash_seeds():
     assert len(digests) == 1 and len(digests.pop()) == 64
 
 
+def test_pickles_carry_the_data_only():
+    import pickle
+
+    m = Model(parameters={"c": 0.1}, body={"moments": [1, 2, 3]}, torque={"body": "-c*omega"})
+    m.mechanics
+    blob = pickle.dumps(m)
+    back = pickle.loads(blob)
+    assert back == m and back.digest == m.digest and back.mechanics == m.mechanics
+    assert len(blob) < 2000 and b"sympy" not in blob
+
+
 def test_to_dict_is_json():
     m = Model(parameters={"a": 1}, body={"shape": "cone", "mass": 1, "R": 1, "h": 2}, pivot={"g": "9.81*a"})
     data = m.to_dict()

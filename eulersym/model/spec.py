@@ -764,6 +764,12 @@ class Model:
     def __hash__(self) -> int:
         return hash(self.digest)
 
+    def __getstate__(self) -> dict:  # pickles (Dask, multiprocessing) carry the data, not the derived SymPy
+        return {"_data": self._data}
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+
     # ---- derived (SymPy) -------------------------------------------------------------------------------------
     @cached_property
     def _assembly(self):
