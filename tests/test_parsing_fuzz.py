@@ -25,7 +25,7 @@ from eulersym.parsing import parse, parse_latex
 
 #: Seconds any one call may take (generous: the CI machine is shared; the parser answers in milliseconds).
 BOUND_S = 5.0
-EXAMPLES = int(os.environ.get("EULERSYM_FUZZ_EXAMPLES", "120"))
+EXAMPLES = int(os.environ.get("EULERSYM_FUZZ_EXAMPLES", "80"))
 FUZZ = settings(max_examples=EXAMPLES, deadline=None, derandomize="EULERSYM_FUZZ_EXAMPLES" not in os.environ,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 
