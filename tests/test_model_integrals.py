@@ -95,6 +95,11 @@ def test_damped_energy_decays_at_minus_c_omega_squared():
 def test_gyrostat_energy_and_momentum():
     verdicts = integrals.invariants(B.gyrostat())
     assert verdicts["E"].conserved and verdicts["L2"].conserved and verdicts["q_norm2"].conserved
+    # the body's own momentum |I ω|² is not: d/dt |Iω|² = 2 Iω·(Iω̇) = −2 Iω·(ω × h)
+    body = verdicts["L_body2"]
+    w = sp.Matrix(OMEGA)
+    Iw = sp.diag(1, 2, 3) * w
+    assert not body.conserved and sp.expand(body.rate + 2 * (Iw.T * w.cross(sp.Matrix([B.h1, 0, B.h3])))[0]) == 0
     # E is the kinetic energy ½ ωᵀIω (not ½ ωᵀIω + h·ω): the latter is not conserved
     v = integrals.prove(B.gyrostat(), (w1 ** 2 + 2 * w2 ** 2 + 3 * w3 ** 2) / 2 + B.h1 * w1 + B.h3 * w3)
     assert not v.conserved
