@@ -156,3 +156,11 @@ def test_bad_candidates():
         integrals.prove(B.damped(), sp.Matrix([w1, w2]))
     with pytest.raises(InvalidInput, match="Mechanics"):
         integrals.invariants(None)
+
+
+def test_energy_with_a_potential_in_q_and_a_rotor_is_conserved():
+    """The torque of V(q) is derived by virtual work through q̇ = ½ q ⊗ (0, ω): the energy balance closes exactly,
+    while L·Γ, conserved under gravity alone, is not (that torque is not horizontal)."""
+    verdicts = integrals.invariants(B.heavy_asymmetric())
+    assert verdicts["E"].conserved and verdicts["E"].exact
+    assert not verdicts["L_dot_Gamma"].conserved and verdicts["L_dot_Gamma"].rate.has(B.k)
