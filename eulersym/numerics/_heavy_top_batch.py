@@ -2,7 +2,7 @@
 at once (NumPy and SciPy's vectorised Carlson integrals and Jacobi functions).
 
 Same formulas as :mod:`eulersym.numerics.heavy_top_exact`, but the constants of each motion (roots, λ, K, τ0, the
-rates) are computed in double rather than 50-digit decimal arithmetic and the phase is not reduced in
+rates) are computed in double rather than 36-digit decimal arithmetic and the phase is not reduced in
 double-double, so the error grows like ~1e-16 × (number of nutation periods) instead of staying at round-off; it
 is ~1e-13 relative to ω after 10³ periods. Members this path does not treat — a steady motion (double root), a
 start at or near a pole (``1 ∓ w`` below 1e-6 at a turning point), a motion near the separatrix (``m_c < 1e-12``),
