@@ -683,7 +683,7 @@ def test_sweep_csv_has_member_columns(tmp_path):
     path = tmp_path / "sweep.csv"
     save(r, str(path))
     lines = path.read_text().splitlines()
-    assert lines[0] == "member,omega[2],t,omega1,omega2,omega3" and len(lines) == 1 + 2 * 3
+    assert lines[0] == "member,omega[2],t,omega1,omega2,omega3,gamma1,gamma2,gamma3" and len(lines) == 1 + 2 * 3
 
 
 def test_outputs_constant_lists_the_contract():
