@@ -279,3 +279,18 @@ def test_a_sweep_of_symmetric_tops_is_one_closed_form_call():
         w3, th = sweep.sweep["omega[2]"][b], sweep.sweep["euler[1]"][b]
         single = simulate(Scene(**base, omega=(0.0, 0.0, w3), euler=(0.0, th, 0.0)))
         assert np.max(np.abs(single.omega - sweep.omega[b])) <= 1e-14 * w3
+
+
+@pytest.mark.parametrize("precise", [True, False])
+def test_a_start_on_a_turning_point_within_rounding_of_the_phase_origin(precise):
+    """u̇0 = 0 at the lower turning point: τ0 = ±1e-17 where the half period of τ0 − K depends on rounding."""
+    from scipy.integrate import solve_ivp
+
+    q0 = euler_to_quaternion((0.75, 2.0, 0.0))
+    w0 = np.array([0.0, -2.0, -2.0])
+    t = np.array([1e-9, 1e-3, 0.5])
+    motion = heavy_top_exact([(1.0, 1.0, 1.0)] * 2, 1.0, 9.81, 0.3, [w0, w0], [q0, q0], t, precise=precise)
+    sol = solve_ivp(_rhs, (0.0, 0.5), np.concatenate([w0, _gamma(q0), q0]), method="DOP853", rtol=1e-12,
+                    atol=1e-14, t_eval=t, args=(1.0, 1.0, 9.81 * 0.3))
+    assert np.max(np.abs(motion.q[0] - sol.y.T[:, 6:])) <= 1e-9
+    assert np.max(np.abs(motion.omega[1] - sol.y.T[:, :3])) <= 1e-9

@@ -453,15 +453,29 @@ def _finish(motion, near, far, omega, q, start=None):
             half = math.atan2(ds * dsign, dc * dsign)
         out.append(2.0 * half)
     chi_near0, chi_far0 = out
-    (W0n, j0n), (W0f, j0f) = (start["near"], start["far"]) if start else ((0.0, 0.0), (0.0, 0.0))
-    if not motion["steady"] and (W0n is None or W0f is None):  # off the poles: W(τ0), W(τ0 − K) in double
-        tau0 = np.array([motion["u0"]])
-        if W0n is None:
-            W0n = float(_W(tau0, near["n"], near["one_minus_n"], motion["mc"], motion["rootmc"])[0]) if near["B"] else 0.0
-        if W0f is None:
-            x0 = tau0 - motion["K"]
-            x0 = np.where(x0 < -motion["K"], x0 + motion["period"], x0)
-            W0f = float(_W(x0, far["n"], far["one_minus_n"], motion["mc"], motion["rootmc"])[0]) if far["B"] else 0.0
+    W0n = W0f = j0n = j0f = 0.0
+    if not motion["steady"]:
+        # the half periods and reduced arguments at t = 0 exactly as the evaluation will find them
+        r0, j0 = _phase(proto, zero)
+        x0 = r0 - motion["K"]
+        j0n = float(j0[0])
+        j0f = j0n - 1.0 if x0[0] < -motion["K"] else j0n
+        x0 = np.where(x0 < -motion["K"], x0 + motion["period"], x0)
+        (exact_n, jn_exact), (exact_f, jf_exact) = start["near"], start["far"]
+        for key, pole, x, jj, exact, j_exact in (("n", near, r0, j0n, exact_n, jn_exact),
+                                                 ("f", far, x0, j0f, exact_f, jf_exact)):
+            if not pole["B"]:
+                value = 0.0
+            elif exact is None:  # off the poles: W at the reduced argument, in double
+                value = float(_W(x, pole["n"], pole["one_minus_n"], motion["mc"], motion["rootmc"])[0])
+            else:  # the decimal value, moved to the branch (half period) the evaluation uses: W(x + 2K) = W(x) + W(2K)
+                w2k = 2.0 * float(_W(np.array([motion["K"]]), pole["n"], pole["one_minus_n"], motion["mc"],
+                                     motion["rootmc"])[0])
+                value = exact + (j_exact - jj) * w2k
+            if key == "n":
+                W0n = value
+            else:
+                W0f = value
     return _Motion(near=_Pole(**near, W0=W0n, j0=j0n, chi0=chi_near0),
                    far=_Pole(**far, W0=W0f, j0=j0f, chi0=chi_far0), **motion)
 
