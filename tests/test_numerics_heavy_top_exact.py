@@ -294,3 +294,11 @@ def test_a_start_on_a_turning_point_within_rounding_of_the_phase_origin(precise)
                     atol=1e-14, t_eval=t, args=(1.0, 1.0, 9.81 * 0.3))
     assert np.max(np.abs(motion.q[0] - sol.y.T[:, 6:])) <= 1e-9
     assert np.max(np.abs(motion.omega[1] - sol.y.T[:, :3])) <= 1e-9
+
+
+def test_a_start_on_the_separatrix_is_refused_with_its_reason():
+    from eulersym.errors import SingularConfiguration
+
+    with pytest.raises(SingularConfiguration) as info:  # upright, below the threshold, nudged by 1e-230
+        heavy_top_exact((1.0, 1.0, 1.0), 1.0, 9.81, 0.3, (0.0, 4.6e-230, 1.0), (1.0, 0.0, 0.0, 0.0), [0.0, 109.0])
+    assert info.value.argument == "omega0"

@@ -353,10 +353,11 @@ def _setup(I1, I3, M, g, l, omega, q):
         span = x3 - x1
         mc = (x3 - x2) / span
         m = delta / span
-        if mc <= 0:
+        if mc < Decimal("1e-290"):  # on the separatrix, or so close that m_c underflows a double
             raise SingularConfiguration(
                 "omega0", tuple(float(v) for v in omega),
-                "a start off the separatrix (here the top approaches the vertical asymptotically: w2 = w3 = 1)")
+                "a start off the separatrix of the upright top (here m_c = 1 − m is below 1e-290: the top leaves or "
+                "approaches the vertical asymptotically, with no periodic closed form in double precision)")
         lam = (A * span).sqrt() / 2
         rootmc = mc.sqrt()
         K = _de.pi() / (2 * _de.agm(Decimal(1), rootmc))
