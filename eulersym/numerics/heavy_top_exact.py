@@ -34,7 +34,16 @@ Accuracy: the roots, λ, K, τ0 and the mean rates per nutation period are compu
 exact deflation where a root is known: ``u̇0 = 0``, or a pole that is a turning point), then rounded to
 double-double. The phase ``λ t + τ0`` is reduced modulo ``2K`` and the secular angles modulo ``4π`` in
 double-double, so the error does not grow with t. A double root (steady precession, the sleeping top) is
-exact: the motion is then a uniform rotation of the Euler angles.
+exact: the motion is then a uniform rotation of the Euler angles. For many output times the third-kind integrals
+come from a 64-term Chebyshev series of each motion (exact Carlson values at the nodes), unless the series does not
+reach round-off (a pass close to the vertical), and then directly.
+
+Sweeps: more than :data:`BATCH_PRECISE` members are evaluated all at once with the constants in double precision
+(:mod:`eulersym.numerics._heavy_top_batch`, ``precise=False``; the error then grows like ~1e-16 per nutation period).
+
+Limits: a tilt below 2e-17 rad from a pole is taken as the pole itself; a start on (or within m_c < 1e-290 of) the
+separatrix of the upright top is refused; at times within a pass closer to the vertical than ~1e-8 rad (the
+pass lasting less than ~1e8 ulps of the phase) ω is only as accurate as the phase resolves the pass.
 """
 
 from __future__ import annotations
