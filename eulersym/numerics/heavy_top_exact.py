@@ -55,7 +55,6 @@ from dataclasses import dataclass
 from decimal import Decimal
 
 import numpy as np
-from scipy.special import elliprf, elliprj
 
 from eulersym.errors import InvalidInput, SingularConfiguration
 from eulersym.numerics import _decimal_elliptic as _de
@@ -293,6 +292,7 @@ def _W(x, n, one_minus_n, mc, rootmc, K=None):
 
 def _W_direct(x, n, one_minus_n, mc, rootmc):
     """W(x) = ∫₀ˣ dy/(1 − n sn² y) for |x| ≤ K (SciPy's Carlson R_F, R_J)."""
+    from scipy.special import elliprf, elliprj  # imported when used: `import eulersym.numerics` stays SciPy-free
     s, c, _ = jacobi_sncndn(np.abs(x), mc, rootmc=rootmc)
     s = np.abs(s)
     c2 = c * c
