@@ -48,7 +48,7 @@ def bench_nutation(repeat: int = 5, t_end: float | None = None) -> dict:
     from eulersym.scene import Scene, load, simulate
 
     bundled = load("heavy-top-nutation")
-    fields = {f.name: getattr(bundled, f.name) for f in dataclasses.fields(bundled)}
+    fields = {f.name: getattr(bundled, f.name) for f in dataclasses.fields(bundled) if f.init}
     if fields.get("dimensions") is not None:
         fields["dimensions"] = dict(fields["dimensions"])
     fields["accuracy"] = 1e-11
