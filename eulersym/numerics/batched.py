@@ -50,8 +50,11 @@ __all__ = [
 
 #: Default memory budget of one call (bytes): refuse above it, with the estimate.
 DEFAULT_MAX_BYTES = 2 * 1024**3
-#: With ``parallel=None``, numba's ``prange`` over members from this many members on (``eulersym bench stress``).
-PARALLEL_MIN_MEMBERS = 64
+#: With ``parallel=None``, numba's ``prange`` over members from this many members on. Measured by ``eulersym bench
+#: stress`` (section "batched splitting") on the shared 2-core machine under a load average of ~9: parallel and serial
+#: within ±15 % of each other (no gain while other processes hold the cores); threads pay only on idle cores, and
+#: below ~10³ members the thread start-up is not repaid.
+PARALLEL_MIN_MEMBERS = 1024
 _BYTES_PER_MEMBER_POINT = 3 * 10 * 8
 
 
