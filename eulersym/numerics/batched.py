@@ -292,5 +292,6 @@ def integrate_heavy_tops(I, M, g, l, omega0, q0, t, *, method="yoshida4", h=None
     if np.any(larr <= 0):
         raise InvalidInput("l", l, "positive distances from the pivot to the centre of mass")
     c = np.stack([np.zeros_like(larr), np.zeros_like(larr), larr], axis=-1)
-    return integrate_pivoted_batch(tensors if len(tensors) > 1 else tensors[0], M, g, c, omega0, q0, t, method=method, h=h, accuracy=accuracy,
+    shared = tensors if len(tensors) > 1 else tensors[0]
+    return integrate_pivoted_batch(shared, M, g, c, omega0, q0, t, method=method, h=h, accuracy=accuracy,
                                    free_flow="symmetric", fast=fast, parallel=parallel, max_bytes=max_bytes)

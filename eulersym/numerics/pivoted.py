@@ -540,5 +540,6 @@ def _compiled_runner(parallel=False):
     """The member loop compiled by numba (:mod:`eulersym.numerics._batched_fast`) over this module's sub-flows."""
     from eulersym.numerics import _batched_fast
 
-    jitable = (hamilton, _turn1, _turn2, _turn3, _free_axes, _rotate_back, _free_symmetric, _kick, _substep, _renormalise)
+    jitable = (hamilton, _turn1, _turn2, _turn3, _free_axes, _rotate_back, _free_symmetric, _kick, _substep,
+               _renormalise)
     return _batched_fast.member_runner(_substep, _renormalise, jitable, parallel)
