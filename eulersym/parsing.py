@@ -25,7 +25,11 @@ Names (the canonical symbols of :mod:`eulersym.symbols`):
 - **rule for other names**: a name that occurs in the quantity being verified against (``known``) takes that
   symbol, with its assumptions; any other name becomes a *positive* real symbol (the unknowns of a hand derivation
   in mechanics — lengths, masses, rates of a problem — are positive; comparisons sample them in [0.5, 2]).
-  ``e`` is a plain name, not Euler's number: write ``exp(1)``.
+  ``e`` is a plain name, not Euler's number: write ``exp(1)``;
+- **a namespace of one's own** (what :mod:`eulersym.model` uses): ``names=`` gives names that take precedence
+  over all of the above (symbols, 3-vectors, 3×3 matrices), ``functions=`` extra functions whose arguments may be
+  vectors (their kinds are checked before the call), and ``strict=True`` refuses every other name with a
+  did-you-mean instead of making it a positive symbol.
 
 Limits, each refused with :class:`~eulersym.errors.UnsafeExpression` (or ``InvalidInput``) naming the argument,
 the value and what is valid, in time and memory bounded by the input length:
@@ -34,6 +38,11 @@ the value and what is valid, in time and memory bounded by the input length:
 - number literals of at most :data:`MAX_DIGITS` digits (and decimal exponents up to the same);
 - numeric exponents with ``|n| <= MAX_EXPONENT``, checked *before* the power is built (so ``9**9**9`` is refused
   at once instead of being evaluated), and exact numbers of at most :data:`MAX_RESULT_DIGITS` digits;
+- fractional powers of numbers (``2^(1/3)``) with a denominator of at most :data:`MAX_ROOT`, and at most
+  :data:`MAX_RESULT_DIGITS` digits in the base's large prime factors times the numerator (SymPy looks for
+  perfect roots in the base raised to the numerator: ``640^-640^-64`` would run for minutes);
+- only ASCII digits are numbers (``①``, Arabic-Indic ``٣`` are refused); vectors and matrices add to their own
+  shape only (``[x] + 1`` is refused);
 - no exponential inside the argument of ``sin cos tan exp sinh cosh`` or of a symbolic exponent
   (``exp(exp(x))``): such towers cannot be evaluated at high precision in bounded time;
 - anything else — attribute access (``os.system``), subscripts (``x[0]``), strings, lambdas, keywords, dunder names
@@ -55,11 +64,13 @@ eulersym.errors.UnsafeExpression: candidate='__import__' is not valid: expected 
 
 from __future__ import annotations
 
+import difflib
 import keyword
 import math
 import re
 import unicodedata
 from dataclasses import dataclass
+from typing import Mapping
 
 import sympy as sp
 
@@ -75,6 +86,8 @@ __all__ = [
     "MAX_DIGITS",
     "MAX_EXPONENT",
     "MAX_RESULT_DIGITS",
+    "MAX_ROOT",
+    "ARGUMENT_KINDS",
     "canonical_names",
 ]
 
@@ -88,6 +101,9 @@ MAX_DIGITS = 30
 MAX_EXPONENT = 64
 #: Most digits of an exact number built from the literals (numerator or denominator).
 MAX_RESULT_DIGITS = 400
+#: Largest denominator of a fractional power of a number (``2^(1/3)``): SymPy looks for perfect roots of the
+#: base, which costs more than the size of the input once the root's order is huge (``640^(-640^-64)``).
+MAX_ROOT = 10**6
 
 _PLAIN = "plain math: numbers, names, + - * / ^ ( ) [ ] , ; = ' and the functions " \
          "sin cos tan sqrt exp log asin acos atan sinh cosh tanh abs (...)"
@@ -101,8 +117,11 @@ FUNCTIONS: dict[str, tuple[object, int]] = {
     "atan2": (sp.atan2, 2),
     "sinh": (sp.sinh, 1), "cosh": (sp.cosh, 1), "tanh": (sp.tanh, 1),
     "sqrt": (sp.sqrt, 1), "exp": (sp.exp, 1), "log": (sp.log, 1), "ln": (sp.log, 1),
-    "abs": (sp.Abs, 1),
+    "abs": (sp.Abs, 1), "sign": (sp.sign, 1), "min": (sp.Min, 2), "max": (sp.Max, 2),
 }
+
+#: Argument kinds a function of the ``functions=`` keyword of :func:`parse` may declare.
+ARGUMENT_KINDS = ("scalar", "vector", "matrix", "any")
 
 #: Functions whose argument must not hold an exponential (high-precision evaluation of the tower is unbounded).
 _GROWTH_SENSITIVE = frozenset({"sin", "cos", "tan", "cot", "sec", "csc", "exp", "sinh", "cosh"})
@@ -172,7 +191,8 @@ _FORBIDDEN_NAMES = frozenset(set(keyword.kwlist) - {"lambda"}) | frozenset({
     "subprocess", "builtins",
 })
 _NAME_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
-_NUM_RE = re.compile(r"(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
+_NUM_RE = re.compile(r"(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?", re.ASCII)
+_DIGITS = frozenset("0123456789")
 
 
 def _refuse(argument: str, value: str, expected: str, cls=UnsafeExpression):
@@ -212,7 +232,7 @@ def _tokenize(text: str, argument: str) -> list[_Token]:
         if ch.isspace():
             i += 1
             continue
-        if ch.isdigit() or (ch == "." and i + 1 < n and text[i + 1].isdigit()):
+        if ch in _DIGITS or (ch == "." and i + 1 < n and text[i + 1] in _DIGITS):
             m = _NUM_RE.match(text, i)
             mantissa, exponent = m.group(1), m.group(2)
             digits = len(mantissa.replace(".", "").lstrip("0"))
@@ -260,7 +280,8 @@ def _tokenize(text: str, argument: str) -> list[_Token]:
             _refuse(argument, text[max(0, i - 10):i + 10], "no attribute access; " + _PLAIN)
         if ch == ":":
             _refuse(argument, text[max(0, i - 10):i + 10], "no lambdas, slices or annotations; " + _PLAIN)
-        _refuse(argument, ch, "only these characters: letters, digits, spaces and + - * / ^ ( ) [ ] , ; = '")
+        _refuse(argument, ch, "only these characters: ASCII letters and digits (0-9), Greek letters, spaces and "
+                "+ - * / ^ ( ) [ ] , ; = '")
     # dphi/dt → dphi
     merged: list[_Token] = []
     k = 0
@@ -295,12 +316,16 @@ def _rate_name(name: str) -> tuple[str, int] | None:
 
 
 class _Parser:
-    def __init__(self, text: str, tokens: list[_Token], argument: str, known: dict[str, sp.Basic]):
+    def __init__(self, text: str, tokens: list[_Token], argument: str, known: dict[str, sp.Basic],
+                 names: dict | None = None, functions: dict | None = None, strict: bool = False):
         self.text = text
         self.tokens = tokens
         self.k = 0
         self.argument = argument
         self.known = known
+        self.names = names or {}
+        self.functions = functions or {}
+        self.strict = strict
         self.depth = 0
 
     # -- helpers
@@ -446,6 +471,17 @@ class _Parser:
     def name_or_call(self):
         tok = self.advance()
         name = tok.text
+        if name in self.functions:
+            if tok.primes:
+                _refuse(self.argument, name + "'" * tok.primes, "no primes on function names")
+            return self.call_extra(tok)
+        if self.strict and self.is_op("(") and not self.tok.spaced and name not in FUNCTIONS:
+            valid = sorted({*FUNCTIONS, *self.functions})
+            _refuse(self.argument, self.snippet(tok.pos),
+                    f"a call of a known function: {', '.join(valid)}{_close(name, valid)} (a product needs a "
+                    f"space or '*': {name}*(...))", InvalidInput if name in self.names else UnsafeExpression)
+        if name in self.names:
+            return self.symbol(name, tok.primes, tok.pos)
         if name in FUNCTIONS:
             if tok.primes:
                 _refuse(self.argument, name + "'" * tok.primes, "no primes on function names")
@@ -457,15 +493,46 @@ class _Parser:
                     and self.tokens[self.k + 2].text == ")"):
                 self.k += 3
         elif self.is_op("(") and name not in FUNCTIONS and self._looks_like_call(name):
+            valid = sorted({*FUNCTIONS, *self.functions})
             _refuse(self.argument, name,
-                    "a call of a known function: " + ", ".join(sorted(FUNCTIONS))
+                    "a call of a known function: " + ", ".join(valid) + _close(name, valid)
                     + f" (unknown functions are refused; for a product write {name}*(...))")
         return self.symbol(name, tok.primes, tok.pos)
 
     def _looks_like_call(self, name: str) -> bool:
         # A name right before '(' is a call unless it is a known symbol used in a product, e.g. "M (g l)".
         # We refuse unknown ones: "f(x)" is ambiguous and more often an unknown function than a product.
+        if self.strict:
+            return name not in self.known and name != "pi"
         return name not in _PARAMETERS and name not in self.known
+
+    def call_extra(self, tok: _Token):
+        """A call of a function given through ``functions=``: its arguments may be vectors or matrices."""
+        name = tok.text
+        func, kinds = self.functions[name]
+        self.enter(tok.pos)
+        self.expect("(")
+        args = [self.expr()]
+        while self.is_op(","):
+            self.advance()
+            args.append(self.expr())
+        self.expect(")")
+        self.leave()
+        where = self.snippet(tok.pos, self.tokens[self.k].pos if self.k < len(self.tokens) else None)
+        signature = f"{name}({', '.join(kinds)})"
+        if len(args) != len(kinds):
+            _refuse(self.argument, where, f"{signature}: {len(kinds)} argument(s), not {len(args)}", InvalidInput)
+        for position, (arg, kind) in enumerate(zip(args, kinds), start=1):
+            if not _is_kind(arg, kind):
+                _refuse(self.argument, where, f"{signature}: argument {position} is {_kind_of(arg)}, not a {kind}",
+                        InvalidInput)
+        try:
+            value = func(*args)
+        except (TypeError, ValueError, ArithmeticError, sp.ShapeError) as exc:
+            _refuse(self.argument, where, f"{signature} of arguments it accepts ({exc})", InvalidInput)
+        self.check_size(value, tok.pos)
+        self.check_finite(value, tok.pos)
+        return value
 
     def call(self, tok: _Token):
         name = tok.text
@@ -503,6 +570,17 @@ class _Parser:
         return value
 
     def symbol(self, name: str, primes: int, pos: int):
+        if name in self.names or self.strict:
+            if primes:
+                _refuse(self.argument, name + "'" * primes, "no primes (derivatives) in this formula", InvalidInput)
+            if name in self.names:
+                return self.names[name]
+            if name in self.known:
+                return self.known[name]
+            if name == "pi":
+                return sp.pi
+            valid = sorted({*self.names, *self.known, "pi"})
+            _refuse(self.argument, name, "a known name: " + ", ".join(valid) + _close(name, valid), InvalidInput)
         squeezed = name.replace("_", "")
         rate = _rate_name(name)
         if rate:
@@ -534,6 +612,15 @@ class _Parser:
         for side in (left, right):
             if isinstance(side, (list, sp.Equality)):
                 self.bad_list(start)
+        if op in "+-":
+            lm, rm = isinstance(left, sp.MatrixBase), isinstance(right, sp.MatrixBase)
+            if lm != rm:
+                _refuse(self.argument, self.snippet(start), f"'{op}' between two scalars or two vectors/matrices "
+                        f"of the same shape, not a {_kind_of(left)} {op} a {_kind_of(right)}", InvalidInput)
+            if lm and left.shape != right.shape:
+                _refuse(self.argument, self.snippet(start), f"'{op}' between vectors/matrices of the same shape, "
+                        f"not {left.shape[0]}×{left.shape[1]} {op} {right.shape[0]}×{right.shape[1]}",
+                        InvalidInput)
         if op == "+":
             value = left + right
         elif op == "-":
@@ -563,6 +650,17 @@ class _Parser:
                 digits = max(_digits(base.p), _digits(base.q)) * magnitude
                 if digits > MAX_RESULT_DIGITS:
                     _refuse(self.argument, where, f"exact numbers of at most {MAX_RESULT_DIGITS} digits")
+            if base.is_number and exponent.is_Rational and not exponent.is_Integer:
+                # SymPy extracts perfect roots: it factors the base raised to the numerator, then roots it
+                if abs(exponent.q) > MAX_ROOT:
+                    _refuse(self.argument, where, f"fractional powers of numbers with a denominator of at most "
+                            f"{MAX_ROOT} (x^(1/3), 2^0.25)")
+                size = max((max(_rough_digits(r.p), _rough_digits(r.q)) for r in base.atoms(sp.Rational)),
+                           default=0)
+                if size * abs(exponent.p) > MAX_RESULT_DIGITS:
+                    _refuse(self.argument, where, f"fractional powers of numbers of at most {MAX_RESULT_DIGITS} "
+                            "digits, counting the digits of the base's large prime factors times the power's "
+                            "numerator")
         elif _has_exponential(exponent):
             _refuse(self.argument, where, "no exponential inside a symbolic exponent (towers such as x^(y^z) "
                     "cannot be evaluated in bounded time)")
@@ -588,9 +686,49 @@ class _Parser:
             _refuse(self.argument, self.snippet(start), "a finite expression (no division by zero)", InvalidInput)
 
 
+def _close(name: str, valid) -> str:
+    """`` (did you mean 'x'?)`` for the closest valid name, or ''."""
+    close = difflib.get_close_matches(name, list(valid), n=1, cutoff=0.6)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+def _kind_of(value) -> str:
+    if isinstance(value, sp.MatrixBase):
+        rows, cols = value.shape
+        return "vector" if (cols == 1 and rows == 3) else f"{rows}×{cols} matrix"
+    if isinstance(value, (list, sp.Equality)):
+        return "equation"
+    return "scalar"
+
+
+def _is_kind(value, kind: str) -> bool:
+    if kind == "any":
+        return not isinstance(value, (list, sp.Equality))
+    if kind == "scalar":
+        return not isinstance(value, (list, sp.Equality, sp.MatrixBase))
+    if kind == "vector":
+        return isinstance(value, sp.MatrixBase) and value.shape == (3, 1)
+    return isinstance(value, sp.MatrixBase) and value.shape == (3, 3)
+
+
 def _digits(n: int) -> int:
     """Decimal digits of ``n``, within one (from the bit length: no conversion to str)."""
     return int(abs(int(n)).bit_length() * 0.30103) + 1
+
+
+#: SymPy's perfect-root search in ``Integer**Rational`` factors out primes below this bound (``factors(limit=)``).
+_SMALL_PRIMES = 2**15
+
+
+def _rough_digits(n: int) -> int:
+    """Digits of the part of ``n`` without prime factors below :data:`_SMALL_PRIMES`: what SymPy's perfect-root
+    search raises to a power's numerator (bounded work: trial division of a number of at most
+    MAX_RESULT_DIGITS digits)."""
+    n = abs(int(n))
+    if n < _SMALL_PRIMES:
+        return 0
+    factors = sp.factorint(n, limit=_SMALL_PRIMES, use_rho=False, use_pm1=False, use_ecm=False)
+    return sum(_digits(p) * k for p, k in factors.items() if p >= _SMALL_PRIMES)
 
 
 def _magnitude(number) -> float | None:
@@ -642,7 +780,8 @@ def _collect(items: list, argument: str, text: str):
 # Entry points
 
 
-def parse(text: str, *, known: dict | None = None, argument: str = "candidate"):
+def parse(text: str, *, known: dict | None = None, argument: str = "candidate", names: Mapping | None = None,
+          functions: Mapping | None = None, strict: bool = False):
     """Parse a formula in plain math syntax into a SymPy object, without ``eval``.
 
     Parameters
@@ -655,6 +794,18 @@ def parse(text: str, *, known: dict | None = None, argument: str = "candidate"):
         is the same symbol (with the same assumptions) as ``a`` there. Other unknown names become positive symbols.
     argument : str, optional
         The argument name used in error messages.
+    names : mapping, optional
+        name → SymPy object (a symbol, an expression, a 3×1 vector or a 3×3 matrix): a namespace that takes
+        precedence over every other meaning of the name (the package's symbols, functions of time, rates).
+        Primes on these names are refused.
+    functions : mapping, optional
+        name → ``(callable, kinds)``: extra functions, called with SymPy arguments of the declared ``kinds``
+        (each one of :data:`ARGUMENT_KINDS`: ``"scalar"``, ``"vector"`` (3×1), ``"matrix"`` (3×3), ``"any"``);
+        the number and kinds of the arguments are checked before the call. They may return vectors.
+    strict : bool, optional
+        Only ``names``, ``known``, ``pi`` and the functions are understood: any other name is refused with a
+        did-you-mean (instead of becoming a positive symbol), and so are primes, rates and ``name(...)``
+        written without a space (a product needs one: ``n (t)`` or ``n*(t)``).
 
     Returns
     -------
@@ -678,6 +829,18 @@ def parse(text: str, *, known: dict | None = None, argument: str = "candidate"):
     Traceback (most recent call last):
     ...
     eulersym.errors.UnsafeExpression: candidate='9**9**9' is not valid: expected numeric exponents with |n| <= 64
+
+    A namespace of its own, vector functions, and strict names:
+
+    >>> import sympy as sp
+    >>> w = sp.Matrix(sp.symbols("w1:4"))
+    >>> parse("cross(w, [0, 0, k])", names={"w": w, "k": sp.Symbol("k")}, strict=True,
+    ...       functions={"cross": (lambda a, b: a.cross(b), ("vector", "vector"))}).T
+    Matrix([[k*w2, -k*w1, 0]])
+    >>> parse("2*kk", names={"k": sp.Symbol("k")}, strict=True, argument="torque")
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: torque='kk' is not valid: expected a known name: k, pi (did you mean 'k'?)
     """
     if not isinstance(text, str):
         raise InvalidInput(argument, text, "a string holding a formula")
@@ -692,7 +855,18 @@ def parse(text: str, *, known: dict | None = None, argument: str = "candidate"):
         raise InvalidInput(argument, text, "a non-empty formula")
     tokens = _tokenize(normalized, argument)
     known_names = {str(k): v for k, v in (known or {}).items()}
-    parser = _Parser(normalized, tokens, argument, known_names)
+    extra_functions = {}
+    for name, spec in (functions or {}).items():
+        try:
+            func, kinds = spec
+            ok = callable(func) and all(k in ARGUMENT_KINDS for k in kinds)
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise InvalidInput(f"functions[{name!r}]", spec, "a pair (callable, kinds) with kinds among "
+                               + ", ".join(ARGUMENT_KINDS))
+        extra_functions[str(name)] = (func, tuple(kinds))
+    parser = _Parser(normalized, tokens, argument, known_names, dict(names or {}), extra_functions, bool(strict))
     return parser.document()
 
 

@@ -3,6 +3,7 @@
 * :func:`free_rigid_body_exact`, :func:`free_rigid_body_attitude_exact` — the exact torque-free motion.
 * :func:`integrate_free_body` — geometric integrators ("strang", "yoshida4", "dmv2", "dmv4", "dmv6").
 * :func:`integrate_heavy_top` — the heavy symmetric top by Strang splitting in the Euler–Poisson form.
+* :func:`heavy_top_exact` — the heavy symmetric top in closed form (elliptic functions, any start).
 * :func:`integrate_pivoted` — any pivoted body (full tensor, centre of mass anywhere, rotor) by exact-flow splitting;
   :func:`integrate_pivoted_batch`, :func:`integrate_free_bodies`, :func:`integrate_heavy_tops` — the splittings over
   many members (NumPy or numba), a step per member from the accuracy asked; :func:`integrate_torqued` — any torque,
@@ -31,6 +32,7 @@ from eulersym.numerics.exact import (
     quaternion_multiply,
 )
 from eulersym.numerics.heavy_top import integrate_heavy_top, sleeping_top_threshold_numeric
+from eulersym.numerics.heavy_top_exact import HeavyTopMotion, euler_to_quaternion, heavy_top_exact
 from eulersym.numerics.ivp import integrate_ivp
 from eulersym.numerics.pivoted import PIVOTED_METHODS, integrate_pivoted  # splitting: pivoted bodies
 from eulersym.numerics.batched import (  # splitting: batched over members
@@ -57,6 +59,9 @@ __all__ = [
     "jacobi_sncndn",
     "complete_elliptic_k",
     "quaternion_multiply",
+    "heavy_top_exact",
+    "HeavyTopMotion",
+    "euler_to_quaternion",
     # splitting: pivoted bodies, batched members, any torque
     "integrate_pivoted",
     "PIVOTED_METHODS",

@@ -1,22 +1,4 @@
-"""Scenes: describe a body and what you want to know; eulersym derives, emits and integrates only that.
-
-A :class:`Scene` says *what*: the body (principal moments, a full inertia tensor, or a named shape with mass and
-dimensions), an optional fixed pivot with the centre of mass at distance ``l`` along body axis 3 (the heavy top),
-gravity ``g``, an optional constant torque (body- or space-fixed), the initial attitude (Euler angles in a named
-convention, a unit quaternion, or axis–angle) and angular velocity (body or space components), the end time, the
-outputs wanted and the accuracy wanted. :meth:`Scene.plan` says *how* — which derivations and kernels are needed and
-no others, a closed form wherever one exists, otherwise the integrator expected to meet the accuracy at least
-cost — and what is skipped, and why. :func:`simulate` runs the plan and returns a :class:`Result`.
-
-Conventions (as everywhere in eulersym). The attitude is the unit quaternion q = (q0, q1, q2, q3), scalar first,
-whose active rotation R(q) maps body components to space components, ``v_space = R(q) @ v_body``; the text's
-passive matrix is ``A = R(q).T`` so that ``r_body = A @ r_space``, and for the default convention ``"zxz"``
-``A = B(psi) C(theta) D(phi)``. Angular velocity is in body components unless a name says ``space``. The body-frame
-upward vertical is ``Gamma = A @ (0, 0, 1)``, and ``Gamma3 = cos(theta)``. A pivoted body has its centre of mass at
-``l * e3`` in the body frame; its moments are about the pivot.
-
-Sweeps: wherever a scene takes a number it may take a list of numbers or a range ``{start, stop, num}`` instead;
-the members are the outer product of all swept values, run in one vectorised pass on the batched kernels.
+"""What the user asked: a :class:`Scene` (the body, its start, the time span, the outputs), validated.
 
 The TOML layout (every key optional unless marked; ``eulersym simulate --list`` names bundled examples to copy)::
 
@@ -40,52 +22,32 @@ The TOML layout (every key optional unless marked; ``eulersym simulate --list`` 
     accuracy = 1e-8
     method = "auto"                      # auto, closed-form, splitting, DOP853, RK45, Radau, LSODA
 
-Examples
---------
->>> scene = Scene(moments=(1.0, 2.0, 3.0), omega=(0.01, 1.0, 0.01), t_end=10.0, outputs=("omega",))
->>> plan = scene.plan()
->>> plan.engine
-'closed form: elliptic'
->>> plan.propagate
-('omega',)
->>> result = simulate(scene)
->>> result.omega.shape, result.attitude is None
-((1001, 3), True)
+Validation raises :class:`~eulersym.errors.InvalidInput` naming the keyword (or the TOML key), the value and what
+is valid. :meth:`Scene.plan` asks the pure :mod:`eulersym.scene.plan` what a run would do.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import difflib
 import functools
 import math
 import numbers
 import os
 import tomllib
-from dataclasses import dataclass, field
-from importlib import resources
 from typing import Any, Mapping
 
 import numpy as np
 
-from eulersym.errors import InvalidInput
 from eulersym import validation
+from eulersym.errors import InvalidInput
+from eulersym.scene import model_kernel
+from eulersym.scene.catalog import bundled
+from eulersym.scene.plan import SYMMETRY_RTOL, Plan, make_plan
+from eulersym.scene.values import Sweep, did_you_mean as _did_you_mean, number as _number, scalar as _scalar
+from eulersym.scene.values import values_of as _values, vector as _vector
 
-__all__ = [
-    "Scene",
-    "Sweep",
-    "Plan",
-    "Step",
-    "Result",
-    "simulate",
-    "bundled",
-    "load",
-    "cli",
-    "OUTPUTS",
-    "METHODS",
-    "SHAPES",
-    "CONVENTIONS",
-]
+__all__ = ["Scene", "load", "OUTPUTS", "METHODS", "SHAPES", "SHAPE_ORIGINS", "CONVENTIONS", "ACCURACY_RANGE",
+           "MAGNITUDE_LIMIT", "PHASE_LIMIT", "rate_bound"]
 
 #: The outputs a scene may ask for.
 OUTPUTS = ("omega", "attitude", "euler_angles", "invariants", "polhode")
@@ -106,11 +68,6 @@ SHAPE_ORIGINS = {"cube": ("center", "corner"), "cuboid": ("center", "corner"), "
 CONVENTIONS = ("zxz", "xyx", "yzy", "zyz", "xzx", "yxy", "xyz", "yzx", "zxy", "xzy", "zyx", "yxz")
 #: Accuracies the plan accepts (relative error wanted on the outputs).
 ACCURACY_RANGE = (1e-13, 1e-1)
-#: Relative tolerance under which two principal moments count as equal (symmetric top).
-SYMMETRY_RTOL = 1e-12
-#: Looser than this accuracy, a symmetric heavy top uses the second-order splitting (cheaper per step, conserves
-#: |Γ| and L·Γ exactly); tighter, DOP853 on the Euler–Poisson kernel at rtol = accuracy.
-SPLITTING_ACCURACY = 1e-5
 
 _DEFAULTS = {
     "name": "scene",
@@ -132,12 +89,23 @@ _DEFAULTS = {
     "angle": None,
     "omega": None,
     "omega_frame": "body",
+    "euler_rates": None,
     "t_end": None,
     "points": 1001,
     "outputs": ("omega", "invariants"),
     "accuracy": 1e-8,
     "method": "auto",
+    "model": None,
+    "parameters": None,
 }
+
+#: Scene keywords that describe the body the legacy way; a scene with a ``model`` takes none of them.
+_BODY_KEYWORDS = ("moments", "tensor", "shape", "mass", "dimensions", "origin", "l", "g", "torque", "torque_frame")
+#: TOML sections of a scene that are not the model's (a scene file is a model file plus these).
+SCENE_SECTIONS = ("initial", "time", "output")
+#: Sections and keys only a model expresses: their presence makes Scene.from_dict build a Model.
+_MODEL_ONLY = {"": ("parameters", "rotor"), "body": ("parts", "centre_of_mass"), "pivot": ("centre_of_mass",),
+               "torque": ("potential",)}
 
 # TOML layout: section → key → Scene keyword (a tuple names a keyword and a sub-key).
 _TOML_LAYOUT: dict[str, dict[str, Any]] = {
@@ -155,6 +123,7 @@ _TOML_LAYOUT: dict[str, dict[str, Any]] = {
     "initial": {
         "omega": "omega",
         "omega_space": ("omega", "space"),
+        "euler_rates": "euler_rates",
         "euler": "euler",
         "convention": "convention",
         "quaternion": "quaternion",
@@ -175,100 +144,7 @@ _TOML_PATHS = {
 }
 
 
-def _did_you_mean(key: str, valid) -> str:
-    valid = sorted(valid)
-    close = difflib.get_close_matches(key, valid, n=1, cutoff=0.5)
-    hint = f" (did you mean {close[0]!r}?)" if close else ""
-    return "one of " + ", ".join(repr(v) for v in valid) + hint
-
-
-# --------------------------------------------------------------------------------------------------------------
-# Sweeps
-# --------------------------------------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class Sweep:
-    """A swept number: the scene runs once per value (all sweeps of a scene form an outer-product grid).
-
-    Give a list ``[1, 2, 3]`` or a range ``{"start": 0, "stop": 1, "num": 11}`` (inclusive, evenly spaced)
-    wherever a scene takes a number.
-
-    Examples
-    --------
-    >>> Sweep.of("omega[2]", {"start": 10, "stop": 20, "num": 3}).values
-    (10.0, 15.0, 20.0)
-    >>> len(Sweep.of("mass", [1, 2]))
-    2
-    """
-
-    values: tuple
-
-    def __len__(self) -> int:
-        return len(self.values)
-
-    @classmethod
-    def of(cls, argument: str, value) -> "Sweep":
-        """Build a sweep from a list, tuple, 1-D array or ``{start, stop, num}`` mapping."""
-        if isinstance(value, Mapping):
-            keys = set(value)
-            if keys != {"start", "stop", "num"}:
-                extra = sorted(keys - {"start", "stop", "num"})
-                if extra:
-                    raise InvalidInput(f"{argument}.{extra[0]}", value[extra[0]], _did_you_mean(extra[0], ("start", "stop", "num")))
-                raise InvalidInput(argument, dict(value), "a range {start, stop, num} with all three keys")
-            start = _number(f"{argument}.start", value["start"])
-            stop = _number(f"{argument}.stop", value["stop"])
-            num = value["num"]
-            if isinstance(num, bool) or not isinstance(num, numbers.Integral) or num < 1:
-                raise InvalidInput(f"{argument}.num", num, "a positive integer number of values")
-            values = np.linspace(start, stop, int(num))
-        else:
-            values = [_number(f"{argument}[{k}]", v) for k, v in enumerate(value)]
-            if not values:
-                raise InvalidInput(argument, value, "a non-empty list of numbers to sweep over")
-        return cls(tuple(float(v) for v in values))
-
-
-def _number(argument: str, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
-        raise InvalidInput(argument, value, "a real number")
-    out = float(value)
-    if not math.isfinite(out):
-        raise InvalidInput(argument, value, "a finite number (no NaN or infinity)")
-    return out
-
-
-def _scalar(argument: str, value, *, sweepable: bool = True):
-    """A float, or a :class:`Sweep` where a list/range is given and sweeping is allowed."""
-    if isinstance(value, Sweep):
-        return value
-    if isinstance(value, (list, tuple, np.ndarray, Mapping)):
-        if not sweepable:
-            raise InvalidInput(argument, value, "a single number (this value cannot be swept)")
-        return Sweep.of(argument, value)
-    return _number(argument, value)
-
-
-def _vector(argument: str, value, n: int, *, sweepable: bool = True) -> tuple:
-    if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__len__"):
-        raise InvalidInput(argument, value, f"a list of {n} numbers")
-    if len(value) != n:
-        raise InvalidInput(argument, value, f"a list of {n} numbers, got {len(value)}")
-    return tuple(_scalar(f"{argument}[{k}]", v, sweepable=sweepable) for k, v in enumerate(value))
-
-
-def _values(x) -> np.ndarray:
-    """All values a (possibly swept) scalar takes."""
-    return np.asarray(x.values if isinstance(x, Sweep) else (x,), dtype=float)
-
-
-# --------------------------------------------------------------------------------------------------------------
-# Scene
-# --------------------------------------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True, init=False)
+@dataclasses.dataclass(frozen=True, init=False)
 class Scene:
     """A rigid-body scene: the body, its start, the time span and the outputs wanted (validated at construction).
 
@@ -297,6 +173,11 @@ class Scene:
         Initial attitude as a unit quaternion (normalised here). Or ``axis`` and ``angle`` (radians).
     omega : 3 numbers
         Initial angular velocity, body components (``omega_frame='space'`` for space components).
+    euler_rates : 3 numbers, optional
+        Instead of ``omega``: the initial Euler-angle rates (φ̇, θ̇, ψ̇) in the scene's ``convention``, with the
+        angles ``euler``; converted to body ω by the derived kinematics (the committed kernel
+        ``eulersym.generated.kinematics`` for 'zxz', the same composition of elementary rotations for the other
+        sequences), numerically, without SymPy.
     t_end : number
         End time (> 0); outputs at ``points`` evenly spaced times from 0 to t_end (default 1001).
     outputs : sequence of str
@@ -339,19 +220,29 @@ class Scene:
     angle: Any
     omega: tuple
     omega_frame: str
+    euler_rates: tuple | None
     t_end: float
     points: int
     outputs: tuple
     accuracy: float
     method: str
+    model: Any = dataclasses.field(compare=False)
+    parameters: tuple | None = None
+    model_digest: str | None = dataclasses.field(init=False, default=None)
 
     def __init__(self, **kwargs):
         for key in kwargs:
             if key not in _DEFAULTS:
                 raise InvalidInput(key, kwargs[key], "a Scene keyword: " + _did_you_mean(key, _DEFAULTS))
+        if kwargs.get("model") is not None:
+            for key in _BODY_KEYWORDS:
+                if kwargs.get(key) is not None and not (key == "torque_frame" and kwargs[key] == "body"):
+                    raise InvalidInput(key, kwargs[key], "no body keyword beside a model (the model is the body: "
+                                       "its mass, inertia, pivot, gravity and torques)")
         values = {**_DEFAULTS, **kwargs}
         for key, value in _normalise(values).items():
             object.__setattr__(self, key, value)
+        object.__setattr__(self, "model_digest", self.model.digest if self.model is not None else None)
 
     # ---- constructors -------------------------------------------------------------------------------------
     @classmethod
@@ -376,6 +267,11 @@ class Scene:
             raise InvalidInput("SCENE", path, f"valid TOML ({exc})") from None
         except (IsADirectoryError, PermissionError, UnicodeDecodeError) as exc:
             raise InvalidInput("SCENE", path, f"a readable TOML file ({exc.__class__.__name__})") from None
+        except RecursionError:
+            raise InvalidInput("SCENE", path, "TOML nested less deeply: arrays or tables nested beyond the reader's "
+                                              "recursion limit (about 1000 levels); a scene needs 3") from None
+        except OSError as exc:
+            raise InvalidInput("SCENE", path, f"a readable TOML file ({exc.strerror or exc})") from None
         return cls.from_dict(data)
 
     @classmethod
@@ -393,6 +289,10 @@ class Scene:
         ...
         eulersym.errors.InvalidInput: intial={} is not valid: expected a TOML section or key: ... (did you mean 'initial'?)
         """
+        if not isinstance(data, Mapping):
+            raise InvalidInput("SCENE", data, "a mapping of TOML sections (body, pivot, torque, initial, time, output)")
+        if _needs_model(data):
+            return _model_scene(cls, data)
         kwargs: dict[str, Any] = {}
         where: dict[str, str] = {}
         top_valid = set(_TOML_LAYOUT[""]) | {s for s in _TOML_LAYOUT if s}
@@ -427,24 +327,21 @@ class Scene:
                     kwargs[target] = v
                     where[target] = f"{key}.{sub}"
             if key == "pivot" and kwargs.get("l") is None:
-                raise InvalidInput("pivot.l", None, "the pivot–centre-of-mass distance l (a [pivot] table needs l)")
-        try:
-            return cls(**kwargs)
-        except InvalidInput as exc:
-            base = exc.argument.split("[")[0].split(".")[0]
-            rest = exc.argument[len(base):]
-            if exc.argument.startswith("dimensions.") and exc.argument in where:
-                raise InvalidInput(where[exc.argument], exc.value, exc.expected) from None
-            if base in where:
-                raise InvalidInput(where[base] + rest, exc.value, exc.expected) from None
-            if base in _TOML_PATHS:  # a key the file lacks: name where it would go
-                raise InvalidInput(_TOML_PATHS[base] + rest, exc.value, exc.expected) from None
-            raise
+                body = data.get("body")
+                if isinstance(body, Mapping) and body.get("shape") is not None:
+                    kwargs["l"] = FROM_SHAPE  # the pivot sits at the shape's origin: l from its centre of mass
+                    where["l"] = "pivot.l"
+                    continue
+                raise InvalidInput("pivot.l", None, "the pivot–centre-of-mass distance l (a [pivot] table needs l, "
+                                                    "unless the body is a shape: then l comes from the shape)")
+        return _construct(cls, kwargs, where)
 
     # ---- derived facts (pure) -----------------------------------------------------------------------------
     @property
     def regime(self) -> str:
-        """'torque-free', 'heavy top' or 'torque' — which equations of motion the scene needs.
+        """'torque-free', 'heavy top' or 'torque' — which equations of motion the scene needs; 'model' for a scene
+        with a :class:`~eulersym.model.Model` (its plan decides, once the model's kernel is known, whether a closed
+        form or the heavy top's engines apply).
 
         A pivot with ``M g l = 0`` and gravity without a pivot exert no torque about the reference point.
 
@@ -453,6 +350,8 @@ class Scene:
         >>> Scene(moments=(1, 1, 2), mass=1, l=0.1, omega=(0, 0, 5), t_end=1).regime
         'heavy top'
         """
+        if self.model is not None:
+            return "model"
         if self.l is not None and np.any(_values(self.l) != 0) and np.any(_values(self.g) != 0):
             return "heavy top"
         if self.torque is not None and any(np.any(_values(c) != 0) for c in self.torque):
@@ -506,7 +405,7 @@ class Scene:
         """The output times, ``linspace(0, t_end, points)``."""
         return np.linspace(0.0, self.t_end, self.points)
 
-    def plan(self) -> "Plan":
+    def plan(self) -> Plan:
         """What :func:`simulate` will derive, emit, integrate and skip, and why (pure: runs nothing).
 
         Examples
@@ -521,9 +420,126 @@ class Scene:
           skip         Euler angles — not asked for
           skip         invariants — not asked for
         """
-        from eulersym._scene_plan import make_plan
-
+        if self.model is not None:
+            return make_plan(self, model=self.cached_model_facts())
         return make_plan(self)
+
+    def parameter_values(self) -> dict:
+        """A model scene's parameter values given in the scene: ``{name: float or ndarray (batch,)}`` (the kernel's
+        defaults fill the others).
+
+        Examples
+        --------
+        >>> Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1).parameter_values()
+        {}
+        """
+        if not self.parameters:
+            return {}
+        members = self.members()
+        return {name: members.get(f"parameters.{name}", value) for name, value in self.parameters}
+
+    def cached_model_facts(self):
+        """The :class:`~eulersym.scene.model_kernel.ModelFacts` of this model scene when its kernel is cached (read
+        without SymPy), else None (also for a scene without a model).
+
+        Examples
+        --------
+        >>> Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1).cached_model_facts() is None
+        True
+        """
+        if self.model is None:
+            return None
+        path = model_kernel.cached_path(self.model_digest)
+        if path is None:
+            return None
+        module = model_kernel.load(path, self.model_digest)
+        return model_kernel.facts(self.model, module, path, False, self.parameter_values(), self.batch)
+
+
+def _needs_model(data: Mapping) -> bool:
+    """True when a scene file says something only a model expresses: [parameters], [rotor], body parts, a centre
+    of mass off the legacy axis, a potential, or an expression (a string where the legacy keys take numbers)."""
+    if any(key in data for key in _MODEL_ONLY[""]):
+        return True
+    for section in ("body", "pivot", "torque"):
+        table = data.get(section)
+        if not isinstance(table, Mapping):
+            continue
+        if any(key in table for key in _MODEL_ONLY[section]):
+            return True
+        for key, value in table.items():
+            if key in ("shape", "origin"):
+                continue
+            if isinstance(value, str) or (isinstance(value, (list, tuple)) and any(
+                    isinstance(x, str) or (isinstance(x, (list, tuple)) and any(isinstance(y, str) for y in x)) for x in value)):
+                return True
+    return False
+
+
+def _model_scene(cls, data: Mapping):
+    """A Scene with a :class:`~eulersym.model.Model` built from the file's model sections; swept parameters
+    (a list or ``{start, stop, num}`` in [parameters]) stay in the scene, their first value is the model's default."""
+    try:
+        from eulersym.model import Model
+    except ImportError as exc:  # pragma: no cover - the model package ships with eulersym
+        raise InvalidInput("SCENE", dict(data), f"eulersym.model to read a model scene ({exc})") from None
+    model_data = {k: v for k, v in data.items() if k not in SCENE_SECTIONS and k != "description"}
+    swept = None
+    params = data.get("parameters")
+    if isinstance(params, Mapping):
+        defaults, swept = {}, {}
+        for key, value in params.items():
+            if isinstance(value, (list, tuple, Mapping)):
+                sweep = Sweep.of(f"parameters.{key}", value)
+                defaults[key], swept[key] = sweep.values[0], sweep
+            else:
+                defaults[key] = value
+        model_data["parameters"] = defaults
+        swept = swept or None
+    model = Model.from_dict(model_data)
+    kwargs: dict[str, Any] = {"model": model, "parameters": swept}
+    where: dict[str, str] = {"parameters": "parameters"}
+    for key in ("name", "description"):
+        if key in data:
+            kwargs[key], where[key] = data[key], key
+    for section in SCENE_SECTIONS:
+        table = data.get(section)
+        if table is None:
+            continue
+        if not isinstance(table, Mapping):
+            raise InvalidInput(section, table, f"a [{section}] table with keys " + ", ".join(sorted(_TOML_LAYOUT[section])))
+        layout = _TOML_LAYOUT[section]
+        for sub, value in table.items():
+            if sub not in layout:
+                raise InvalidInput(f"{section}.{sub}", value, f"a key of [{section}]: " + _did_you_mean(sub, layout))
+            target = layout[sub]
+            if isinstance(target, tuple):
+                kw, detail = target
+                if kw in kwargs:
+                    raise InvalidInput(f"{section}.{sub}", value, f"only one of {where[kw]} and {section}.{sub}")
+                kwargs[kw], kwargs[f"{kw}_frame"] = value, detail
+                where[kw] = f"{section}.{sub}"
+            else:
+                kwargs[target], where[target] = value, f"{section}.{sub}"
+    return _construct(cls, kwargs, where)
+
+
+def _construct(cls, kwargs: dict, where: dict):
+    """``cls(**kwargs)``, with errors renamed to the TOML keys they came from (``where``)."""
+    try:
+        return cls(**kwargs)
+    except InvalidInput as exc:
+        base = exc.argument.split("[")[0].split(".")[0]
+        rest = exc.argument[len(base):]
+        if exc.argument.startswith("dimensions.") and exc.argument in where:
+            raise InvalidInput(where[exc.argument], exc.value, exc.expected) from None
+        if exc.argument.startswith("dimensions."):  # a dimension the file lacks: it goes in [body]
+            raise InvalidInput("body." + exc.argument[len("dimensions."):], exc.value, exc.expected) from None
+        if base in where:
+            raise InvalidInput(where[base] + rest, exc.value, exc.expected) from None
+        if base in _TOML_PATHS:  # a key the file lacks: name where it would go
+            raise InvalidInput(_TOML_PATHS[base] + rest, exc.value, exc.expected) from None
+        raise
 
 
 def _normalise(v: dict) -> dict:
@@ -532,9 +548,13 @@ def _normalise(v: dict) -> dict:
     for key in ("name", "description"):
         if not isinstance(v[key], str):
             raise InvalidInput(key, v[key], "a string")
-    # ---- body -----------------------------------------------------------------------------------------------
+    # ---- a model, or a body -------------------------------------------------------------------------------------
+    out["parameters"] = _parameters(v["model"], v["parameters"])
     given = [k for k in ("moments", "tensor", "shape") if v[k] is not None]
-    if not given:
+    if v["model"] is not None:
+        if not (hasattr(v["model"], "digest") and hasattr(v["model"], "generate")):
+            raise InvalidInput("model", v["model"], "an eulersym.model.Model (Model(...), Model.from_toml(path))")
+    elif not given:
         raise InvalidInput("moments", None, "a body: one of moments (I1, I2, I3), tensor (3×3) or shape (with mass and dimensions)")
     if len(given) > 1:
         raise InvalidInput(given[1], v[given[1]], f"only one body description; {given[0]} is given too")
@@ -558,8 +578,13 @@ def _normalise(v: dict) -> dict:
     out["g"] = _scalar("g", v["g"])
     if np.any(_values(out["g"]) < 0):
         raise InvalidInput("g", v["g"], "gravity g >= 0 (it points down, along -z in space)")
-    if v["l"] is not None:
+    if v["l"] is not None and v["shape"] is not None:
+        out["l"] = _pivot_on_shape(v, out)
+    elif v["l"] is FROM_SHAPE:
+        raise InvalidInput("l", None, "a number: the pivot–centre-of-mass distance (only a shape gives its own)")
+    elif v["l"] is not None:
         out["l"] = _scalar("l", v["l"])
+    if v["l"] is not None:
         if np.any(_values(out["l"]) < 0):
             raise InvalidInput("l", v["l"], "a distance l >= 0 from the pivot to the centre of mass (along +e3)")
         if out["mass"] is None:
@@ -588,10 +613,14 @@ def _normalise(v: dict) -> dict:
             raise InvalidInput("axis", v["axis"], "a non-zero rotation axis")
         out["axis"] = axis
         out["angle"] = _scalar("angle", v["angle"])
-    if v["omega"] is None:
-        raise InvalidInput("omega", None, "the initial angular velocity (omega = [w1, w2, w3], body components)")
-    out["omega"] = _vector("omega", v["omega"], 3)
     out["omega_frame"] = validation.choice("omega_frame", v["omega_frame"], ("body", "space"))
+    if v["euler_rates"] is not None:
+        out["euler_rates"], out["omega"] = _omega_from_euler_rates(v, out)
+    elif v["omega"] is None:
+        raise InvalidInput("omega", None, "the initial angular velocity (omega = [w1, w2, w3], body components; or "
+                                          "euler_rates = [phidot, thetadot, psidot] with euler = [...])")
+    else:
+        out["omega"] = _vector("omega", v["omega"], 3)
     # ---- time, outputs, accuracy -------------------------------------------------------------------------------
     if v["t_end"] is None:
         raise InvalidInput("t_end", None, "the end time t_end > 0")
@@ -616,8 +645,27 @@ def _normalise(v: dict) -> dict:
         raise InvalidInput("accuracy", v["accuracy"], f"a relative accuracy between {ACCURACY_RANGE[0]:g} and {ACCURACY_RANGE[1]:g}")
     out["accuracy"] = accuracy
     out["method"] = _choice("method", v["method"], METHODS)
-    _check_consistency(out)
+    if v["model"] is None:
+        _check_consistency(out)  # a model's plan checks what its kernel can give
+        _check_scales(out, v)
     return out
+
+
+def _parameters(model, raw):
+    """A model scene's parameter values: ``((name, float or Sweep), ...)`` in the given order, or None."""
+    if raw is None:
+        return None
+    if model is None:
+        raise InvalidInput("parameters", raw, "parameters only with a model (Scene(model=Model(...), parameters=...))")
+    if not isinstance(raw, Mapping):
+        raise InvalidInput("parameters", raw, "a mapping of parameter names to values (numbers, lists or ranges to sweep)")
+    known = tuple(getattr(model, "parameters", {}) or {})
+    out = []
+    for name, value in raw.items():
+        if not isinstance(name, str) or name not in known:
+            raise InvalidInput(f"parameters.{name}", value, "a parameter of the model: " + (_did_you_mean(str(name), known) if known else "the model has none"))
+        out.append((name, _scalar(f"parameters.{name}", value)))
+    return tuple(out)
 
 
 def _choice(argument, value, valid):
@@ -709,201 +757,154 @@ def _check_consistency(out: dict) -> None:
                 raise InvalidInput("method", "splitting", "the splitting needs a symmetric top (I1 = I2); use 'auto'")
 
 
-# --------------------------------------------------------------------------------------------------------------
-# Plan and Result (the plan logic lives in eulersym._scene_plan, the runners in eulersym._scene_run)
-# --------------------------------------------------------------------------------------------------------------
+#: ``[pivot]`` without ``l`` on a shape: the pivot is the shape's origin and l comes from its centre of mass.
+FROM_SHAPE = type("FromShape", (), {"__repr__": lambda self: "<l from the shape>"})()
 
 
-@dataclass(frozen=True)
-class Step:
-    """One line of a plan: ``action`` ('derive', 'kernel', 'closed form', 'integrate', 'compute' or 'skip'),
-    ``what`` and ``reason``.
+def _pivot_on_shape(v, out) -> float:
+    """l for a shape on a pivot: the pivot is the shape's origin, and the centre of mass must lie on body axis 3
+    at distance l from it (derived by :func:`eulersym.inertia.center_of_mass`); a given l must agree."""
+    shape, dims, origin = out["shape"], dict(out["dimensions"]), out["origin"]
+    if isinstance(v["l"], (list, tuple, Mapping, Sweep)):
+        raise InvalidInput("l", v["l"], f"one number: the {shape}'s centre of mass fixes l (it cannot be swept)")
+    if origin in (None, "center"):
+        derived, where = 0.0, "at the origin: the shape's origin is its centre of mass"
+    else:
+        import sympy as sp  # a shape is derived with SymPy anyway (the plan's first step)
 
-    Examples
-    --------
-    >>> print(Step("skip", "attitude", "only ω is asked for"))
-      skip         attitude — only ω is asked for
-    """
+        from eulersym.inertia import Region, center_of_mass
 
-    action: str
-    what: str
-    reason: str
-
-    def __str__(self) -> str:
-        return f"  {self.action:<12} {self.what} — {self.reason}"
-
-
-@dataclass(frozen=True)
-class Plan:
-    """What a scene's run derives, emits, integrates and skips, each with a reason.
-
-    Attributes
-    ----------
-    scene : str
-        The scene's name.
-    regime : str
-        'torque-free', 'heavy top' or 'torque'.
-    body : str
-        'spherical', 'symmetric', 'asymmetric' or 'derived' (decided after the inertia derivation).
-    engine : str
-        How the motion is obtained, e.g. 'closed form: elliptic', 'integrate: DOP853 on heavy_top_euler_poisson'.
-    derive : tuple of str
-        Derivations that will run (SymPy), e.g. 'inertia.cube', 'inertia.principal_axes'.
-    kernels : tuple of str
-        Generated kernels (``eulersym.generated.<name>``) used; committed, so nothing is emitted at run time.
-    propagate : tuple of str
-        State propagated in time: 'omega', and 'attitude' only when an output or the torque needs it.
-    steps, skipped : tuple of Step
-        What will be done and what is skipped, with reasons.
-    batch : int
-        Number of sweep members (1 without a sweep).
-
-    Examples
-    --------
-    >>> plan = Scene(moments=(1, 1, 2), mass=1, l=0.1, omega=(0, 0, 50), euler=(0, 0.3, 0), t_end=1).plan()
-    >>> plan.regime, plan.kernels
-    ('heavy top', ('heavy_top_euler_poisson',))
-    """
-
-    scene: str
-    regime: str
-    body: str
-    engine: str
-    derive: tuple
-    kernels: tuple
-    propagate: tuple
-    steps: tuple
-    skipped: tuple
-    batch: int = 1
-    method: str = ""
-    options: Mapping = field(default_factory=dict, compare=False)
-
-    def __str__(self) -> str:
-        head = f"plan for {self.scene!r} ({self.regime}, {self.body} body"
-        head += f", sweep of {self.batch} members)" if self.batch > 1 else ")"
-        return "\n".join([head, *map(str, self.steps), *map(str, self.skipped)])
+        if shape == "cone":
+            region = Region.cone(sp.Float(dims["R"]), sp.Float(dims["h"]))
+        else:  # cube / cuboid about a corner
+            a, b, c = (dims.get(k, dims.get("a")) for k in ("a", "b", "c"))
+            region = Region.box((0, sp.Float(a)), (0, sp.Float(b)), (0, sp.Float(c)))
+        com = [float(x) for x in center_of_mass(1, region)]
+        if abs(com[0]) > 1e-12 * abs(com[2]) or abs(com[1]) > 1e-12 * abs(com[2]):
+            raise InvalidInput("l", None if v["l"] is FROM_SHAPE else v["l"],
+                               f"no pivot at the {origin} of a {shape}: its centre of mass "
+                               f"({', '.join(f'{x:g}' for x in com)}) is not on body axis 3, and the heavy top "
+                               "needs it there; give moments about the pivot instead")
+        derived, where = com[2], f"{com[2]:g} from the {origin} along e3, derived from the shape"
+    if v["l"] is FROM_SHAPE:
+        return derived
+    given = _scalar("l", v["l"], sweepable=False)
+    if abs(given - derived) > 1e-9 * max(abs(derived), max(dims.values())):
+        raise InvalidInput("l", v["l"], f"l = {derived:g} or no l: a {shape} pivoted at its {origin or 'center'} has "
+                                        f"its centre of mass {where}; a different l contradicts the shape (for "
+                                        "another body give moments about the pivot, and l)")
+    return derived
 
 
-@dataclass(frozen=True, eq=False)
-class Result:
-    """The outcome of :func:`simulate`.
+def _omega_from_euler_rates(v, out) -> tuple:
+    """(euler_rates, body ω) from the initial angles and their rates, by the derived kinematics (no SymPy)."""
+    if v["omega"] is not None:
+        raise InvalidInput("euler_rates", v["euler_rates"], "one initial angular velocity: euler_rates or omega, "
+                                                            "not both")
+    if out["omega_frame"] != "body":
+        raise InvalidInput("euler_rates", v["euler_rates"], "one initial angular velocity: euler_rates or "
+                                                            "omega_space, not both")
+    if out.get("euler") is None:
+        raise InvalidInput("euler_rates", v["euler_rates"], "initial Euler angles too (euler = [phi, theta, psi]): "
+                                                            "the rates give ω only together with the angles")
+    rates = _vector("euler_rates", v["euler_rates"], 3, sweepable=False)
+    if any(isinstance(a, Sweep) for a in out["euler"]):
+        raise InvalidInput("euler_rates", v["euler_rates"], "single Euler angles (not swept) with euler_rates; "
+                                                            "sweep omega instead")
+    from eulersym.scene.rates import omega_body
 
-    Attributes
-    ----------
-    t : ndarray (n,)
-        Output times.
-    omega : ndarray (n, 3), or (batch, n, 3) for a sweep
-        Body angular velocity in the scene's body frame.
-    attitude : ndarray (n, 4) or None
-        Unit quaternions (scalar first), ``v_space = R(q) v_body``; None when no output needs the attitude.
-    euler_angles : ndarray (n, 3) or None
-        Angles of the scene's convention (phi, theta, psi for 'zxz'), phi and psi unwrapped.
-    polhode : ndarray (n, 3) or None
-        ω in the principal frame: the polhode on the energy ellipsoid ω·Iω = 2E.
-    invariants : mapping name → ndarray (n,) or (batch, n)
-    drift : mapping name → float
-        max |I(t) − I(0)| / |I(0)| (absolute where I(0) = 0), the maximum over members.
-    plan : Plan
-        The plan that ran (resolved: derived moments known).
-    derivations : tuple of str
-        The derivations that ran (SymPy), in order; empty when none was needed.
-    propagated : tuple of str
-        What was propagated in time ('omega', 'attitude', 'gamma').
-    timings : mapping stage → seconds
-    sweep : mapping label → ndarray (batch,)
-        Swept values per member (empty without a sweep).
-    moments, axes : ndarray
-        Principal moments and the principal axes (columns, in the scene's body frame, det +1).
-    n_rhs_calls : int
-        Kernel evaluations (0 for a closed form).
-    notes : tuple of str
-        Facts for the report (turning points, the sleeping-top threshold, ...).
-    gamma : ndarray (n, 3) or None
-        The body-frame upward vertical Γ (heavy top), Γ3 = cos θ.
-    turning_points : (θ1, θ2) or None
-        Heavy top with Euler-angle output: the nutation's turning points (radians), derived by eulersym.top.
+    omega = omega_body(out["euler"], rates, out["convention"])
+    return rates, tuple(float(w) for w in omega)
+
+
+#: Magnitudes beyond which double precision cannot carry a scene: the engines multiply two quantities of the size of
+#: |L|² or the energy, and the product must stay below the largest double (1.8e308).
+MAGNITUDE_LIMIT = 1e150
+#: Radians of rotation after which a double keeps no digit of the phase (2**52).
+PHASE_LIMIT = 2.0 ** 52
+
+
+def _largest(x) -> float:
+    if x is None:
+        return 0.0
+    if isinstance(x, tuple):
+        return max((_largest(c) for c in x), default=0.0)
+    return float(np.max(np.abs(_values(x))))
+
+
+def _inertia_range(out) -> tuple:
+    """(smallest, largest) moment, or for a shape its scale M·(largest dimension)²."""
+    if out["moments"] is not None:
+        values = np.concatenate([_values(m) for m in out["moments"]])
+        return float(values.min()), float(values.max())
+    if out["tensor"] is not None:
+        eig = np.linalg.eigvalsh(np.array(out["tensor"]))
+        return float(eig[0]), float(eig[-1])
+    scale = _largest(out["mass"]) * max(value for _, value in out["dimensions"]) ** 2
+    return scale / 12.0, scale
+
+
+def rate_bound(scene_or_values) -> float:
+    """An upper estimate of |ω| over the run (rad per unit time): the initial spin, what a constant torque adds by
+    t_end, and the heavy top's pendulum rate √(M g l / I_min).
 
     Examples
     --------
-    >>> r = simulate(Scene(moments=(1, 2, 3), omega=(0.1, 1, 0.2), t_end=4, points=5, outputs=("omega", "polhode")))
-    >>> r.t.tolist(), r.omega.shape, r.attitude is None, r.propagated
-    ([0.0, 1.0, 2.0, 3.0, 4.0], (5, 3), True, ('omega',))
-    >>> bool(np.allclose(r.polhode, r.omega))  # principal moments given: the body frame is the principal frame
-    True
+    >>> rate_bound(Scene(moments=(1, 2, 3), omega=(0, 4, 3), t_end=1))
+    4.0
     """
-
-    t: np.ndarray
-    omega: np.ndarray
-    attitude: np.ndarray | None
-    euler_angles: np.ndarray | None
-    polhode: np.ndarray | None
-    invariants: Mapping
-    drift: Mapping
-    plan: Plan
-    derivations: tuple
-    propagated: tuple
-    timings: Mapping
-    sweep: Mapping
-    moments: np.ndarray
-    axes: np.ndarray
-    n_rhs_calls: int = 0
-    notes: tuple = ()
-    gamma: np.ndarray | None = None
-    turning_points: tuple | None = None
-
-    def report(self) -> str:
-        """A short text report: the plan, the invariants' drift, the timings and notes.
-
-        Examples
-        --------
-        >>> r = simulate(Scene(moments=(1, 2, 3), omega=(0.01, 1, 0), t_end=5, points=11))
-        >>> "drift" in r.report()
-        True
-        """
-        from eulersym._scene_io import report
-
-        return report(self)
+    out = scene_or_values if isinstance(scene_or_values, dict) else {
+        f.name: getattr(scene_or_values, f.name) for f in dataclasses.fields(scene_or_values)}
+    i_min, _ = _inertia_range(out)
+    rate = _largest(out["omega"])
+    if out["torque"] is not None and i_min > 0:
+        rate += _largest(out["torque"]) * out["t_end"] / i_min
+    if out["l"] is not None and out["mass"] is not None and i_min > 0:
+        rate = max(rate, math.sqrt(_largest(out["mass"]) * _largest(out["g"]) * _largest(out["l"]) / i_min))
+    return rate
 
 
-def simulate(scene: Scene, *, progress: bool = False) -> Result:
-    """Run a scene's plan and return its :class:`Result`.
-
-    Parameters
-    ----------
-    scene : Scene
-    progress : bool
-        Draw a progress bar on standard error (the command line turns it on for a terminal only).
-
-    Examples
-    --------
-    Torque-free symmetric top: ω3 is constant and (ω1, ω2) turns at Ω = (I1 − I3)/I1 · ω3, from the closed form.
-
-    >>> r = simulate(Scene(moments=(2, 2, 1), omega=(0.3, 0, 5), t_end=2, outputs=("omega", "invariants")))
-    >>> r.plan.engine, r.derivations, round(r.drift["energy"], 12)
-    ('closed form: trigonometric', (), 0.0)
-    """
-    if not isinstance(scene, Scene):
-        raise InvalidInput("scene", scene, "an eulersym.scene.Scene (Scene(...) or Scene.from_toml(path))")
-    from eulersym._scene_run import run
-
-    return run(scene, progress=progress)
+def _size(x: float) -> str:
+    return f"≈ {x:.3g}" if math.isfinite(x) else "beyond the largest double"
 
 
-# --------------------------------------------------------------------------------------------------------------
-# Bundled scenes and the command line
-# --------------------------------------------------------------------------------------------------------------
-
-
-def bundled() -> dict:
-    """``{name: path}`` of the scenes shipped with eulersym (``eulersym/scenes/*.toml``).
-
-    Examples
-    --------
-    >>> sorted(bundled())[:3]
-    ['cube-diagonal', 'heavy-top-nutation', 'sleeping-top-above']
-    """
-    folder = resources.files("eulersym.scenes")
-    return {p.name[:-5]: str(p) for p in sorted(folder.iterdir(), key=lambda p: p.name) if p.name.endswith(".toml")}
+def _check_scales(out: dict, raw: dict) -> None:
+    """Refuse numbers whose motion double precision cannot carry, naming the real cause: an energy or |L|² beyond
+    :data:`MAGNITUDE_LIMIT`, a gravity or applied torque that large, or more than :data:`PHASE_LIMIT` radians of
+    rotation by t_end. (A scene in other units is the same motion: rescale time or inertia.)"""
+    i_min, i_max = _inertia_range(out)
+    spin = _largest(out["omega"])
+    why = ("double precision (largest 1.8e308) cannot carry the products the motion needs; the same motion in "
+           "other units (a larger unit of time, a smaller one of inertia) can")
+    if i_max * i_max > MAGNITUDE_LIMIT:
+        key = "moments" if out["moments"] is not None else ("tensor" if out["tensor"] is not None else "mass")
+        raise InvalidInput(key, raw[key], f"moments of inertia below {math.sqrt(MAGNITUDE_LIMIT):.0e} (here up to "
+                                          f"{i_max:.3g}): {why}")
+    worst = max((i_max * spin) * (i_max * spin), i_max * spin * spin)
+    if worst > MAGNITUDE_LIMIT:
+        key = "euler_rates" if out.get("euler_rates") is not None else "omega"
+        raise InvalidInput(key, raw[key], f"an angular velocity whose |L|² = (I ω)² and energy I ω² stay below "
+                                          f"{MAGNITUDE_LIMIT:.0e} (here {_size(worst)} with |ω| = {spin:.3g} and I up "
+                                          f"to {i_max:.3g}): {why}")
+    if out["l"] is not None and out["mass"] is not None:
+        weight = _largest(out["mass"]) * _largest(out["g"]) * _largest(out["l"])
+        if weight * i_max > MAGNITUDE_LIMIT:
+            raise InvalidInput("mass", raw["mass"], f"a gravity torque M g l below {MAGNITUDE_LIMIT / i_max:.3g} "
+                                                    f"(here M g l ≈ {weight:.3g}): {why}")
+    if out["torque"] is not None and _largest(out["torque"]) * max(i_max, 1.0) > MAGNITUDE_LIMIT:
+        raise InvalidInput("torque", raw["torque"], f"a torque below {MAGNITUDE_LIMIT / max(i_max, 1.0):.3g} (here "
+                                                    f"up to {_largest(out['torque']):.3g}): {why}")
+    rate = rate_bound(out)
+    if i_max * rate * rate > MAGNITUDE_LIMIT or (i_max * rate) * (i_max * rate) > MAGNITUDE_LIMIT:
+        key = "torque" if out["torque"] is not None else "mass"
+        raise InvalidInput(key, raw[key], f"a motion whose energy stays below {MAGNITUDE_LIMIT:.0e}: |ω| reaches "
+                                          f"≈ {rate:.3g} by t_end = {out['t_end']:g}, so I ω² is "
+                                          f"{_size(i_max * rate * rate)}: {why}")
+    turned = rate * out["t_end"]
+    if turned > PHASE_LIMIT:
+        raise InvalidInput("t_end", raw["t_end"], f"an end time by which the body turns less than 2**52 rad (here "
+                                                  f"|ω| ≈ {rate:.3g} × t_end = {out['t_end']:g} ≈ {turned:.3g} rad): "
+                                                  "past that a double keeps no digit of the phase")
 
 
 def load(scene) -> Scene:
@@ -927,18 +928,3 @@ def load(scene) -> Scene:
     if os.path.exists(text) or text.endswith(".toml"):
         return Scene.from_toml(text)
     raise InvalidInput("SCENE", text, "a TOML file or a bundled scene: " + _did_you_mean(text, names))
-
-
-def cli(argv: list) -> int:
-    """``eulersym simulate SCENE [--explain] [-o out.npz|out.csv] [--plot out.png] [--list]``.
-
-    Examples
-    --------
-    >>> cli(["--list"])  # doctest: +ELLIPSIS
-    bundled scenes (eulersym simulate NAME; copy the TOML to start your own):
-    ...
-    0
-    """
-    from eulersym._scene_io import main
-
-    return main(argv)

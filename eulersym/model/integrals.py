@@ -1,0 +1,462 @@
+"""Integrals of motion of a model, proven: ``dH/dt`` along the derived flow is zero exactly, or it is not.
+
+The rate of a candidate ``H(t, state)`` along the flow of :func:`eulersym.model.derive.equations` is
+``dH/dt = ∂H/∂t + Σ_x ∂H/∂x · ẋ``. Its zero test is :func:`eulersym.compare.compare` against 0 (exact
+simplification and seeded random high-precision points). The state carries two constraints that the flow keeps:
+``|Γ|² = 1`` (Γ is the unit upward vertical) and ``|q|² = 1`` (a unit quaternion). A rate that is not zero as it
+stands is reduced modulo them — the remainder of the numerator on division by ``γ1² + γ2² + γ3² − 1`` (as a
+polynomial in ``γ1``) and by ``q0² + q1² + q2² + q3² − 1`` (in ``q0``): a normal form that is zero exactly when the
+rate vanishes on the constraint surface — and the verdict says so. A non-conserved candidate comes with a
+counterexample: a state *on* the constraint surface (rational points of the unit spheres) where the rate is not
+zero, with the parameters at their defaults.
+
+Candidates (:func:`invariants`), as the model's structure implies them:
+
+- ``E`` — the energy ``½ ωᵀ I ω + V`` (``V`` gravity's ``M g c·Γ`` plus the model's potential; a rotor's
+  ``h`` does not enter, ``T = ½ ωᵀ I ω``);
+- ``Gamma_norm2`` — ``|Γ|²``, and ``L_dot_Gamma`` — ``(I ω + h)·Γ``, when the state carries Γ;
+- ``L2`` — ``|I ω + h|²``, when no potential acts (torque-free, or only the model's torque);
+- ``L_axis`` — ``(I ω + h)·e`` about a symmetry axis ``e`` of ``I`` (two equal principal moments);
+- ``q_norm2`` — ``|q|²``;
+- ``K`` — Kovalevskaya's integral, when ``I`` has principal moments ``A = A = 2C`` and the centre of mass lies in
+  the equatorial plane (``c·e = 0``, ``e`` the symmetry axis): the literature's form
+  ``K = (p² − q² − ν γ₁)² + (2 p q − ν γ₂)²``, ``ν = M g |c| / C``, written in the frame ``e₁ = c/|c|``,
+  ``e₃ = e``, ``e₂ = e₃ × e₁`` (``p = ω·e₁``, ``q = ω·e₂``, ``γ_k = Γ·e_k``) — so it holds in whatever axes the
+  model uses, not only with ``c`` along x.
+
+Examples
+--------
+>>> import sympy as sp
+>>> from eulersym.model.mechanics import Mechanics, OMEGA
+>>> c = sp.Symbol("c", positive=True)
+>>> damped = Mechanics(name="damped", inertia=sp.ImmutableMatrix(sp.diag(1, 2, 3)), mass=sp.Integer(1),
+...                    torque=sp.ImmutableMatrix([-c * w for w in OMEGA]), parameters=((c, 0.1),))
+>>> v = invariants(damped)["E"]
+>>> v.conserved, v.rate
+(False, -c*(omega1**2 + omega2**2 + omega3**2))
+"""
+
+from __future__ import annotations
+
+import functools
+import random
+from dataclasses import dataclass
+
+import sympy as sp
+
+from eulersym.errors import InvalidInput
+from eulersym.model.derive import equations, total_potential
+from eulersym.model.mechanics import GAMMA, OMEGA, Q, STATE_SYMBOLS, Mechanics, t
+
+__all__ = ["Verdict", "prove", "invariants", "candidates", "symmetry_axis", "kovalevskaya_integral"]
+
+_COUNTEREXAMPLE_POINTS = 8
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """Whether a candidate is an integral of motion of a model, and how that was shown.
+
+    Attributes
+    ----------
+    name : str
+    expression : sympy.Expr
+        The candidate ``H``, in the model's names.
+    conserved : bool
+        True when ``dH/dt = 0`` along the flow was shown exactly (on the constraint surface if ``constraints``).
+    rate : sympy.Expr
+        ``dH/dt``, simplified (and reduced modulo the constraints where that was used); 0 when conserved.
+    how : str
+        How it was shown, in words.
+    counterexample : dict or None
+        ``{name: float}``: a state (on ``|Γ| = |q| = 1``), the time and the parameters where the rate is not zero.
+    exact : bool
+        Whether the verdict is exact (False: no exact proof, the rate vanished at every random point).
+    constraints : tuple of str
+        The constraints used (``"|Gamma|^2 = 1"``, ``"|q|^2 = 1"``), empty if none was needed.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> v = Verdict("H", sp.Integer(1), True, sp.Integer(0), "identical", None, True, ())
+    >>> v.line()
+    'H: conserved (identical)'
+    """
+
+    name: str
+    expression: sp.Expr
+    conserved: bool
+    rate: sp.Expr
+    how: str
+    counterexample: dict | None
+    exact: bool
+    constraints: tuple = ()
+
+    def line(self) -> str:
+        """One line for a report."""
+        if self.conserved:
+            return f"{self.name}: conserved ({self.how})"
+        return f"{self.name}: NOT conserved, dH/dt = {self.rate} ({self.how})"
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# Exact numbers
+
+
+def _rational(expr):
+    """Floats → the rationals they print as (``9.81`` → ``981/100``), so that exact proofs see exact numbers."""
+    expr = sp.sympify(expr)
+    floats = expr.atoms(sp.Float)
+    if not floats:
+        return expr
+    return expr.xreplace({f: sp.Rational(str(f)) for f in floats})
+
+
+@functools.lru_cache(maxsize=64)
+def _flow(mech: Mechanics) -> tuple:
+    eqs = equations(mech)
+    return eqs.state, tuple(_rational(e) for e in eqs.rhs)
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# The rate and its zero test
+
+
+def _rate(mech: Mechanics, H) -> sp.Expr:
+    state, rhs = _flow(mech)
+    rate = sp.diff(H, t)
+    for x, xdot in zip(state, rhs):
+        d = sp.diff(H, x)
+        if d != 0:
+            rate += d * xdot
+    return rate
+
+
+def _tidy(expr) -> sp.Expr:
+    """A readable form of a rate: one fraction, its numerator expanded and factored when small."""
+    num, den = sp.fraction(sp.together(sp.expand(expr)))
+    num = sp.expand(num)
+    if num == 0:
+        return sp.Integer(0)
+    if sp.count_ops(num) <= 200:
+        try:
+            num = sp.factor(num)
+        except (sp.PolynomialError, NotImplementedError):  # pragma: no cover - factor of exotic coefficients
+            num = sp.factor_terms(num)
+    else:
+        num = sp.factor_terms(num)
+    return num / sp.factor(den)
+
+
+def _reduce(num, symbols) -> sp.Expr:
+    """Remainder of ``num`` on division by ``Σ s² − 1``, as a polynomial in the first symbol (monic there)."""
+    if not num.has(*symbols):
+        return num
+    lead = symbols[0]
+    try:
+        return sp.expand(sp.rem(sp.expand(num), sum(s ** 2 for s in symbols) - 1, lead))
+    except (sp.PolynomialError, sp.GeneratorsNeeded):
+        return num
+
+
+def _constrained(mech: Mechanics, rate) -> tuple:
+    """``(reduced rate, constraints used)`` modulo |Γ|² = 1 and |q|² = 1 (only those the rate involves)."""
+    state, _ = _flow(mech)
+    num, den = sp.fraction(sp.together(sp.expand(rate)))
+    used = []
+    if GAMMA[0] in state and num.has(*GAMMA):
+        new = _reduce(num, GAMMA)
+        if new != sp.expand(num):
+            used.append("|Gamma|^2 = 1")
+        num = new
+    if num.has(*Q):
+        new = _reduce(num, Q)
+        if new != sp.expand(num):
+            used.append("|q|^2 = 1")
+        num = new
+    return num / den, tuple(used)
+
+
+def _unit_point(rng: random.Random, n: int) -> list:
+    """A rational point of the unit sphere in R^n (inverse stereographic projection of a random rational point)."""
+    u = [sp.Rational(rng.randint(-40, 40), rng.randint(10, 40)) for _ in range(n - 1)]
+    s = sum(x ** 2 for x in u)
+    return [2 * x / (1 + s) for x in u] + [(s - 1) / (1 + s)]
+
+
+def _counterexample(mech: Mechanics, rate, seed: int = 0) -> dict | None:
+    """A state on |Γ| = |q| = 1, a time and parameters (defaults first) where ``rate`` is not zero.
+
+    The state is rational and the rate is evaluated at 30 digits from the exact substitution, so a value far from
+    zero (above 1e-20) proves that the rate is not identically zero on the constraint surface.
+    """
+    state, _ = _flow(mech)
+    if rate == 0:
+        return None
+    rng = random.Random(seed)
+    params = [(s, sp.Rational(str(v))) for s, v in mech.parameters]
+    for attempt in range(_COUNTEREXAMPLE_POINTS):
+        point = {w: sp.Rational(rng.randint(-30, 30), 10) for w in OMEGA}
+        if GAMMA[0] in state:
+            point.update(zip(GAMMA, _unit_point(rng, 3)))
+        point.update(zip(Q, _unit_point(rng, 4)))
+        point[t] = sp.Rational(rng.randint(0, 30), 10)
+        if attempt < _COUNTEREXAMPLE_POINTS // 2:
+            point.update(params)
+        else:
+            point.update({s: sp.Rational(rng.randint(5, 20), 10) for s, _ in params})
+        value = sp.sympify(rate).xreplace(point)
+        if value.free_symbols:
+            continue
+        value = value.evalf(30)
+        if value.is_number and value.is_finite and abs(value) > 1e-20:
+            return {str(k): float(v) for k, v in sorted(point.items(), key=lambda kv: sp.default_sort_key(kv[0]))}
+    return None
+
+
+def _check_candidate(mech: Mechanics, expr) -> sp.Expr:
+    if isinstance(expr, sp.MatrixBase) or not isinstance(expr, sp.Expr):
+        raise InvalidInput("candidate", expr, "one scalar SymPy expression (a vector is not an integral)")
+    allowed = mech.free_symbols_allowed()
+    extra = sorted(expr.free_symbols - allowed, key=sp.default_sort_key)
+    if extra:
+        names = ", ".join(sorted({*STATE_SYMBOLS, "t", *(s.name for s in mech.parameter_symbols)}))
+        raise InvalidInput("candidate", str(expr), f"an expression in the model's names only ({names}); "
+                           f"unknown: {', '.join(map(str, extra))}")
+    if expr.has(sp.Derivative) or expr.atoms(sp.core.function.AppliedUndef):
+        raise InvalidInput("candidate", str(expr), "a function of the state, t and the parameters (no derivatives)")
+    return expr
+
+
+def prove(mech: Mechanics, expr, *, name: str = "H", seed: int = 0) -> Verdict:
+    """Whether ``expr`` is conserved along the model's flow: ``dH/dt`` derived, tested for zero, and simplified.
+
+    Parameters
+    ----------
+    mech : Mechanics
+    expr : sympy.Expr
+        The candidate, in the model's names (``omega1..3``, ``gamma1..3``, ``q0..q3``, ``t``, parameters). A
+        candidate in ``gamma`` for a model whose state has no Γ uses ``Γ = A(q) ẑ``, the vertical of the attitude.
+    name : str
+        For the report.
+    seed : int
+        Seeds the numeric test and the search for a counterexample.
+
+    Returns
+    -------
+    Verdict
+
+    Raises
+    ------
+    eulersym.errors.InvalidInput
+        A candidate with a name the model does not know, a vector, or a derivative.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from eulersym.model.mechanics import Mechanics, OMEGA
+    >>> free = Mechanics(name="free", inertia=sp.ImmutableMatrix(sp.diag(1, 2, 3)), mass=sp.Integer(1))
+    >>> w1, w2, w3 = OMEGA
+    >>> prove(free, w1**2 + 4*w2**2 + 9*w3**2).conserved
+    True
+    >>> v = prove(free, w3)
+    >>> v.conserved, v.rate, v.counterexample is not None
+    (False, -omega1*omega2/3, True)
+    """
+    from eulersym.compare import compare
+
+    if not isinstance(mech, Mechanics):
+        raise InvalidInput("mech", mech, "an eulersym.model.mechanics.Mechanics")
+    expr = _check_candidate(mech, sp.sympify(expr))
+    state, _ = _flow(mech)
+    notes = []
+    H = _rational(expr)
+    if H.has(*GAMMA) and GAMMA[0] not in state:
+        from eulersym.rotation import from_quaternion
+
+        vertical = from_quaternion(list(Q)) * sp.Matrix([0, 0, 1])
+        H = H.xreplace(dict(zip(GAMMA, vertical)))
+        notes.append("gamma written as A(q) z (the state carries no vertical)")
+    rate = _rate(mech, H)
+    # Refute first (cheap): an exact rational state on |Γ| = |q| = 1 where the rate is not zero is a proof.
+    cx = _counterexample(mech, rate, seed)
+    if cx is not None:
+        surface = " on the constraint surface |Gamma| = |q| = 1" if GAMMA[0] in state else " (with |q| = 1)"
+        how = f"dH/dt is not zero: exact evaluation at a rational state{surface}"
+        return Verdict(name, expr, False, _tidy(rate), "; ".join([how, *notes]), cx, True)
+    # One fraction: the rate is zero exactly when its numerator is (denominators are the tensor's determinant and
+    # the parameters' expressions of the model, non-zero for a body).
+    first = compare(sp.fraction(sp.together(rate))[0], sp.Integer(0), seed=seed)
+    if first.exact is True:
+        return Verdict(name, expr, True, sp.Integer(0), "; ".join([first.method, *notes]), None, True)
+    reduced, constraints = _constrained(mech, rate)
+    if constraints:
+        second = compare(reduced, sp.Integer(0), seed=seed)
+        if second.exact is True:
+            how = (f"{second.method}, on the constraint surface {', '.join(constraints)} (the rate's numerator "
+                   "reduced modulo the constraints: remainder zero)")
+            return Verdict(name, expr, True, sp.Integer(0), "; ".join([how, *notes]), None, True, constraints)
+        rate, first = reduced, second
+    if first.exact is False:
+        how = f"dH/dt is not zero: {first.method}"
+        return Verdict(name, expr, False, _tidy(rate), "; ".join([how, *notes]), first.counterexample, True,
+                       constraints)
+    how = f"undecided: {first.method}; not claimed conserved"
+    return Verdict(name, expr, False, _tidy(rate), "; ".join([how, *notes]), None, False, constraints)
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# Structure: symmetry axis, Kovalevskaya's case
+
+
+def symmetry_axis(inertia) -> tuple | None:
+    """``(e, A, C)`` when the tensor has two equal principal moments ``A`` and a distinct one ``C`` about ``e``.
+
+    Diagonal tensors are read directly; a full tensor through its characteristic polynomial: a double root
+    ``A`` (``gcd(p, p′)`` of degree 1) makes ``I − A·1 = (C − A) e eᵀ`` of rank one, and ``e`` is any non-zero
+    column. A spherical tensor (three equal moments) has no distinguished axis: None.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> symmetry_axis(sp.diag(2, 2, 1))
+    (Matrix([
+    [0],
+    [0],
+    [1]]), 2, 1)
+    >>> symmetry_axis(sp.Matrix([[3, 1, 0], [1, 3, 0], [0, 0, 2]]))[0].T   # moments 2, 2, 4
+    Matrix([[1, 1, 0]])
+    >>> symmetry_axis(sp.diag(1, 2, 3)) is None
+    True
+    """
+    I = sp.Matrix(_rational(sp.ImmutableMatrix(inertia)))
+    if I.is_diagonal():
+        d = [I[k, k] for k in range(3)]
+        for k in range(3):
+            i, j = [m for m in range(3) if m != k]
+            if sp.expand(d[i] - d[j]) == 0 and sp.expand(d[k] - d[i]) != 0:
+                e = sp.zeros(3, 1)
+                e[k] = 1
+                return e, d[i], d[k]
+        return None
+    p = I.charpoly()
+    g = sp.gcd(p, p.diff())
+    if g.degree() != 1:
+        return None
+    A = sp.cancel(-g.all_coeffs()[1] / g.all_coeffs()[0])
+    B = (I - A * sp.eye(3)).applyfunc(lambda x: sp.factor(sp.expand(x)))
+    for j in range(3):
+        column = B[:, j]
+        if any(x != 0 for x in column):
+            C = sp.expand(I.trace() - 2 * A)
+            return column, A, C
+    return None  # pragma: no cover - a rank-one B has a non-zero column
+
+
+def _dot(a, b) -> sp.Expr:
+    return (sp.Matrix(a).T * sp.Matrix(b))[0, 0]
+
+
+def kovalevskaya_integral(mech: Mechanics) -> sp.Expr | None:
+    """Kovalevskaya's integral in the model's axes, or None when the model is not in her case.
+
+    Her case: a pivoted heavy body, no other torque and no rotor, principal moments ``A = A = 2C`` about the pivot
+    and the centre of mass ``c ≠ 0`` in the equatorial plane (``c·e = 0``). The literature writes, with ``c`` along
+    the first axis and ``e`` the third, ``K = (p² − q² − ν γ₁)² + (2 p q − ν γ₂)²``, ``ν = M g |c| / C`` and γ the
+    upward vertical (the complex form: ``ξ = (p + i q)² − ν (γ₁ + i γ₂)`` obeys ``ξ̇ = −i r ξ``). Rotated into the
+    model's axes: ``p = ω·u/|u|``, ``q = ω·v/|u|``, ``γ₁ = Γ·u/|u|``, ``γ₂ = Γ·v/|u|`` with ``u = c``,
+    ``v = ê × u``, so ``K = ((ω·u)² − (ω·v)²)/|u|² − (M g/C) Γ·u)² + (2 (ω·u)(ω·v)/|u|² − (M g/C) Γ·v)²``.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from eulersym.model.mechanics import Mechanics
+    >>> m = Mechanics(name="k", inertia=sp.ImmutableMatrix(sp.diag(2, 2, 1)), mass=sp.Integer(1),
+    ...               centre_of_mass=sp.ImmutableMatrix([1, 0, 0]), gravity=sp.Integer(1), pivoted=True)
+    >>> sp.expand(kovalevskaya_integral(m)).coeff(sp.Symbol("gamma1", real=True), 2)
+    1
+    """
+    if not (mech.pivoted and mech.gravity != 0) or mech.potential != 0:
+        return None
+    if any(e != 0 for e in mech.torque) or any(e != 0 for e in mech.rotor):
+        return None
+    c = sp.Matrix(_rational(mech.centre_of_mass))
+    if all(x == 0 for x in c):
+        return None
+    axis = symmetry_axis(mech.inertia)
+    if axis is None:
+        return None
+    e, A, C = axis
+    if sp.expand(A - 2 * C) != 0 or sp.expand(_dot(c, e)) != 0:
+        return None
+    e_hat = e / sp.sqrt(_dot(e, e))
+    u, v = c, e_hat.cross(c)
+    w, G = sp.Matrix(OMEGA), sp.Matrix(GAMMA)
+    u2 = _dot(u, u)
+    k = _rational(mech.mass * mech.gravity) / C
+    wu, wv = _dot(w, u), _dot(w, v)
+    real = sp.cancel(sp.expand((wu ** 2 - wv ** 2) / u2)) - sp.expand(k * _dot(G, u))
+    imag = sp.cancel(sp.expand(2 * wu * wv / u2)) - sp.expand(k * _dot(G, v))
+    return real ** 2 + imag ** 2
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# The candidates
+
+
+def candidates(mech: Mechanics) -> dict:
+    """``{name: expression}``: the integrals the model's structure suggests (see the module docstring).
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from eulersym.model.mechanics import Mechanics
+    >>> list(candidates(Mechanics(name="free", inertia=sp.ImmutableMatrix(sp.diag(1, 1, 2)), mass=sp.Integer(1))))
+    ['E', 'L2', 'L_axis', 'q_norm2']
+    """
+    if not isinstance(mech, Mechanics):
+        raise InvalidInput("mech", mech, "an eulersym.model.mechanics.Mechanics")
+    eqs = equations(mech)
+    w = sp.Matrix(OMEGA)
+    I = sp.Matrix(mech.inertia)
+    L = sp.Matrix(eqs.angular_momentum)
+    V = total_potential(mech)
+    out = {"E": sp.expand((w.T * I * w)[0, 0] / 2 + V)}
+    if GAMMA[0] in eqs.state:
+        G = sp.Matrix(GAMMA)
+        out["Gamma_norm2"] = _dot(G, G)
+        out["L_dot_Gamma"] = sp.expand(_dot(L, G))
+    if V == 0:
+        out["L2"] = sp.expand(_dot(L, L))
+    axis = symmetry_axis(mech.inertia)
+    if axis is not None:
+        out["L_axis"] = sp.expand(_dot(L, axis[0]))
+    out["q_norm2"] = sum(q ** 2 for q in Q)
+    K = kovalevskaya_integral(mech)
+    if K is not None:
+        out["K"] = K
+    return out
+
+
+@functools.lru_cache(maxsize=32)
+def _invariants(mech: Mechanics) -> tuple:
+    return tuple((name, prove(mech, expr, name=name)) for name, expr in candidates(mech).items())
+
+
+def invariants(mech: Mechanics) -> dict:
+    """``{name: Verdict}`` for every candidate of :func:`candidates`, each proven or refuted.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from eulersym.model.mechanics import Mechanics
+    >>> a = sp.Symbol("a", positive=True)
+    >>> kovalevskaya = Mechanics(name="kovalevskaya", inertia=sp.ImmutableMatrix(sp.diag(2, 2, 1)),
+    ...     mass=sp.Integer(1), centre_of_mass=sp.ImmutableMatrix([a, 0, 0]), gravity=sp.Integer(10), pivoted=True,
+    ...     parameters=((a, 0.5),))
+    >>> {name: v.conserved for name, v in invariants(kovalevskaya).items()}
+    {'E': True, 'Gamma_norm2': True, 'L_dot_Gamma': True, 'L_axis': False, 'q_norm2': True, 'K': True}
+    """
+    if not isinstance(mech, Mechanics):
+        raise InvalidInput("mech", mech, "an eulersym.model.mechanics.Mechanics")
+    return dict(_invariants(mech))

@@ -1,0 +1,256 @@
+"""The outcome of a run: :class:`Result` — the outputs in the scene's body frame, the invariants and their drift,
+notes — built from an engine's :class:`~eulersym.scene.trajectory.Trajectory`; and the text report.
+
+Frames: engines work in the principal frame; ``P`` (the problem's ``axes``) maps back, ``v_body = P @ v_principal``
+and ``R_body = R_principal Pᵀ``.
+"""
+
+from __future__ import annotations
+
+import importlib
+import warnings
+from dataclasses import dataclass
+from typing import Mapping
+
+import numpy as np
+
+from eulersym.scene.frames import Rotation, quaternion_to_rotation, rotation_to_quaternion
+from eulersym.scene.plan import Plan
+
+__all__ = ["Result", "outputs", "report"]
+
+
+@dataclass(frozen=True, eq=False)
+class Result:
+    """The outcome of :func:`simulate`.
+
+    Attributes
+    ----------
+    t : ndarray (n,)
+        Output times.
+    omega : ndarray (n, 3), or (batch, n, 3) for a sweep
+        Body angular velocity in the scene's body frame.
+    attitude : ndarray (n, 4) or None
+        Unit quaternions (scalar first), ``v_space = R(q) v_body``; None when no output needs the attitude.
+    euler_angles : ndarray (n, 3) or None
+        Angles of the scene's convention (phi, theta, psi for 'zxz'), phi and psi unwrapped.
+    polhode : ndarray (n, 3) or None
+        ω in the principal frame: the polhode on the energy ellipsoid ω·Iω = 2E.
+    invariants : mapping name → ndarray (n,) or (batch, n)
+    drift : mapping name → float
+        max |I(t) − I(0)| / |I(0)| (absolute where I(0) = 0), the maximum over members.
+    plan : Plan
+        The plan that ran (resolved: derived moments known).
+    derivations : tuple of str
+        The derivations that ran (SymPy), in order; empty when none was needed.
+    propagated : tuple of str
+        What was propagated in time ('omega', 'attitude', 'gamma').
+    timings : mapping stage → seconds
+    sweep : mapping label → ndarray (batch,)
+        Swept values per member (empty without a sweep).
+    moments, axes : ndarray
+        Principal moments and the principal axes (columns, in the scene's body frame, det +1).
+    n_rhs_calls : int
+        Kernel evaluations (0 for a closed form).
+    notes : tuple of str
+        Facts for the report (turning points, the sleeping-top threshold, ...).
+    gamma : ndarray (n, 3) or None
+        The body-frame upward vertical Γ (heavy top), Γ3 = cos θ.
+    turning_points : (θ1, θ2) or None
+        Heavy top with Euler-angle output: the nutation's turning points (radians), derived by eulersym.top.
+
+    Examples
+    --------
+    >>> from eulersym.scene import Scene, simulate
+    >>> r = simulate(Scene(moments=(1, 2, 3), omega=(0.1, 1, 0.2), t_end=4, points=5, outputs=("omega", "polhode")))
+    >>> r.t.tolist(), r.omega.shape, r.attitude is None, r.propagated
+    ([0.0, 1.0, 2.0, 3.0, 4.0], (5, 3), True, ('omega',))
+    >>> bool(np.allclose(r.polhode, r.omega))  # principal moments given: the body frame is the principal frame
+    True
+    """
+
+    t: np.ndarray
+    omega: np.ndarray
+    attitude: np.ndarray | None
+    euler_angles: np.ndarray | None
+    polhode: np.ndarray | None
+    invariants: Mapping
+    drift: Mapping
+    plan: Plan
+    derivations: tuple
+    propagated: tuple
+    timings: Mapping
+    sweep: Mapping
+    moments: np.ndarray
+    axes: np.ndarray
+    n_rhs_calls: int = 0
+    notes: tuple = ()
+    gamma: np.ndarray | None = None
+    turning_points: tuple | None = None
+
+    def report(self) -> str:
+        """A short text report: the plan, the invariants' drift, the timings and notes.
+
+        Examples
+        --------
+        >>> from eulersym.scene import Scene, simulate
+        >>> r = simulate(Scene(moments=(1, 2, 3), omega=(0.01, 1, 0), t_end=5, points=11))
+        >>> "drift" in r.report()
+        True
+        """
+        return report(self)
+
+
+def _drift(values: np.ndarray) -> float:
+    """max over members and times of |I(t) − I(0)| / |I(0)| (absolute where I(0) = 0)."""
+    v = np.atleast_2d(values)
+    ref = v[:, :1]
+    denom = np.where(np.abs(ref) > 0, np.abs(ref), 1.0)
+    return float(np.max(np.abs(v - ref) / denom))
+
+
+def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False) -> dict:
+    """The outputs of ``traj`` (principal frame) in the scene's body frame: ω, attitude, Euler angles, polhode,
+    invariants and drift, and the notes of the report (a dict of the :class:`Result` fields they fill)."""
+    outputs = problem.outputs
+    t, moments, P, batch = problem.t, problem.moments, problem.axes, problem.batch
+    omega_pr, q_pr, gamma = traj.omega, traj.q, traj.gamma
+    notes = []
+    identity = np.array_equal(P, np.eye(3))
+    omega_body = omega_pr if identity else omega_pr @ P.T
+    attitude = euler_angles = gamma_body = None
+    model = problem.model
+    if q_pr is not None and ("attitude" in outputs or "euler_angles" in outputs or model is not None):
+        n = q_pr.shape[1]
+        rot_pr = quaternion_to_rotation(q_pr.reshape(-1, 4))
+        rot_body = rot_pr if identity else rot_pr * Rotation.from_matrix(np.repeat(P.T[None], len(rot_pr), axis=0))
+        attitude = rotation_to_quaternion(rot_body).reshape(batch, n, 4)
+        if identity and model is not None:  # the propagated q, as integrated (the model's |q|² invariant reads it)
+            attitude = q_pr
+        if model is not None:  # the vertical, model frame: Γ = R(q)ᵀ ẑ
+            gamma_body = rot_body.inv().apply(np.array([0.0, 0.0, 1.0])).reshape(batch, n, 3)
+            if gamma is not None and identity:
+                gamma_body = gamma
+        if "euler_angles" in outputs:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", UserWarning)  # gimbal lock at θ = 0 is reported as the angles it gives
+                angles = rot_body.as_euler(problem.convention.upper()).reshape(batch, n, 3)
+            angles[..., 0] = np.unwrap(angles[..., 0], axis=1)
+            angles[..., 2] = np.unwrap(angles[..., 2], axis=1)
+            euler_angles = angles
+    invariants = {}
+    if "invariants" in outputs:
+        if model is not None:
+            invariants = _model_invariants(model, t, omega_body, gamma_body, attitude)
+        elif plan.regime == "torque-free":
+            numerics = importlib.import_module("eulersym.numerics")
+            inv = numerics.invariants
+            invariants["energy"] = np.stack([inv.energy(tuple(moments[b]), omega_pr[b]) for b in range(batch)])
+            invariants["L2"] = np.stack([inv.angular_momentum_squared(tuple(moments[b]), omega_pr[b]) for b in range(batch)])
+            if q_pr is not None:
+                L_body = omega_pr * moments[:, None, :]
+                L_space = quaternion_to_rotation(q_pr.reshape(-1, 4)).apply(L_body.reshape(-1, 3)).reshape(batch, -1, 3)
+                dev = np.linalg.norm(L_space - L_space[:, :1], axis=-1) / np.maximum(np.linalg.norm(L_space[:, :1], axis=-1), 1e-300)
+                invariants["L_space_deviation"] = dev
+                invariants["q_norm2"] = np.sum(q_pr**2, axis=-1)
+        elif plan.regime == "heavy top":
+            gen = importlib.import_module("eulersym.generated.heavy_top_euler_poisson")
+            M, g, l = problem.mass, problem.g, problem.l
+            n = omega_pr.shape[1]
+            y = np.concatenate([omega_pr, gamma, q_pr], axis=-1).reshape(-1, 10).T
+            rep = lambda a: np.repeat(a, n)  # noqa: E731
+            vals = np.asarray(gen.invariants_batched(0.0, y, rep(moments[:, 0]), rep(moments[:, 1]), rep(moments[:, 2]), rep(M), rep(g), rep(l)))
+            for name, row in zip(("energy", "gamma_norm2", "L_dot_gamma", "q_norm2"), vals):
+                invariants[name] = np.asarray(row).reshape(batch, n)
+            if np.allclose(moments[:, 0], moments[:, 1], rtol=1e-12):
+                invariants["p_psi"] = moments[:, 2:3] * omega_pr[..., 2]
+        drift = {name: (_drift(v) if name != "L_space_deviation" else float(np.max(v))) for name, v in invariants.items()}
+    else:
+        drift = {}
+    polhode = omega_pr if "polhode" in outputs else None
+    # ---- notes for the report ----------------------------------------------------------------------------------
+    if plan.regime == "heavy top":
+        theta = np.degrees(np.arccos(np.clip(gamma[..., 2], -1.0, 1.0)))
+        if batch == 1:
+            notes.append(f"θ between θ1 = {theta.min():.4g}° and θ2 = {theta.max():.4g}° (from Γ3 = cos θ)")
+        if turning is not None:
+            notes.append("turning points derived from the effective potential: "
+                         f"θ1 = {np.degrees(turning[0]):.4g}°, θ2 = {np.degrees(turning[1]):.4g}°")
+        else:
+            notes.append(f"largest tilt per member: {theta.max(axis=1).min():.4g}° … {theta.max(axis=1).max():.4g}°")
+        if "top.sleeping_top_threshold" in plan.derive:
+            if bound is not None:
+                w3 = omega_pr[:, 0, 2]
+                ratio = w3**2 / bound
+                if batch == 1:
+                    side = "above: the sleeping top is stable" if ratio[0] >= 1 else "below: the sleeping top is unstable"
+                    notes.append(f"ω3² = {w3[0] ** 2:.6g}, 4MglI1/I3² = {bound[0]:.6g} (derived): ratio {ratio[0]:.4f}, {side}")
+                else:
+                    notes.append(f"ω3²/(4MglI1/I3²) from {ratio.min():.4g} to {ratio.max():.4g} over the members")
+            else:
+                notes.append("sleeping-top threshold not derived (eulersym.top is not available)")
+    elif plan.regime == "torque-free" and plan.body == "asymmetric" and batch == 1:
+        k = int(np.argsort(moments[0])[1])
+        flips = int(np.count_nonzero(np.diff(np.sign(omega_pr[0, :, k])) != 0))
+        notes.append(f"ω along the intermediate axis (I = {moments[0][k]:g}) changes sign {flips} times")
+    if tensor_given:
+        notes.append("principal moments " + ", ".join(f"{m:.6g}" for m in moments[0]) + "; axes (columns, body frame) " + np.array2string(P, precision=4, suppress_small=True).replace("\n", ""))
+    return {
+        "omega": omega_body,
+        "attitude": attitude if ("attitude" in outputs or "euler_angles" in outputs) else None,
+        "euler_angles": euler_angles,
+        "polhode": polhode,
+        "invariants": invariants,
+        "drift": drift,
+        "notes": notes,
+        "turning_points": turning,
+        "gamma": gamma_body,
+    }
+
+
+def _model_invariants(model, t, omega, gamma, q) -> dict:
+    """The model kernel's ``INVARIANTS`` along the motion, model frame: ``{name: (batch, n)}``."""
+    batch, n = omega.shape[:2]
+    values = {f"omega{k + 1}": omega[..., k] for k in range(3)}
+    values.update({f"gamma{k + 1}": gamma[..., k] for k in range(3)})
+    values.update({f"q{k}": q[..., k] for k in range(4)})
+    y = np.stack([values[name].reshape(-1) for name in model.state])
+    params = [np.repeat(p, n) for p in model.params]
+    time = np.tile(t, batch) if model.flags.get("time") else 0.0
+    rows = model.module.invariants_batched(time, y, *params)
+    return {name: np.broadcast_to(np.asarray(row, dtype=float), (batch * n,)).reshape(batch, n)
+            for name, row in zip(model.invariants, rows)}
+
+
+def _fmt_time(seconds: float) -> str:
+    if seconds < 1e-3:
+        return f"{seconds * 1e6:.0f} µs"
+    if seconds < 1:
+        return f"{seconds * 1e3:.1f} ms"
+    return f"{seconds:.2f} s"
+
+
+def report(result) -> str:
+    """The short text report of a Result: plan, what ran, invariants' drift, notes, timings.
+
+    Examples
+    --------
+    >>> from eulersym.scene import Scene, simulate
+    >>> print(report(simulate(Scene(moments=(1, 2, 3), omega=(0.01, 1, 0), t_end=5, points=11))))
+    plan for 'scene' (torque-free, asymmetric body)
+    ...
+    derivations: none (no SymPy needed)
+    ...
+    """
+    plan = result.plan
+    lines = [str(plan), ""]
+    lines.append(f"ran: {plan.engine}; {len(result.t)} output times" + (f" × {plan.batch} members" if plan.batch > 1 else ""))
+    lines.append("derivations: " + (", ".join(result.derivations) if result.derivations else "none (no SymPy needed)"))
+    lines.append("propagated: " + ", ".join(result.propagated) + (f"; kernel calls: {result.n_rhs_calls}" if result.n_rhs_calls else ""))
+    if result.drift:
+        lines.append("invariants drift (max relative): " + ", ".join(f"{k} {v:.2e}" for k, v in result.drift.items()))
+    lines += result.notes
+    lines.append("timings: " + ", ".join(f"{k} {_fmt_time(v)}" for k, v in result.timings.items()))
+    return "\n".join(lines)
+
+

@@ -1,0 +1,130 @@
+"""The one place that drives a scene: :func:`simulate` — derive what the body needs, plan, prepare the problem,
+run the engine the plan chose, derive what the motion's start determines, and build the :class:`Result`.
+
+Data flows one way: spec → plan → problem → engine → result (SymPy only inside :mod:`eulersym.scene.derive`).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from eulersym.errors import InvalidInput
+from eulersym.scene import derive, engines, model_kernel
+from eulersym.scene.plan import make_plan
+from eulersym.scene.problem import member_moments, prepare
+from eulersym.scene.progress import Progress
+from eulersym.scene.result import Result, outputs
+from eulersym.scene.spec import Scene
+
+__all__ = ["simulate"]
+
+
+def simulate(scene: Scene, *, progress: bool = False) -> Result:
+    """Run a scene's plan and return its :class:`Result`.
+
+    Parameters
+    ----------
+    scene : Scene
+    progress : bool
+        Draw a progress bar on standard error (the command line turns it on for a terminal only).
+
+    Examples
+    --------
+    Torque-free symmetric top: ω3 is constant and (ω1, ω2) turns at Ω = (I1 − I3)/I1 · ω3, from the closed form.
+
+    >>> r = simulate(Scene(moments=(2, 2, 1), omega=(0.3, 0, 5), t_end=2, outputs=("omega", "invariants")))
+    >>> r.plan.engine, r.derivations, round(r.drift["energy"], 12)
+    ('closed form: trigonometric', (), 0.0)
+    """
+    if not isinstance(scene, Scene):
+        raise InvalidInput("scene", scene, "an eulersym.scene.Scene (Scene(...) or Scene.from_toml(path))")
+    bar = Progress(scene.name, enabled=progress)
+    timings = {}
+    clock = time.perf_counter()
+    record: list[str] = []
+    members = scene.members()
+    batch = scene.batch
+    facts = None
+    if scene.model is not None:  # the model's kernel: cached by digest, or derived and emitted once
+        module, path, emitted = model_kernel.ensure(scene.model, record)
+        facts = model_kernel.facts(scene.model, module, path, emitted, scene.parameter_values(), batch)
+        plan = make_plan(scene, model=facts)
+        moments, P = _model_numbers(plan.options["frame"], facts)
+    else:
+        derived, P = derive.principal_frame(scene, record)
+        moments = member_moments(scene, members) if derived is None else np.repeat(derived, batch, axis=0)
+        plan = make_plan(scene, moments=moments)
+    problem = prepare(scene, plan, moments, P, model=facts)
+    bound = None
+    if "top.sleeping_top_threshold" in plan.derive:
+        bound = derive.sleeping_threshold(moments, problem.mass, problem.g, problem.l, record)
+    timings["derive"] = time.perf_counter() - clock
+    bar.stage("derived", 0.1)
+
+    clock = time.perf_counter()
+    traj = engines.get(plan.options["engine"]).run(problem, progress=bar.fraction if bar.enabled else None)
+    timings["motion"] = time.perf_counter() - clock
+    bar.stage("integrated", 0.9)
+
+    turning = None
+    if "top.turning_points" in plan.derive:  # needs the start's E, p_φ, p_ψ: derived once the state is known
+        clock = time.perf_counter()
+        turning = derive.turning_points(moments[0], problem.mass[0], problem.g[0], problem.l[0], traj.omega[0, 0],
+                                        traj.gamma[0, 0], traj.q[0, 0], record)
+        timings["derive"] += time.perf_counter() - clock
+
+    clock = time.perf_counter()
+    out = outputs(problem, plan, traj, bound=bound, turning=turning,
+                  tensor_given=scene.tensor is not None or scene.shape is not None or not np.array_equal(P, np.eye(3)))
+    timings["outputs"] = time.perf_counter() - clock
+    timings["total"] = sum(timings.values())
+    bar.done()
+    single = batch == 1
+
+    def squeeze(a):
+        return None if a is None else (a[0] if single else a)
+
+    return Result(
+        t=problem.t,
+        omega=squeeze(out["omega"]),
+        attitude=squeeze(out["attitude"]),
+        euler_angles=squeeze(out["euler_angles"]),
+        polhode=squeeze(out["polhode"]),
+        invariants={k: squeeze(v) for k, v in out["invariants"].items()},
+        drift=out["drift"],
+        plan=plan,
+        derivations=tuple(record),
+        propagated=plan.propagate,
+        timings=timings,
+        sweep=members,
+        moments=moments[0] if single else moments,
+        axes=P if facts is None or plan.regime != "model" else _principal_axes(facts.tensor[0]),
+        n_rhs_calls=int(traj.n_calls),
+        notes=tuple(out["notes"]),
+        turning_points=out["turning_points"],
+        gamma=_gamma(scene, plan, traj, out, squeeze),
+    )
+
+
+def _gamma(scene, plan, traj, out, squeeze):
+    if scene.model is not None:  # the vertical in the model frame, always
+        return squeeze(out["gamma"])
+    return squeeze(traj.gamma) if "invariants" in scene.outputs or plan.regime == "heavy top" else None
+
+
+def _principal_axes(tensor) -> np.ndarray:
+    """Principal axes (columns, det +1) of a tensor, for the report of a model integrated in its own frame."""
+    _, P = np.linalg.eigh(tensor)
+    if np.linalg.det(P) < 0:
+        P[:, 0] = -P[:, 0]
+    return P
+
+
+def _model_numbers(frame, facts):
+    """(moments (batch, 3), axes (3, 3)) of a model problem: the plan's principal frame where a closed form or the
+    heavy top's engines apply; else the model frame itself, with the principal moments for the report."""
+    if frame.moments is not None:
+        return frame.moments, frame.axes
+    return np.linalg.eigvalsh(facts.tensor), np.eye(3)
