@@ -32,6 +32,7 @@ from eulersym.numerics.pivoted import (
     PIVOTED_METHODS,
     _compiled_runner,
     _prepare,
+    _refuse_uncarried,
     _renormalise,
     _substep,
     _to_body,
@@ -188,6 +189,7 @@ def integrate_pivoted_batch(inertia, M, g, c, omega0, q0, t, *, rotor=(0.0, 0.0,
                            f"at most max_bytes = {max_bytes / 2**20:.0f} MiB of outputs (this needs ≈ "
                            f"{need / 2**20:.0f} MiB): run ≤ {fit} members per call, or fewer output times")
     span = float(tt[-1] - tt[0])
+    _refuse_uncarried(scale, span, omega0)
     if h is None:
         acc = 1e-8 if accuracy is None else accuracy
         hs = step_for_accuracy(method, acc, scale, span) if span > 0 else np.ones(B)
@@ -206,7 +208,8 @@ def integrate_pivoted_batch(inertia, M, g, c, omega0, q0, t, *, rotor=(0.0, 0.0,
         use_parallel = B >= PARALLEL_MIN_MEMBERS if parallel is None else parallel
         out = _compiled_runner(use_parallel)(state, par, hs, tt, subs, kind)
     else:
-        out = _run_numpy(state, par, hs, tt, subs, kind)
+        with np.errstate(all="ignore"):  # an overflowing member becomes NaN, refused below by name
+            out = _run_numpy(state, par, hs, tt, subs, kind)
     if not np.all(np.isfinite(out)):
         bad = int(np.argmax(~np.all(np.isfinite(out), axis=(1, 2))))
         raise InvalidInput("h", float(hs[bad]), f"a step small enough for a finite solution (member {bad})")
