@@ -679,5 +679,5 @@ def test_sweep_csv_has_member_columns(tmp_path):
 
 
 def test_outputs_constant_lists_the_contract():
-    assert OUTPUTS == ("omega", "attitude", "euler_angles", "invariants", "polhode")
+    assert OUTPUTS == ("omega", "attitude", "euler_angles", "invariants", "polhode", "summary")
     assert math.isclose(Scene(**FREE).times[-1], FREE["t_end"])

@@ -16,9 +16,9 @@ PACKAGE = Path(eulersym.scene.__file__).parent
 
 #: The modules of eulersym.scene in the order data flows; a module may import only modules listed before it.
 LAYERS = (
-    "values", "catalog", "plan", "spec", "frames", "trajectory", "derive", "problem", "progress", "systems", "dop853",
+    "values", "cost", "catalog", "plan", "spec", "frames", "trajectory", "derive", "problem", "progress", "systems", "dop853",
     "engines", "engines.free_body_exact", "engines.free_body_splitting", "engines.heavy_top_splitting", "engines.ivp",
-    "engines.batched_dop853", "result", "run", "io", "cli", "__init__",
+    "engines.batched_dop853", "result", "chunked", "run", "io", "cli", "__init__",
 )
 
 
