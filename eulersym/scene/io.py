@@ -78,15 +78,22 @@ def save(result, path: str) -> None:
     """
     suffix = os.path.splitext(path)[1].lower()
     if suffix == ".npz":
-        arrays = {"t": result.t, "omega": result.omega, "moments": result.moments, "axes": result.axes,
-                  "plan": np.array(str(result.plan))}
-        for key in ("attitude", "euler_angles", "polhode", "gamma"):
+        arrays = {"t": result.t, "moments": result.moments, "axes": result.axes, "plan": np.array(str(result.plan))}
+        for key in ("omega", "attitude", "euler_angles", "polhode", "gamma"):
             if getattr(result, key) is not None:
                 arrays[key] = getattr(result, key)
         arrays.update({f"invariant_{k}": v for k, v in result.invariants.items()})
         arrays.update({f"drift_{k}": np.array(v) for k, v in result.drift.items()})
         arrays.update({f"sweep_{k}": v for k, v in result.sweep.items()})
+        arrays.update({f"summary_{k}": v for k, v in result.summary.items()})
         _atomic(path, lambda tmp: np.savez(tmp, **arrays))
+    elif suffix == ".csv" and result.omega is None:  # a summary scene: one row per member
+        sweep, names = list(result.sweep), list(result.summary)
+        batch = len(next(iter(result.summary.values())))
+        cols = [np.arange(batch)[:, None]] + [np.asarray(result.sweep[k])[:, None] for k in sweep]
+        table = np.concatenate(cols + [np.asarray(result.summary[k])[:, None] for k in names], axis=1)
+        head = ["member", *sweep, *names]
+        _atomic(path, lambda tmp: np.savetxt(tmp, table, delimiter=",", header=",".join(head), comments="", fmt="%.17g"))
     elif suffix == ".csv":
         names, data = _columns(result)
         batch, n, _ = data.shape
@@ -125,9 +132,11 @@ def plot(result, path: str) -> None:
 
     plan = result.plan
     single = plan.batch == 1
-    panels = ["omega"]
-    if plan.regime == "heavy top" and result.gamma is not None:
-        panels.append("theta" if single or len(result.sweep) != 2 else "map")
+    panels = ["omega"] if result.omega is not None else []
+    if plan.regime == "heavy top" and (result.gamma is not None or "tilt_max" in result.summary):
+        panels.append("map" if len(result.sweep) == 2 else ("theta" if result.gamma is not None else "final"))
+    if not panels:
+        panels.append("final")
     if result.polhode is not None and single:
         panels.append("polhode")
     fig = plt.figure(figsize=(5 * len(panels), 4))
@@ -165,10 +174,19 @@ def plot(result, path: str) -> None:
             ax.set_xlabel("t")
             ax.set_ylabel("θ (degrees)")
             ax.set_title("nutation between θ1 and θ2")
+        elif panel == "final":  # a summary scene without a map: each member's final ω
+            for j in range(3):
+                ax.plot(result.summary[f"omega{j + 1}.final"], ".", ms=2, label=f"ω{j + 1}(T)")
+            ax.set_xlabel("member")
+            ax.set_title("final ω per member (body)")
+            ax.legend()
         else:
             (lx, vx), (ly, vy) = list(result.sweep.items())
             ux, uy = np.unique(vx), np.unique(vy)
-            tilt = np.degrees(np.arccos(np.clip(result.gamma[..., 2], -1, 1))).max(axis=1).reshape(len(ux), len(uy))
+            if "tilt_max" in result.summary:  # the map from per-member summaries (no trajectories kept)
+                tilt = np.degrees(result.summary["tilt_max"]).reshape(len(ux), len(uy))
+            else:
+                tilt = np.degrees(np.arccos(np.clip(result.gamma[..., 2], -1, 1))).max(axis=1).reshape(len(ux), len(uy))
             mesh = ax.pcolormesh(uy, ux, tilt, shading="auto")
             fig.colorbar(mesh, ax=ax, label="largest θ (degrees)")
             ax.set_xlabel(ly)
