@@ -3,9 +3,14 @@
 
 import numpy as np
 
-from eulersym.errors import InvalidInput
+from eulersym.errors import InvalidInput, SingularConfiguration
 
-__all__ = ["_as_vector", "_prepare_out", "_too_many", "_unpack", "_wrong_length"]
+__all__ = ["_as_vector", "_prepare_out", "_singular", "_too_many", "_unpack", "_wrong_length"]
+
+
+def _singular(name, value, expected):
+    """The error for a state on the singularity of the coordinates (where the scalar flavour divided by zero)."""
+    return SingularConfiguration(name, value, expected)
 
 
 def _too_many(function, extra, names):

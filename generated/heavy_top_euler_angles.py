@@ -2,13 +2,14 @@
 # Source derivation: eulersym.top.equations_of_motion() solved for the second derivatives (mass matrix); invariants eulersym.top.energy(), eulersym.top.conserved_momenta()
 # eulersym version: 0.1.0
 # SymPy version: 1.14.0
-# Input hash: sha256:2afdc4a14fac367d39cb0b4803cb8feb3304bb97c0d2c5197ab7a8d0e91a6545
+# Input hash: sha256:27dfa025889fecb260a0383a461e59f53c62405956e4644ee0bd0c8715f790bd
 # Arguments: rhs(t, y, I1, I3, M, g, l); y = (phi, theta, psi, phidot, thetadot, psidot)
 # Arguments: jac(t, y, I1, I3, M, g, l); y = (phi, theta, psi, phidot, thetadot, psidot)
 # Arguments: invariants(t, y, I1, I3, M, g, l); y = (phi, theta, psi, phidot, thetadot, psidot)
 """The heavy symmetric top with a fixed pivot in Euler angles (zxz): Lagrange's equations in
-first-order form, y = (φ, θ, ψ, φ̇, θ̇, ψ̇). Singular at sin θ = 0 (the scalar flavour then divides
-by zero).
+first-order form, y = (φ, θ, ψ, φ̇, θ̇, ψ̇). Singular at sin θ = 0: there the scalar flavour raises
+eulersym.errors.SingularConfiguration (the batched flavour gives inf or nan; the flat one divides by
+zero).
 
 Functions (each also as ``<name>_batched(..., out=None)`` and ``<name>_flat(...)``):
 
@@ -34,7 +35,7 @@ order) and returns a tuple: plain ``math`` on floats, no checks, so ``numba.njit
 import numpy as np
 from math import cos, sin
 
-from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, _wrong_length
+from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, _wrong_length, _singular
 
 __all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched']
 
@@ -57,36 +58,41 @@ def rhs(t, y, I1, I3, M, g, l, *extra):
         phi, theta, psi, phidot, thetadot, psidot = _unpack('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     except ValueError:
         raise _wrong_length('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot')) from None
-    x0 = cos(theta)
-    x1 = I1*x0
-    x2 = 2*x1
-    x3 = phidot*x2
-    x4 = -x3
-    x5 = I3*psidot
-    x6 = I3*x0
-    x7 = phidot*x6
-    x8 = x5 + x7
-    x9 = x4 + x8
-    x10 = 1/I1
-    x11 = sin(theta)
-    x12 = x10/x11
-    x13 = x12*x9
-    x14 = M*g*l
-    x15 = phidot*x5
-    x16 = (phidot*phidot)
-    x17 = x1*x16 + x14 - x15 - x16*x6
-    x18 = x10*x11
-    x19 = x0*x5
-    x20 = (x11*x11)
-    x21 = I1*x20
-    x22 = phidot*x21
-    x23 = (x0*x0)
-    x24 = 2*I1*x23
-    x25 = I3*x23
-    x26 = phidot*x25
-    x27 = phidot*x24 - x19 + x22 - x26
-    x28 = x12*x27
-    return [phidot, thetadot, psidot, thetadot*x13, x17*x18, thetadot*x28]
+    try:
+        x0 = cos(theta)
+        x1 = I1*x0
+        x2 = 2*x1
+        x3 = phidot*x2
+        x4 = -x3
+        x5 = I3*psidot
+        x6 = I3*x0
+        x7 = phidot*x6
+        x8 = x5 + x7
+        x9 = x4 + x8
+        x10 = 1/I1
+        x11 = sin(theta)
+        x12 = x10/x11
+        x13 = x12*x9
+        x14 = M*g*l
+        x15 = phidot*x5
+        x16 = (phidot*phidot)
+        x17 = x1*x16 + x14 - x15 - x16*x6
+        x18 = x10*x11
+        x19 = x0*x5
+        x20 = (x11*x11)
+        x21 = I1*x20
+        x22 = phidot*x21
+        x23 = (x0*x0)
+        x24 = 2*I1*x23
+        x25 = I3*x23
+        x26 = phidot*x25
+        x27 = phidot*x24 - x19 + x22 - x26
+        x28 = x12*x27
+        return [phidot, thetadot, psidot, thetadot*x13, x17*x18, thetadot*x28]
+    except ZeroDivisionError:
+        if sin(theta) == 0:
+            raise _singular('theta', theta, 'sin(theta) != 0 (theta strictly between 0 and pi, modulo pi): the Euler-angle equations are singular at theta = 0 and pi (the sleeping top); use heavy_top_euler_poisson there') from None
+        raise
 
 
 def jac(t, y, I1, I3, M, g, l, *extra):
@@ -107,41 +113,46 @@ def jac(t, y, I1, I3, M, g, l, *extra):
         phi, theta, psi, phidot, thetadot, psidot = _unpack('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     except ValueError:
         raise _wrong_length('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot')) from None
-    x0 = cos(theta)
-    x1 = I1*x0
-    x2 = 2*x1
-    x3 = phidot*x2
-    x4 = -x3
-    x5 = I3*psidot
-    x6 = I3*x0
-    x7 = phidot*x6
-    x8 = x5 + x7
-    x9 = x4 + x8
-    x10 = 1/I1
-    x11 = sin(theta)
-    x12 = x10/x11
-    x13 = x12*x9
-    x14 = M*g*l
-    x15 = phidot*x5
-    x16 = (phidot*phidot)
-    x17 = x1*x16 + x14 - x15 - x16*x6
-    x18 = x10*x11
-    x19 = x0*x5
-    x20 = (x11*x11)
-    x21 = I1*x20
-    x22 = phidot*x21
-    x23 = (x0*x0)
-    x24 = 2*I1*x23
-    x25 = I3*x23
-    x26 = phidot*x25
-    x27 = phidot*x24 - x19 + x22 - x26
-    x28 = x12*x27
-    x29 = I1*x11
-    x30 = thetadot*x12
-    x31 = x0*x10
-    x32 = thetadot*x31/x20
-    x33 = 2*x7
-    return [[0.0, 0.0, 0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 0.0, 0.0, 1.0], [0.0, x30*(-I3*phidot*x11 + 2*phidot*x29) - x32*x9, 0.0, x30*(I3*x0 - x2), x13, I3*x30], [0.0, x17*x31 + x18*(I3*x11*x16 - x16*x29), 0.0, x18*(-x33 - x4 - x5), 0.0, -I3*phidot*x18], [0.0, -x27*x32 + x30*(-x11*x3 + x11*x33 + x11*x5), 0.0, x30*(x21 + x24 - x25), x28, -x30*x6]]
+    try:
+        x0 = cos(theta)
+        x1 = I1*x0
+        x2 = 2*x1
+        x3 = phidot*x2
+        x4 = -x3
+        x5 = I3*psidot
+        x6 = I3*x0
+        x7 = phidot*x6
+        x8 = x5 + x7
+        x9 = x4 + x8
+        x10 = 1/I1
+        x11 = sin(theta)
+        x12 = x10/x11
+        x13 = x12*x9
+        x14 = M*g*l
+        x15 = phidot*x5
+        x16 = (phidot*phidot)
+        x17 = x1*x16 + x14 - x15 - x16*x6
+        x18 = x10*x11
+        x19 = x0*x5
+        x20 = (x11*x11)
+        x21 = I1*x20
+        x22 = phidot*x21
+        x23 = (x0*x0)
+        x24 = 2*I1*x23
+        x25 = I3*x23
+        x26 = phidot*x25
+        x27 = phidot*x24 - x19 + x22 - x26
+        x28 = x12*x27
+        x29 = I1*x11
+        x30 = thetadot*x12
+        x31 = x0*x10
+        x32 = thetadot*x31/x20
+        x33 = 2*x7
+        return [[0.0, 0.0, 0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 0.0, 0.0, 1.0], [0.0, x30*(-I3*phidot*x11 + 2*phidot*x29) - x32*x9, 0.0, x30*(I3*x0 - x2), x13, I3*x30], [0.0, x17*x31 + x18*(I3*x11*x16 - x16*x29), 0.0, x18*(-x33 - x4 - x5), 0.0, -I3*phidot*x18], [0.0, -x27*x32 + x30*(-x11*x3 + x11*x33 + x11*x5), 0.0, x30*(x21 + x24 - x25), x28, -x30*x6]]
+    except ZeroDivisionError:
+        if sin(theta) == 0:
+            raise _singular('theta', theta, 'sin(theta) != 0 (theta strictly between 0 and pi, modulo pi): the Euler-angle equations are singular at theta = 0 and pi (the sleeping top); use heavy_top_euler_poisson there') from None
+        raise
 
 
 def invariants(t, y, I1, I3, M, g, l, *extra):
@@ -162,24 +173,29 @@ def invariants(t, y, I1, I3, M, g, l, *extra):
         phi, theta, psi, phidot, thetadot, psidot = _unpack('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     except ValueError:
         raise _wrong_length('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot')) from None
-    x0 = cos(theta)
-    x5 = I3*psidot
-    x6 = I3*x0
-    x7 = phidot*x6
-    x8 = x5 + x7
-    x11 = sin(theta)
-    x14 = M*g*l
-    x15 = phidot*x5
-    x16 = (phidot*phidot)
-    x19 = x0*x5
-    x20 = (x11*x11)
-    x21 = I1*x20
-    x22 = phidot*x21
-    x23 = (x0*x0)
-    x25 = I3*x23
-    x26 = phidot*x25
-    x34 = (0.5)*x16
-    return [(0.5)*I1*(thetadot*thetadot) + (0.5)*I3*(psidot*psidot) + x0*x14 + x0*x15 + x21*x34 + x25*x34, x19 + x22 + x26, x8]
+    try:
+        x0 = cos(theta)
+        x5 = I3*psidot
+        x6 = I3*x0
+        x7 = phidot*x6
+        x8 = x5 + x7
+        x11 = sin(theta)
+        x14 = M*g*l
+        x15 = phidot*x5
+        x16 = (phidot*phidot)
+        x19 = x0*x5
+        x20 = (x11*x11)
+        x21 = I1*x20
+        x22 = phidot*x21
+        x23 = (x0*x0)
+        x25 = I3*x23
+        x26 = phidot*x25
+        x34 = (0.5)*x16
+        return [(0.5)*I1*(thetadot*thetadot) + (0.5)*I3*(psidot*psidot) + x0*x14 + x0*x15 + x21*x34 + x25*x34, x19 + x22 + x26, x8]
+    except ZeroDivisionError:
+        if sin(theta) == 0:
+            raise _singular('theta', theta, 'sin(theta) != 0 (theta strictly between 0 and pi, modulo pi): the Euler-angle equations are singular at theta = 0 and pi (the sleeping top); use heavy_top_euler_poisson there') from None
+        raise
 
 
 def rhs_flat(t, phi, theta, psi, phidot, thetadot, psidot, I1, I3, M, g, l):

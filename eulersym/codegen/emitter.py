@@ -186,6 +186,10 @@ class ModuleSpec:
     source: str
     functions: tuple
     notes: tuple = field(default=())
+    #: ``(name, condition, expected)``: where the coordinates are singular. The scalar flavour turns a division by
+    #: zero where the Python ``condition`` holds into ``eulersym.errors.SingularConfiguration(name, value,
+    #: expected)``; the flat flavour stays unchecked. Empty: no singularity.
+    singular: tuple = field(default=())
 
     @property
     def function_names(self) -> tuple[str, ...]:
@@ -495,7 +499,7 @@ def _outputs_doc(f: FunctionSpec) -> str:
     return "shape " + str(f.out_shape)
 
 
-def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
+def emit_function(f: FunctionSpec, cse: CsePass, flavour: str, singular: tuple = ()) -> str:
     """Source of one function: ``f.name`` (scalar flavour), ``f.name + "_flat"`` (flat: the scalar flavour with
     vectors unpacked, returning a tuple, numba-compilable) or ``f.name + "_batched"`` (batched).
 
@@ -560,14 +564,19 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
         for a in f.arguments:
             if not a.vector and a.names[0] != a.name:
                 body.append(f"{a.names[0]} = {a.name}")
-        for sym, expr in needed:
-            body.append(f"{printer.doprint(sym)} = {printer.doprint(expr)}")
+        compute = [f"{printer.doprint(sym)} = {printer.doprint(expr)}" for sym, expr in needed]
         if len(f.out_shape) == 1:
-            body.append("return [" + ", ".join(_constant(printer, e) for e in reduced) + "]")
+            compute.append("return [" + ", ".join(_constant(printer, e) for e in reduced) + "]")
         else:
             rows = ["[" + ", ".join(_constant(printer, e) for e in reduced.row(i)) + "]"
                     for i in range(reduced.rows)]
-            body.append("return [" + ", ".join(rows) + "]")
+            compute.append("return [" + ", ".join(rows) + "]")
+        if singular:
+            name, condition, expected = singular
+            compute = (["try:"] + ["    " + line for line in compute]
+                       + ["except ZeroDivisionError:", f"    if {condition}:",
+                          f"        raise _singular({name!r}, {name}, {expected!r}) from None", "    raise"])
+        body += compute
     else:
         head = f"def {f.name}_batched({args}, *extra, out=None):"
         doc = [_Q + f"{f.name}_batched({args}, out=None) -> ndarray of shape "
@@ -692,6 +701,8 @@ def input_hash(spec: ModuleSpec) -> str:
     """
     h = hashlib.sha256()
     h.update(f"emitter {EMITTER_VERSION}\nmodule {spec.name}\nsource {spec.source}\n".encode())
+    if spec.singular:
+        h.update(f"singular {spec.singular!r}\n".encode())
     for f in spec.functions:
         h.update(f"function {f.name}({_signature(f)})\n".encode())
         for a in f.arguments:
@@ -757,7 +768,7 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
 
         versions = {"eulersym": __version__, "sympy": sp.__version__}
     cse = cse_pass(spec.functions)
-    scalar = [emit_function(f, cse, "scalar") for f in spec.functions]
+    scalar = [emit_function(f, cse, "scalar", spec.singular) for f in spec.functions]
     flat = [emit_function(f, cse, "flat") for f in spec.functions]
     batched = [emit_function(f, cse, "batched") for f in spec.functions]
     used = set()
@@ -802,7 +813,8 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
     imports = ["", "import numpy as np"]
     if used:
         imports.append(f"from math import {', '.join(sorted(used))}")
-    runtime_import = _RUNTIME_IMPORT if runtime_import is None else runtime_import
+    if runtime_import is None:
+        runtime_import = _RUNTIME_IMPORT + (", _singular" if spec.singular else "")
     if runtime_import:
         imports += ["", runtime_import]
     all_names = [f.name + suffix for suffix in ("", "_flat", "_batched") for f in spec.functions]
