@@ -588,7 +588,7 @@ def test_sleeping_tops_above_stay_and_below_fall():
 def test_sweep_equals_looped_single_runs():
     base = {**TOP, "t_end": 0.2, "points": 21, "accuracy": 1e-9, "outputs": ("omega",)}
     sweep = simulate(Scene(**{**base, "omega": (0, 0, [100.0, 150.0]), "euler": (0, [0.3, 0.5], 0)}))
-    assert sweep.omega.shape == (4, 21, 3) and sweep.plan.engine.startswith("integrate: batched DOP853")
+    assert sweep.omega.shape == (4, 21, 3) and "DOP853" in sweep.plan.engine  # batched, or compiled per member
     for b in range(4):
         w3, th = sweep.sweep["omega[2]"][b], sweep.sweep["euler[1]"][b]
         single = simulate(Scene(**{**base, "omega": (0, 0, w3), "euler": (0, th, 0)}))

@@ -18,7 +18,7 @@ PACKAGE = Path(eulersym.scene.__file__).parent
 LAYERS = (
     "values", "cost", "catalog", "plan", "spec", "frames", "trajectory", "derive", "problem", "progress", "systems", "dop853",
     "engines", "engines.free_body_exact", "engines.free_body_splitting", "engines.heavy_top_splitting", "engines.ivp",
-    "engines.batched_dop853", "result", "chunked", "run", "io", "cli", "__init__",
+    "engines.batched_dop853", "engines.batched_splitting", "engines.compiled_dop853", "result", "chunked", "run", "io", "cli", "__init__",
 )
 
 

@@ -14,8 +14,8 @@ choose it.
 
 Examples
 --------
->>> sorted(ENGINES)[:2]
-['batched_dop853', 'free_body_exact']
+>>> "free_body_exact" in ENGINES and "compiled_dop853" in ENGINES
+True
 >>> callable(get("free_body_exact").run)
 True
 """
@@ -35,6 +35,8 @@ ENGINES = {
     "heavy_top_splitting": "the symmetric heavy top's Yoshida splitting in the Euler–Poisson form",
     "ivp": "scipy's solve_ivp on a committed kernel, one member",
     "batched_dop853": "Dormand–Prince 8(5,3) over all members at once on the batched kernels",
+    "batched_splitting": "a pivoted body's exact-flow splitting (Yoshida 4) over all members, a step per member",
+    "compiled_dop853": "Dormand–Prince 8(5,3) compiled by numba, a heavy top's members in parallel, a step each",
 }
 
 
