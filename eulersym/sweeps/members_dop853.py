@@ -144,3 +144,4 @@ def members(y0, params, t_eval, rtol, atol, out):
         calls[b] = _member(y0[b], params[b], t_eval, rtol, atol, out[b])
     return calls
 
+
