@@ -10,7 +10,7 @@ Examples
 --------
 >>> from eulersym.scene.spec import Scene
 >>> scene = Scene(moments=(1, 2, 3), mass=1, l=0.1, omega=([0.1, 0.2], 0, {"start": 1, "stop": 2, "num": 1000}),
-...               t_end=10, points=1001)
+...               t_end=10, points=1001, method="DOP853")
 >>> e = estimate(scene, scene.plan())
 >>> e.members, e.engine, e.state
 (2000, 'dop853', 10)
@@ -35,6 +35,7 @@ ENGINE_COST = {
     "free_body_splitting": "yoshida4",
     "heavy_top_splitting": "yoshida4",
     "batched_splitting": "yoshida4",
+    "compiled_dop853": "dop853-members",
 }
 
 #: Invariants a regime reports (the most: the cost model counts the largest case).

@@ -275,9 +275,9 @@ def make_plan(scene, moments=None) -> Plan:
         symmetric = body in ("symmetric", "spherical") and known is not None and _axis3_symmetric(known)
         skipped.append(Step("skip", "closed form", "none for the heavy top's ω(t) and attitude (θ(t) alone reduces to a quadrature)"))
         skipped.append(Step("skip", "Euler-angle kernel heavy_top_euler_angles", "singular at θ = 0 (the sleeping top); the Euler–Poisson form (ω, Γ, q) is not"))
-        if batch > 1 and method == "splitting":  # eulersym.sweeps: the batched geometric integrator, asked for
+        if method == "splitting" and (batch > 1 or not symmetric):  # eulersym.sweeps: the batched exact-flow splitting
             engine = "integrate: batched splitting (Yoshida 4, exact flows, a step per member)"
-            steps.append(Step("integrate", f"{batch} members by eulersym.numerics.batched.integrate_pivoted_batch", "asked for: geometric, |Γ| and L·Γ kept; each member's step from the accuracy"))
+            steps.append(Step("integrate", f"{batch} member{'s' if batch > 1 else ''} by eulersym.numerics.batched.integrate_pivoted_batch", "asked for: geometric, any pivoted body, |Γ| and L·Γ kept; each member's step from the accuracy"))
             options["call"] = "batched_splitting"
         elif batch > 1 and method == "auto" and importlib.util.find_spec("numba") is not None:  # eulersym.sweeps
             engine = "integrate: compiled DOP853 on heavy_top_euler_poisson (numba, a step per member)"

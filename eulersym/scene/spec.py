@@ -575,11 +575,6 @@ def _check_consistency(out: dict) -> None:
             raise InvalidInput("outputs", "invariants", "outputs a torqued body has: a constant torque conserves neither energy nor |L|")
         if out["method"] == "splitting":
             raise InvalidInput("method", "splitting", "an integrator for a torqued body: 'auto' or a solve_ivp method")
-    if heavy and out["method"] == "splitting":
-        if out["moments"] is not None and isinstance(out["moments"][0], float) and isinstance(out["moments"][1], float):
-            i1, i2 = out["moments"][0], out["moments"][1]
-            if abs(i1 - i2) > SYMMETRY_RTOL * max(i1, i2):
-                raise InvalidInput("method", "splitting", "the splitting needs a symmetric top (I1 = I2); use 'auto'")
 
 
 def load(scene) -> Scene:
