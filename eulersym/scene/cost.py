@@ -74,7 +74,7 @@ def summary_layout(scene, regime: str) -> tuple:
     heavy = regime == "heavy top"
     if heavy:
         quantities["gamma"] = 3
-    invariants = _INVARIANTS[regime] if "invariants" in scene.outputs else ()
+    invariants = _INVARIANTS.get(regime, ()) if "invariants" in scene.outputs else ()
     return quantities, invariants, heavy
 
 
@@ -89,7 +89,7 @@ def _output_values(scene, plan) -> int:
     n += 4 * ("attitude" in outputs or "euler_angles" in outputs)
     n += 3 * ("euler_angles" in outputs) + 3 * ("polhode" in outputs)
     n += 3 * (plan.regime == "heavy top" or "invariants" in outputs)  # Γ
-    n += len(_INVARIANTS[plan.regime]) * ("invariants" in outputs)
+    n += len(_INVARIANTS.get(plan.regime, ("energy", "L2", "gamma_norm2", "q_norm2"))) * ("invariants" in outputs)
     return n
 
 

@@ -11,7 +11,7 @@ import time
 import numpy as np
 
 from eulersym.errors import InvalidInput
-from eulersym.scene import chunked, cost, derive, engines
+from eulersym.scene import chunked, cost, derive, engines, model_kernel
 from eulersym.scene.plan import make_plan
 from eulersym.scene.problem import member_moments, prepare
 from eulersym.scene.progress import Progress
@@ -47,17 +47,26 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     if not isinstance(scene, Scene):
         raise InvalidInput("scene", scene, "an eulersym.scene.Scene (Scene(...) or Scene.from_toml(path))")
     mem, _ = cost.budgets(scene, memory, work)
-    estimate = cost.check(scene, scene.plan(), memory=memory, work=work)  # refuse before allocating anything
+    if scene.model is None:  # refuse before allocating anything (a model scene: once its plan is known, below)
+        estimate = cost.check(scene, scene.plan(), memory=memory, work=work)
     bar = Progress(scene.name, enabled=progress)
     timings = {}
     clock = time.perf_counter()
     record: list[str] = []
     members = scene.members()
     batch = scene.batch
-    derived, P = derive.principal_frame(scene, record)
-    moments = member_moments(scene, members) if derived is None else np.repeat(derived, batch, axis=0)
-    plan = make_plan(scene, moments=moments)
-    problem = prepare(scene, plan, moments, P)
+    facts = None
+    if scene.model is not None:  # the model's kernel: cached by digest, or derived and emitted once
+        module, path, emitted = model_kernel.ensure(scene.model, record)
+        facts = model_kernel.facts(scene.model, module, path, emitted, scene.parameter_values(), batch)
+        plan = make_plan(scene, model=facts)
+        estimate = cost.check(scene, plan, memory=memory, work=work)
+        moments, P = _model_numbers(plan.options["frame"], facts)
+    else:
+        derived, P = derive.principal_frame(scene, record)
+        moments = member_moments(scene, members) if derived is None else np.repeat(derived, batch, axis=0)
+        plan = make_plan(scene, moments=moments)
+    problem = prepare(scene, plan, moments, P, model=facts)
     bound = None
     if "top.sleeping_top_threshold" in plan.derive:
         bound = derive.sleeping_threshold(moments, problem.mass, problem.g, problem.l, record)
@@ -65,7 +74,8 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     bar.stage("derived", 0.1)
 
     clock = time.perf_counter()
-    streamed = client is not None or cost.wants_summary(scene) or (batch > 1 and estimate.chunk < batch)
+    streamed = scene.model is None and (client is not None or cost.wants_summary(scene)
+                                        or (batch > 1 and estimate.chunk < batch))
     if streamed:  # chunks sized to the memory budget, in-process or on Dask workers (eulersym.scene.chunked)
         chunk = cost.estimate(scene, plan, memory=mem).chunk
         layout = cost.summary_layout(scene, plan.regime) if cost.wants_summary(scene) else None
@@ -84,7 +94,7 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         timings["derive"] += time.perf_counter() - clock
 
     clock = time.perf_counter()
-    tensor_given = scene.tensor is not None or scene.shape is not None
+    tensor_given = scene.tensor is not None or scene.shape is not None or not np.array_equal(P, np.eye(3))
     if streamed:
         out = chunked.run(problem, plan, chunk=chunk, layout=layout, bound=bound, turning=turning,
                           tensor_given=tensor_given, client=client, progress=bar.fraction if bar.enabled else None)
@@ -114,10 +124,34 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         timings=timings,
         sweep=members,
         moments=moments[0] if single else moments,
-        axes=P,
+        axes=P if facts is None or plan.regime != "model" else _principal_axes(facts.tensor[0]),
         n_rhs_calls=int(out["n_calls"] if streamed else traj.n_calls),
         notes=tuple(out["notes"]),
         turning_points=out["turning_points"],
-        gamma=squeeze(out["gamma"] if streamed else traj.gamma) if "invariants" in scene.outputs or plan.regime == "heavy top" else None,
+        gamma=_gamma(scene, plan, traj, out, squeeze),
         summary=out.get("summary", {}),
     )
+
+
+def _gamma(scene, plan, traj, out, squeeze):
+    if scene.model is not None:  # the vertical in the model frame, always
+        return squeeze(out["gamma"])
+    if traj is None:  # streamed in chunks (eulersym.scene.chunked): gathered there, None for summaries
+        return squeeze(out["gamma"]) if "invariants" in scene.outputs or plan.regime == "heavy top" else None
+    return squeeze(traj.gamma) if "invariants" in scene.outputs or plan.regime == "heavy top" else None
+
+
+def _principal_axes(tensor) -> np.ndarray:
+    """Principal axes (columns, det +1) of a tensor, for the report of a model integrated in its own frame."""
+    _, P = np.linalg.eigh(tensor)
+    if np.linalg.det(P) < 0:
+        P[:, 0] = -P[:, 0]
+    return P
+
+
+def _model_numbers(frame, facts):
+    """(moments (batch, 3), axes (3, 3)) of a model problem: the plan's principal frame where a closed form or the
+    heavy top's engines apply; else the model frame itself, with the principal moments for the report."""
+    if frame.moments is not None:
+        return frame.moments, frame.axes
+    return np.linalg.eigvalsh(facts.tensor), np.eye(3)

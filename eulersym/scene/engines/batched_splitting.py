@@ -32,7 +32,8 @@ def run(problem, *, progress=None) -> Trajectory:
     batched = importlib.import_module("eulersym.numerics.batched")
     c = np.zeros((problem.batch, 3))
     c[:, 2] = problem.l
-    bt = batched.integrate_pivoted_batch(problem.moments, problem.mass, problem.g, c, problem.omega0, problem.q0,
+    tensors = problem.moments[:, :, None] * np.eye(3)  # (B, 3, 3): the principal frame's diagonal tensors
+    bt = batched.integrate_pivoted_batch(tensors, problem.mass, problem.g, c, problem.omega0, problem.q0,
                                          problem.t, method=METHOD, accuracy=problem.accuracy, max_bytes=np.inf)
     if progress is not None:
         progress(1.0)
