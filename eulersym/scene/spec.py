@@ -40,12 +40,14 @@ import numpy as np
 
 from eulersym import validation
 from eulersym.errors import InvalidInput
+from eulersym.scene import model_kernel
 from eulersym.scene.catalog import bundled
 from eulersym.scene.plan import SYMMETRY_RTOL, Plan, make_plan
 from eulersym.scene.values import Sweep, did_you_mean as _did_you_mean, number as _number, scalar as _scalar
 from eulersym.scene.values import values_of as _values, vector as _vector
 
-__all__ = ["Scene", "load", "OUTPUTS", "METHODS", "SHAPES", "SHAPE_ORIGINS", "CONVENTIONS", "ACCURACY_RANGE"]
+__all__ = ["Scene", "load", "OUTPUTS", "METHODS", "SHAPES", "SHAPE_ORIGINS", "CONVENTIONS", "ACCURACY_RANGE",
+           "MAGNITUDE_LIMIT", "PHASE_LIMIT", "rate_bound"]
 
 #: The outputs a scene may ask for.
 OUTPUTS = ("omega", "attitude", "euler_angles", "invariants", "polhode")
@@ -87,12 +89,23 @@ _DEFAULTS = {
     "angle": None,
     "omega": None,
     "omega_frame": "body",
+    "euler_rates": None,
     "t_end": None,
     "points": 1001,
     "outputs": ("omega", "invariants"),
     "accuracy": 1e-8,
     "method": "auto",
+    "model": None,
+    "parameters": None,
 }
+
+#: Scene keywords that describe the body the legacy way; a scene with a ``model`` takes none of them.
+_BODY_KEYWORDS = ("moments", "tensor", "shape", "mass", "dimensions", "origin", "l", "g", "torque", "torque_frame")
+#: TOML sections of a scene that are not the model's (a scene file is a model file plus these).
+SCENE_SECTIONS = ("initial", "time", "output")
+#: Sections and keys only a model expresses: their presence makes Scene.from_dict build a Model.
+_MODEL_ONLY = {"": ("parameters", "rotor"), "body": ("parts", "centre_of_mass"), "pivot": ("centre_of_mass",),
+               "torque": ("potential",)}
 
 # TOML layout: section → key → Scene keyword (a tuple names a keyword and a sub-key).
 _TOML_LAYOUT: dict[str, dict[str, Any]] = {
@@ -110,6 +123,7 @@ _TOML_LAYOUT: dict[str, dict[str, Any]] = {
     "initial": {
         "omega": "omega",
         "omega_space": ("omega", "space"),
+        "euler_rates": "euler_rates",
         "euler": "euler",
         "convention": "convention",
         "quaternion": "quaternion",
@@ -159,6 +173,11 @@ class Scene:
         Initial attitude as a unit quaternion (normalised here). Or ``axis`` and ``angle`` (radians).
     omega : 3 numbers
         Initial angular velocity, body components (``omega_frame='space'`` for space components).
+    euler_rates : 3 numbers, optional
+        Instead of ``omega``: the initial Euler-angle rates (φ̇, θ̇, ψ̇) in the scene's ``convention``, with the
+        angles ``euler``; converted to body ω by the derived kinematics (the committed kernel
+        ``eulersym.generated.kinematics`` for 'zxz', the same composition of elementary rotations for the other
+        sequences), numerically, without SymPy.
     t_end : number
         End time (> 0); outputs at ``points`` evenly spaced times from 0 to t_end (default 1001).
     outputs : sequence of str
@@ -201,19 +220,29 @@ class Scene:
     angle: Any
     omega: tuple
     omega_frame: str
+    euler_rates: tuple | None
     t_end: float
     points: int
     outputs: tuple
     accuracy: float
     method: str
+    model: Any = dataclasses.field(compare=False)
+    parameters: tuple | None = None
+    model_digest: str | None = dataclasses.field(init=False, default=None)
 
     def __init__(self, **kwargs):
         for key in kwargs:
             if key not in _DEFAULTS:
                 raise InvalidInput(key, kwargs[key], "a Scene keyword: " + _did_you_mean(key, _DEFAULTS))
+        if kwargs.get("model") is not None:
+            for key in _BODY_KEYWORDS:
+                if kwargs.get(key) is not None and not (key == "torque_frame" and kwargs[key] == "body"):
+                    raise InvalidInput(key, kwargs[key], "no body keyword beside a model (the model is the body: "
+                                       "its mass, inertia, pivot, gravity and torques)")
         values = {**_DEFAULTS, **kwargs}
         for key, value in _normalise(values).items():
             object.__setattr__(self, key, value)
+        object.__setattr__(self, "model_digest", self.model.digest if self.model is not None else None)
 
     # ---- constructors -------------------------------------------------------------------------------------
     @classmethod
@@ -238,6 +267,11 @@ class Scene:
             raise InvalidInput("SCENE", path, f"valid TOML ({exc})") from None
         except (IsADirectoryError, PermissionError, UnicodeDecodeError) as exc:
             raise InvalidInput("SCENE", path, f"a readable TOML file ({exc.__class__.__name__})") from None
+        except RecursionError:
+            raise InvalidInput("SCENE", path, "TOML nested less deeply: arrays or tables nested beyond the reader's "
+                                              "recursion limit (about 1000 levels); a scene needs 3") from None
+        except OSError as exc:
+            raise InvalidInput("SCENE", path, f"a readable TOML file ({exc.strerror or exc})") from None
         return cls.from_dict(data)
 
     @classmethod
@@ -255,6 +289,10 @@ class Scene:
         ...
         eulersym.errors.InvalidInput: intial={} is not valid: expected a TOML section or key: ... (did you mean 'initial'?)
         """
+        if not isinstance(data, Mapping):
+            raise InvalidInput("SCENE", data, "a mapping of TOML sections (body, pivot, torque, initial, time, output)")
+        if _needs_model(data):
+            return _model_scene(cls, data)
         kwargs: dict[str, Any] = {}
         where: dict[str, str] = {}
         top_valid = set(_TOML_LAYOUT[""]) | {s for s in _TOML_LAYOUT if s}
@@ -289,24 +327,21 @@ class Scene:
                     kwargs[target] = v
                     where[target] = f"{key}.{sub}"
             if key == "pivot" and kwargs.get("l") is None:
-                raise InvalidInput("pivot.l", None, "the pivot–centre-of-mass distance l (a [pivot] table needs l)")
-        try:
-            return cls(**kwargs)
-        except InvalidInput as exc:
-            base = exc.argument.split("[")[0].split(".")[0]
-            rest = exc.argument[len(base):]
-            if exc.argument.startswith("dimensions.") and exc.argument in where:
-                raise InvalidInput(where[exc.argument], exc.value, exc.expected) from None
-            if base in where:
-                raise InvalidInput(where[base] + rest, exc.value, exc.expected) from None
-            if base in _TOML_PATHS:  # a key the file lacks: name where it would go
-                raise InvalidInput(_TOML_PATHS[base] + rest, exc.value, exc.expected) from None
-            raise
+                body = data.get("body")
+                if isinstance(body, Mapping) and body.get("shape") is not None:
+                    kwargs["l"] = FROM_SHAPE  # the pivot sits at the shape's origin: l from its centre of mass
+                    where["l"] = "pivot.l"
+                    continue
+                raise InvalidInput("pivot.l", None, "the pivot–centre-of-mass distance l (a [pivot] table needs l, "
+                                                    "unless the body is a shape: then l comes from the shape)")
+        return _construct(cls, kwargs, where)
 
     # ---- derived facts (pure) -----------------------------------------------------------------------------
     @property
     def regime(self) -> str:
-        """'torque-free', 'heavy top' or 'torque' — which equations of motion the scene needs.
+        """'torque-free', 'heavy top' or 'torque' — which equations of motion the scene needs; 'model' for a scene
+        with a :class:`~eulersym.model.Model` (its plan decides, once the model's kernel is known, whether a closed
+        form or the heavy top's engines apply).
 
         A pivot with ``M g l = 0`` and gravity without a pivot exert no torque about the reference point.
 
@@ -315,6 +350,8 @@ class Scene:
         >>> Scene(moments=(1, 1, 2), mass=1, l=0.1, omega=(0, 0, 5), t_end=1).regime
         'heavy top'
         """
+        if self.model is not None:
+            return "model"
         if self.l is not None and np.any(_values(self.l) != 0) and np.any(_values(self.g) != 0):
             return "heavy top"
         if self.torque is not None and any(np.any(_values(c) != 0) for c in self.torque):
@@ -383,7 +420,126 @@ class Scene:
           skip         Euler angles — not asked for
           skip         invariants — not asked for
         """
+        if self.model is not None:
+            return make_plan(self, model=self.cached_model_facts())
         return make_plan(self)
+
+    def parameter_values(self) -> dict:
+        """A model scene's parameter values given in the scene: ``{name: float or ndarray (batch,)}`` (the kernel's
+        defaults fill the others).
+
+        Examples
+        --------
+        >>> Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1).parameter_values()
+        {}
+        """
+        if not self.parameters:
+            return {}
+        members = self.members()
+        return {name: members.get(f"parameters.{name}", value) for name, value in self.parameters}
+
+    def cached_model_facts(self):
+        """The :class:`~eulersym.scene.model_kernel.ModelFacts` of this model scene when its kernel is cached (read
+        without SymPy), else None (also for a scene without a model).
+
+        Examples
+        --------
+        >>> Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1).cached_model_facts() is None
+        True
+        """
+        if self.model is None:
+            return None
+        path = model_kernel.cached_path(self.model_digest)
+        if path is None:
+            return None
+        module = model_kernel.load(path, self.model_digest)
+        return model_kernel.facts(self.model, module, path, False, self.parameter_values(), self.batch)
+
+
+def _needs_model(data: Mapping) -> bool:
+    """True when a scene file says something only a model expresses: [parameters], [rotor], body parts, a centre
+    of mass off the legacy axis, a potential, or an expression (a string where the legacy keys take numbers)."""
+    if any(key in data for key in _MODEL_ONLY[""]):
+        return True
+    for section in ("body", "pivot", "torque"):
+        table = data.get(section)
+        if not isinstance(table, Mapping):
+            continue
+        if any(key in table for key in _MODEL_ONLY[section]):
+            return True
+        for key, value in table.items():
+            if key in ("shape", "origin"):
+                continue
+            if isinstance(value, str) or (isinstance(value, (list, tuple)) and any(
+                    isinstance(x, str) or (isinstance(x, (list, tuple)) and any(isinstance(y, str) for y in x)) for x in value)):
+                return True
+    return False
+
+
+def _model_scene(cls, data: Mapping):
+    """A Scene with a :class:`~eulersym.model.Model` built from the file's model sections; swept parameters
+    (a list or ``{start, stop, num}`` in [parameters]) stay in the scene, their first value is the model's default."""
+    try:
+        from eulersym.model import Model
+    except ImportError as exc:  # pragma: no cover - the model package ships with eulersym
+        raise InvalidInput("SCENE", dict(data), f"eulersym.model to read a model scene ({exc})") from None
+    model_data = {k: v for k, v in data.items() if k not in SCENE_SECTIONS and k != "description"}
+    swept = None
+    params = data.get("parameters")
+    if isinstance(params, Mapping):
+        defaults, swept = {}, {}
+        for key, value in params.items():
+            if isinstance(value, (list, tuple, Mapping)):
+                sweep = Sweep.of(f"parameters.{key}", value)
+                defaults[key], swept[key] = sweep.values[0], sweep
+            else:
+                defaults[key] = value
+        model_data["parameters"] = defaults
+        swept = swept or None
+    model = Model.from_dict(model_data)
+    kwargs: dict[str, Any] = {"model": model, "parameters": swept}
+    where: dict[str, str] = {"parameters": "parameters"}
+    for key in ("name", "description"):
+        if key in data:
+            kwargs[key], where[key] = data[key], key
+    for section in SCENE_SECTIONS:
+        table = data.get(section)
+        if table is None:
+            continue
+        if not isinstance(table, Mapping):
+            raise InvalidInput(section, table, f"a [{section}] table with keys " + ", ".join(sorted(_TOML_LAYOUT[section])))
+        layout = _TOML_LAYOUT[section]
+        for sub, value in table.items():
+            if sub not in layout:
+                raise InvalidInput(f"{section}.{sub}", value, f"a key of [{section}]: " + _did_you_mean(sub, layout))
+            target = layout[sub]
+            if isinstance(target, tuple):
+                kw, detail = target
+                if kw in kwargs:
+                    raise InvalidInput(f"{section}.{sub}", value, f"only one of {where[kw]} and {section}.{sub}")
+                kwargs[kw], kwargs[f"{kw}_frame"] = value, detail
+                where[kw] = f"{section}.{sub}"
+            else:
+                kwargs[target], where[target] = value, f"{section}.{sub}"
+    return _construct(cls, kwargs, where)
+
+
+def _construct(cls, kwargs: dict, where: dict):
+    """``cls(**kwargs)``, with errors renamed to the TOML keys they came from (``where``)."""
+    try:
+        return cls(**kwargs)
+    except InvalidInput as exc:
+        base = exc.argument.split("[")[0].split(".")[0]
+        rest = exc.argument[len(base):]
+        if exc.argument.startswith("dimensions.") and exc.argument in where:
+            raise InvalidInput(where[exc.argument], exc.value, exc.expected) from None
+        if exc.argument.startswith("dimensions."):  # a dimension the file lacks: it goes in [body]
+            raise InvalidInput("body." + exc.argument[len("dimensions."):], exc.value, exc.expected) from None
+        if base in where:
+            raise InvalidInput(where[base] + rest, exc.value, exc.expected) from None
+        if base in _TOML_PATHS:  # a key the file lacks: name where it would go
+            raise InvalidInput(_TOML_PATHS[base] + rest, exc.value, exc.expected) from None
+        raise
 
 
 def _normalise(v: dict) -> dict:
@@ -392,9 +548,13 @@ def _normalise(v: dict) -> dict:
     for key in ("name", "description"):
         if not isinstance(v[key], str):
             raise InvalidInput(key, v[key], "a string")
-    # ---- body -----------------------------------------------------------------------------------------------
+    # ---- a model, or a body -------------------------------------------------------------------------------------
+    out["parameters"] = _parameters(v["model"], v["parameters"])
     given = [k for k in ("moments", "tensor", "shape") if v[k] is not None]
-    if not given:
+    if v["model"] is not None:
+        if not (hasattr(v["model"], "digest") and hasattr(v["model"], "generate")):
+            raise InvalidInput("model", v["model"], "an eulersym.model.Model (Model(...), Model.from_toml(path))")
+    elif not given:
         raise InvalidInput("moments", None, "a body: one of moments (I1, I2, I3), tensor (3×3) or shape (with mass and dimensions)")
     if len(given) > 1:
         raise InvalidInput(given[1], v[given[1]], f"only one body description; {given[0]} is given too")
@@ -418,8 +578,13 @@ def _normalise(v: dict) -> dict:
     out["g"] = _scalar("g", v["g"])
     if np.any(_values(out["g"]) < 0):
         raise InvalidInput("g", v["g"], "gravity g >= 0 (it points down, along -z in space)")
-    if v["l"] is not None:
+    if v["l"] is not None and v["shape"] is not None:
+        out["l"] = _pivot_on_shape(v, out)
+    elif v["l"] is FROM_SHAPE:
+        raise InvalidInput("l", None, "a number: the pivot–centre-of-mass distance (only a shape gives its own)")
+    elif v["l"] is not None:
         out["l"] = _scalar("l", v["l"])
+    if v["l"] is not None:
         if np.any(_values(out["l"]) < 0):
             raise InvalidInput("l", v["l"], "a distance l >= 0 from the pivot to the centre of mass (along +e3)")
         if out["mass"] is None:
@@ -448,10 +613,14 @@ def _normalise(v: dict) -> dict:
             raise InvalidInput("axis", v["axis"], "a non-zero rotation axis")
         out["axis"] = axis
         out["angle"] = _scalar("angle", v["angle"])
-    if v["omega"] is None:
-        raise InvalidInput("omega", None, "the initial angular velocity (omega = [w1, w2, w3], body components)")
-    out["omega"] = _vector("omega", v["omega"], 3)
     out["omega_frame"] = validation.choice("omega_frame", v["omega_frame"], ("body", "space"))
+    if v["euler_rates"] is not None:
+        out["euler_rates"], out["omega"] = _omega_from_euler_rates(v, out)
+    elif v["omega"] is None:
+        raise InvalidInput("omega", None, "the initial angular velocity (omega = [w1, w2, w3], body components; or "
+                                          "euler_rates = [phidot, thetadot, psidot] with euler = [...])")
+    else:
+        out["omega"] = _vector("omega", v["omega"], 3)
     # ---- time, outputs, accuracy -------------------------------------------------------------------------------
     if v["t_end"] is None:
         raise InvalidInput("t_end", None, "the end time t_end > 0")
@@ -476,8 +645,27 @@ def _normalise(v: dict) -> dict:
         raise InvalidInput("accuracy", v["accuracy"], f"a relative accuracy between {ACCURACY_RANGE[0]:g} and {ACCURACY_RANGE[1]:g}")
     out["accuracy"] = accuracy
     out["method"] = _choice("method", v["method"], METHODS)
-    _check_consistency(out)
+    if v["model"] is None:
+        _check_consistency(out)  # a model's plan checks what its kernel can give
+        _check_scales(out, v)
     return out
+
+
+def _parameters(model, raw):
+    """A model scene's parameter values: ``((name, float or Sweep), ...)`` in the given order, or None."""
+    if raw is None:
+        return None
+    if model is None:
+        raise InvalidInput("parameters", raw, "parameters only with a model (Scene(model=Model(...), parameters=...))")
+    if not isinstance(raw, Mapping):
+        raise InvalidInput("parameters", raw, "a mapping of parameter names to values (numbers, lists or ranges to sweep)")
+    known = tuple(getattr(model, "parameters", {}) or {})
+    out = []
+    for name, value in raw.items():
+        if not isinstance(name, str) or name not in known:
+            raise InvalidInput(f"parameters.{name}", value, "a parameter of the model: " + (_did_you_mean(str(name), known) if known else "the model has none"))
+        out.append((name, _scalar(f"parameters.{name}", value)))
+    return tuple(out)
 
 
 def _choice(argument, value, valid):
@@ -567,6 +755,156 @@ def _check_consistency(out: dict) -> None:
             i1, i2 = out["moments"][0], out["moments"][1]
             if abs(i1 - i2) > SYMMETRY_RTOL * max(i1, i2):
                 raise InvalidInput("method", "splitting", "the splitting needs a symmetric top (I1 = I2); use 'auto'")
+
+
+#: ``[pivot]`` without ``l`` on a shape: the pivot is the shape's origin and l comes from its centre of mass.
+FROM_SHAPE = type("FromShape", (), {"__repr__": lambda self: "<l from the shape>"})()
+
+
+def _pivot_on_shape(v, out) -> float:
+    """l for a shape on a pivot: the pivot is the shape's origin, and the centre of mass must lie on body axis 3
+    at distance l from it (derived by :func:`eulersym.inertia.center_of_mass`); a given l must agree."""
+    shape, dims, origin = out["shape"], dict(out["dimensions"]), out["origin"]
+    if isinstance(v["l"], (list, tuple, Mapping, Sweep)):
+        raise InvalidInput("l", v["l"], f"one number: the {shape}'s centre of mass fixes l (it cannot be swept)")
+    if origin in (None, "center"):
+        derived, where = 0.0, "at the origin: the shape's origin is its centre of mass"
+    else:
+        import sympy as sp  # a shape is derived with SymPy anyway (the plan's first step)
+
+        from eulersym.inertia import Region, center_of_mass
+
+        if shape == "cone":
+            region = Region.cone(sp.Float(dims["R"]), sp.Float(dims["h"]))
+        else:  # cube / cuboid about a corner
+            a, b, c = (dims.get(k, dims.get("a")) for k in ("a", "b", "c"))
+            region = Region.box((0, sp.Float(a)), (0, sp.Float(b)), (0, sp.Float(c)))
+        com = [float(x) for x in center_of_mass(1, region)]
+        if abs(com[0]) > 1e-12 * abs(com[2]) or abs(com[1]) > 1e-12 * abs(com[2]):
+            raise InvalidInput("l", None if v["l"] is FROM_SHAPE else v["l"],
+                               f"no pivot at the {origin} of a {shape}: its centre of mass "
+                               f"({', '.join(f'{x:g}' for x in com)}) is not on body axis 3, and the heavy top "
+                               "needs it there; give moments about the pivot instead")
+        derived, where = com[2], f"{com[2]:g} from the {origin} along e3, derived from the shape"
+    if v["l"] is FROM_SHAPE:
+        return derived
+    given = _scalar("l", v["l"], sweepable=False)
+    if abs(given - derived) > 1e-9 * max(abs(derived), max(dims.values())):
+        raise InvalidInput("l", v["l"], f"l = {derived:g} or no l: a {shape} pivoted at its {origin or 'center'} has "
+                                        f"its centre of mass {where}; a different l contradicts the shape (for "
+                                        "another body give moments about the pivot, and l)")
+    return derived
+
+
+def _omega_from_euler_rates(v, out) -> tuple:
+    """(euler_rates, body ω) from the initial angles and their rates, by the derived kinematics (no SymPy)."""
+    if v["omega"] is not None:
+        raise InvalidInput("euler_rates", v["euler_rates"], "one initial angular velocity: euler_rates or omega, "
+                                                            "not both")
+    if out["omega_frame"] != "body":
+        raise InvalidInput("euler_rates", v["euler_rates"], "one initial angular velocity: euler_rates or "
+                                                            "omega_space, not both")
+    if out.get("euler") is None:
+        raise InvalidInput("euler_rates", v["euler_rates"], "initial Euler angles too (euler = [phi, theta, psi]): "
+                                                            "the rates give ω only together with the angles")
+    rates = _vector("euler_rates", v["euler_rates"], 3, sweepable=False)
+    if any(isinstance(a, Sweep) for a in out["euler"]):
+        raise InvalidInput("euler_rates", v["euler_rates"], "single Euler angles (not swept) with euler_rates; "
+                                                            "sweep omega instead")
+    from eulersym.scene.rates import omega_body
+
+    omega = omega_body(out["euler"], rates, out["convention"])
+    return rates, tuple(float(w) for w in omega)
+
+
+#: Magnitudes beyond which double precision cannot carry a scene: the engines multiply two quantities of the size of
+#: |L|² or the energy, and the product must stay below the largest double (1.8e308).
+MAGNITUDE_LIMIT = 1e150
+#: Radians of rotation after which a double keeps no digit of the phase (2**52).
+PHASE_LIMIT = 2.0 ** 52
+
+
+def _largest(x) -> float:
+    if x is None:
+        return 0.0
+    if isinstance(x, tuple):
+        return max((_largest(c) for c in x), default=0.0)
+    return float(np.max(np.abs(_values(x))))
+
+
+def _inertia_range(out) -> tuple:
+    """(smallest, largest) moment, or for a shape its scale M·(largest dimension)²."""
+    if out["moments"] is not None:
+        values = np.concatenate([_values(m) for m in out["moments"]])
+        return float(values.min()), float(values.max())
+    if out["tensor"] is not None:
+        eig = np.linalg.eigvalsh(np.array(out["tensor"]))
+        return float(eig[0]), float(eig[-1])
+    scale = _largest(out["mass"]) * max(value for _, value in out["dimensions"]) ** 2
+    return scale / 12.0, scale
+
+
+def rate_bound(scene_or_values) -> float:
+    """An upper estimate of |ω| over the run (rad per unit time): the initial spin, what a constant torque adds by
+    t_end, and the heavy top's pendulum rate √(M g l / I_min).
+
+    Examples
+    --------
+    >>> rate_bound(Scene(moments=(1, 2, 3), omega=(0, 4, 3), t_end=1))
+    4.0
+    """
+    out = scene_or_values if isinstance(scene_or_values, dict) else {
+        f.name: getattr(scene_or_values, f.name) for f in dataclasses.fields(scene_or_values)}
+    i_min, _ = _inertia_range(out)
+    rate = _largest(out["omega"])
+    if out["torque"] is not None and i_min > 0:
+        rate += _largest(out["torque"]) * out["t_end"] / i_min
+    if out["l"] is not None and out["mass"] is not None and i_min > 0:
+        rate = max(rate, math.sqrt(_largest(out["mass"]) * _largest(out["g"]) * _largest(out["l"]) / i_min))
+    return rate
+
+
+def _size(x: float) -> str:
+    return f"≈ {x:.3g}" if math.isfinite(x) else "beyond the largest double"
+
+
+def _check_scales(out: dict, raw: dict) -> None:
+    """Refuse numbers whose motion double precision cannot carry, naming the real cause: an energy or |L|² beyond
+    :data:`MAGNITUDE_LIMIT`, a gravity or applied torque that large, or more than :data:`PHASE_LIMIT` radians of
+    rotation by t_end. (A scene in other units is the same motion: rescale time or inertia.)"""
+    i_min, i_max = _inertia_range(out)
+    spin = _largest(out["omega"])
+    why = ("double precision (largest 1.8e308) cannot carry the products the motion needs; the same motion in "
+           "other units (a larger unit of time, a smaller one of inertia) can")
+    if i_max * i_max > MAGNITUDE_LIMIT:
+        key = "moments" if out["moments"] is not None else ("tensor" if out["tensor"] is not None else "mass")
+        raise InvalidInput(key, raw[key], f"moments of inertia below {math.sqrt(MAGNITUDE_LIMIT):.0e} (here up to "
+                                          f"{i_max:.3g}): {why}")
+    worst = max((i_max * spin) * (i_max * spin), i_max * spin * spin)
+    if worst > MAGNITUDE_LIMIT:
+        key = "euler_rates" if out.get("euler_rates") is not None else "omega"
+        raise InvalidInput(key, raw[key], f"an angular velocity whose |L|² = (I ω)² and energy I ω² stay below "
+                                          f"{MAGNITUDE_LIMIT:.0e} (here {_size(worst)} with |ω| = {spin:.3g} and I up "
+                                          f"to {i_max:.3g}): {why}")
+    if out["l"] is not None and out["mass"] is not None:
+        weight = _largest(out["mass"]) * _largest(out["g"]) * _largest(out["l"])
+        if weight * i_max > MAGNITUDE_LIMIT:
+            raise InvalidInput("mass", raw["mass"], f"a gravity torque M g l below {MAGNITUDE_LIMIT / i_max:.3g} "
+                                                    f"(here M g l ≈ {weight:.3g}): {why}")
+    if out["torque"] is not None and _largest(out["torque"]) * max(i_max, 1.0) > MAGNITUDE_LIMIT:
+        raise InvalidInput("torque", raw["torque"], f"a torque below {MAGNITUDE_LIMIT / max(i_max, 1.0):.3g} (here "
+                                                    f"up to {_largest(out['torque']):.3g}): {why}")
+    rate = rate_bound(out)
+    if i_max * rate * rate > MAGNITUDE_LIMIT or (i_max * rate) * (i_max * rate) > MAGNITUDE_LIMIT:
+        key = "torque" if out["torque"] is not None else "mass"
+        raise InvalidInput(key, raw[key], f"a motion whose energy stays below {MAGNITUDE_LIMIT:.0e}: |ω| reaches "
+                                          f"≈ {rate:.3g} by t_end = {out['t_end']:g}, so I ω² is "
+                                          f"{_size(i_max * rate * rate)}: {why}")
+    turned = rate * out["t_end"]
+    if turned > PHASE_LIMIT:
+        raise InvalidInput("t_end", raw["t_end"], f"an end time by which the body turns less than 2**52 rad (here "
+                                                  f"|ω| ≈ {rate:.3g} × t_end = {out['t_end']:g} ≈ {turned:.3g} rad): "
+                                                  "past that a double keeps no digit of the phase")
 
 
 def load(scene) -> Scene:
