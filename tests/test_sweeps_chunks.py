@@ -140,4 +140,4 @@ def test_memory_grows_with_the_chunk_not_the_members(rng):
         _, unchunked = tracemalloc.get_traced_memory()
     finally:
         tracemalloc.stop()
-    assert peak < unchunked / 2  # three chunks: about a third of one pass
+    assert peak < 0.6 * unchunked  # three chunks (the kernels' own temporaries are bounded by blocks now)

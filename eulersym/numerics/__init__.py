@@ -3,6 +3,11 @@
 * :func:`free_rigid_body_exact`, :func:`free_rigid_body_attitude_exact` — the exact torque-free motion.
 * :func:`integrate_free_body` — geometric integrators ("strang", "yoshida4", "dmv2", "dmv4", "dmv6").
 * :func:`integrate_heavy_top` — the heavy symmetric top by Strang splitting in the Euler–Poisson form.
+* :func:`heavy_top_exact` — the heavy symmetric top in closed form (elliptic functions, any start).
+* :func:`integrate_pivoted` — any pivoted body (full tensor, centre of mass anywhere, rotor) by exact-flow splitting;
+  :func:`integrate_pivoted_batch`, :func:`integrate_free_bodies`, :func:`integrate_heavy_tops` — the splittings over
+  many members (NumPy or numba), a step per member from the accuracy asked; :func:`integrate_torqued` — any torque,
+  a Lie-group method that keeps |q| = 1.
 * :func:`integrate_ivp` — ``solve_ivp`` over a generated kernel module.
 * :class:`Trajectory` — what the integrators return; :mod:`eulersym.numerics.invariants` — conserved quantities.
 
@@ -27,7 +32,16 @@ from eulersym.numerics.exact import (
     quaternion_multiply,
 )
 from eulersym.numerics.heavy_top import integrate_heavy_top, sleeping_top_threshold_numeric
+from eulersym.numerics.heavy_top_exact import HeavyTopMotion, euler_to_quaternion, heavy_top_exact
 from eulersym.numerics.ivp import integrate_ivp
+from eulersym.numerics.pivoted import PIVOTED_METHODS, integrate_pivoted  # splitting: pivoted bodies
+from eulersym.numerics.batched import (  # splitting: batched over members
+    BatchTrajectory,
+    integrate_free_bodies,
+    integrate_heavy_tops,
+    integrate_pivoted_batch,
+)
+from eulersym.numerics.lie_group import integrate_torqued  # splitting: any torque, |q| = 1
 from eulersym.numerics.splitting import FREE_BODY_METHODS, integrate_free_body, step_free_bodies
 from eulersym.numerics.trajectory import Trajectory
 
@@ -45,4 +59,15 @@ __all__ = [
     "jacobi_sncndn",
     "complete_elliptic_k",
     "quaternion_multiply",
+    "heavy_top_exact",
+    "HeavyTopMotion",
+    "euler_to_quaternion",
+    # splitting: pivoted bodies, batched members, any torque
+    "integrate_pivoted",
+    "PIVOTED_METHODS",
+    "integrate_pivoted_batch",
+    "integrate_free_bodies",
+    "integrate_heavy_tops",
+    "BatchTrajectory",
+    "integrate_torqued",
 ]

@@ -45,41 +45,41 @@ _substep = None
 _renormalise = None
 
 
-@lru_cache(maxsize=2)
-def _compiled(parallel: bool):
+@lru_cache(maxsize=4)
+def _compiled(substep, renormalise, jitable, parallel: bool):
+    import types
+
     import numba
     from numba.extending import register_jitable
 
-    from eulersym.numerics import pivoted as P
-    from eulersym.quaternion import hamilton
-
-    for fn in (hamilton, P._turn1, P._turn2, P._turn3, P._free_axes, P._rotate_back, P._free_symmetric, P._kick,
-               P._substep, P._renormalise):
+    for fn in jitable:
         register_jitable(fn)
     glob = dict(_members.__globals__)
-    glob.update(_range=numba.prange if parallel else range, _substep=P._substep, _renormalise=P._renormalise)
-    import types
-
+    glob.update(_range=numba.prange if parallel else range, _substep=substep, _renormalise=renormalise)
     name = "_members_parallel" if parallel else "_members_serial"
     fn = types.FunctionType(_members.__code__, glob, name)
     fn.__qualname__ = name  # distinct cache entries for the two variants
     return numba.njit(cache=True, parallel=parallel)(fn)
 
 
-def member_runner(parallel: bool = False):
+def member_runner(substep, renormalise, jitable, parallel: bool = False):
     """``runner(state (10, B), par (10, B), hs (B,), t (n,), subs, kind) -> out (B, n, 10)``, compiled.
+
+    ``substep(s, tau, par, kind, None, None)`` and ``renormalise(s, par)`` are the plain-Python step functions
+    (:mod:`eulersym.numerics.pivoted`), ``jitable`` every function they call (registered for numba).
 
     Examples
     --------
     >>> import numpy as np
-    >>> run = member_runner()
+    >>> from eulersym.numerics import pivoted
+    >>> run = pivoted._compiled_runner(False)
     >>> s = np.array([[0.0], [0.0], [1.0], [0.0], [0.0], [1.0], [1.0], [0.0], [0.0], [0.0]])
     >>> par = np.array([[1.0], [1.0], [1.0], [0.0], [0.0], [0.0], [0.0], [0.0], [0.0], [1.0]])
     >>> out = run(s, par, np.array([0.1]), np.array([0.0, 1.0]), (1.0,), 0)
     >>> out.shape
     (1, 2, 10)
     """
-    run = _compiled(bool(parallel))
+    run = _compiled(substep, renormalise, tuple(jitable), bool(parallel))
 
     def runner(state, par, hs, t, subs, kind):
         state = np.ascontiguousarray(state, dtype=np.float64)

@@ -30,6 +30,7 @@ from eulersym.numerics import _fast
 from eulersym.numerics.pivoted import (
     COMPOSITIONS,
     PIVOTED_METHODS,
+    _compiled_runner,
     _prepare,
     _renormalise,
     _substep,
@@ -119,8 +120,8 @@ def integrate_pivoted_batch(inertia, M, g, c, omega0, q0, t, *, rotor=(0.0, 0.0,
 
     Parameters
     ----------
-    inertia : array_like, shape (3, 3), (B, 3, 3), (3,) or (B, 3)
-        Tensors about the pivot (rows of principal moments for diagonal ones); one is shared by all members.
+    inertia : array_like, shape (3, 3), (B, 3, 3) or (3,)
+        Tensors about the pivot ((3,): principal moments of a diagonal one); one is shared by all members.
     M, g : float or array_like, shape (B,)
     c : array_like, shape (3,) or (B, 3)
         Centre of mass from the pivot, body components.
@@ -199,10 +200,8 @@ def integrate_pivoted_batch(inertia, M, g, c, omega0, q0, t, *, rotor=(0.0, 0.0,
     kind = 0 if free_flow == "axes" else 1
     subs = COMPOSITIONS[method]
     if _fast.select(fast, lambda: True):
-        from eulersym.numerics import _batched_fast
-
         use_parallel = B >= PARALLEL_MIN_MEMBERS if parallel is None else parallel
-        out = _batched_fast.member_runner(use_parallel)(state, par, hs, tt, subs, kind)
+        out = _compiled_runner(use_parallel)(state, par, hs, tt, subs, kind)
     else:
         out = _run_numpy(state, par, hs, tt, subs, kind)
     if not np.all(np.isfinite(out)):
@@ -213,6 +212,16 @@ def integrate_pivoted_batch(inertia, M, g, c, omega0, q0, t, *, rotor=(0.0, 0.0,
     return BatchTrajectory(t=tt, omega=omega, gamma=gamma, q=q, steps=hs, n_kicks=int(kicks), method=f"pivoted:{method}")
 
 
+def _diagonal(argument, moments):
+    """Rows of principal moments, (3,) or (B, 3), as diagonal tensors (B, 3, 3)."""
+    arr = finite_array(argument, moments)
+    if arr.ndim == 1:
+        arr = arr[None]
+    if arr.ndim != 2 or arr.shape[1] != 3:
+        raise InvalidInput(argument, moments, "principal moments, shape (3,) or (B, 3)")
+    return np.einsum("bi,ij->bij", arr, np.eye(3))
+
+
 def integrate_free_bodies(I, omega0, q0, t, *, method="strang", h=None, accuracy=None, fast=None, parallel=None,
                           max_bytes=DEFAULT_MAX_BYTES):
     """Free rigid bodies by the axis splitting of :mod:`eulersym.numerics.splitting` (``"strang"``, ``"yoshida4"``,
@@ -220,8 +229,8 @@ def integrate_free_bodies(I, omega0, q0, t, *, method="strang", h=None, accuracy
 
     Parameters
     ----------
-    I : array_like, shape (3,), (B, 3), (3, 3) or (B, 3, 3)
-        Principal moments (or tensors).
+    I : array_like, shape (3,) or (B, 3)
+        Principal moments.
     omega0, q0, t, method, h, accuracy, fast, parallel, max_bytes
         As :func:`integrate_pivoted_batch`.
 
@@ -239,7 +248,7 @@ def integrate_free_bodies(I, omega0, q0, t, *, method="strang", h=None, accuracy
     >>> bool(np.max(np.abs(bt.omega[0] - one.omega)) < 1e-13)
     True
     """
-    return integrate_pivoted_batch(I, 0.0, 0.0, (0.0, 0.0, 0.0), omega0, q0, t, method=method, h=h,
+    return integrate_pivoted_batch(_diagonal("I", I), 0.0, 0.0, (0.0, 0.0, 0.0), omega0, q0, t, method=method, h=h,
                                    accuracy=accuracy, fast=fast, parallel=parallel, max_bytes=max_bytes)
 
 
@@ -272,15 +281,13 @@ def integrate_heavy_tops(I, M, g, l, omega0, q0, t, *, method="yoshida4", h=None
     >>> bool(np.max(np.abs(bt.gamma[0] - one.gamma)) < 1e-12)
     True
     """
-    Iarr = finite_array("I", I)
-    if Iarr.shape not in ((3,),) and not (Iarr.ndim == 2 and Iarr.shape[1] == 3):
-        raise InvalidInput("I", I, "principal moments (I1, I1, I3), shape (3,) or (B, 3)")
-    rows = np.atleast_2d(Iarr)
+    tensors = _diagonal("I", I)
+    rows = np.diagonal(tensors, axis1=1, axis2=2)
     if np.any(np.abs(rows[:, 0] - rows[:, 1]) > 1e-14 * rows.max(axis=1, initial=0.0)):
         raise InvalidInput("I", I, "symmetric tops (I1, I1, I3): the first two moments equal")
     larr = finite_array("l", l)
     if np.any(larr <= 0):
         raise InvalidInput("l", l, "positive distances from the pivot to the centre of mass")
     c = np.stack([np.zeros_like(larr), np.zeros_like(larr), larr], axis=-1)
-    return integrate_pivoted_batch(Iarr, M, g, c, omega0, q0, t, method=method, h=h, accuracy=accuracy,
+    return integrate_pivoted_batch(tensors if len(tensors) > 1 else tensors[0], M, g, c, omega0, q0, t, method=method, h=h, accuracy=accuracy,
                                    free_flow="symmetric", fast=fast, parallel=parallel, max_bytes=max_bytes)

@@ -29,6 +29,8 @@ __all__ = [
     "ivp_tolerances",
     "SYMMETRY_RTOL",
     "SPLITTING_ACCURACY",
+    "ModelFrame",
+    "model_frame",
 ]
 
 #: Relative tolerance under which two principal moments count as equal (symmetric top).
@@ -190,7 +192,7 @@ def _upright_start(scene) -> bool:
     return False
 
 
-def make_plan(scene, moments=None) -> Plan:
+def make_plan(scene, moments=None, model=None) -> Plan:
     """The plan of ``scene``; ``moments`` (principal, possibly per member) once derived, to resolve the body kind.
 
     Examples
@@ -203,23 +205,36 @@ def make_plan(scene, moments=None) -> Plan:
     ...           moments=(1 / 6, 11 / 12, 11 / 12)).engine
     'closed form: trigonometric'
     """
-    regime = scene.regime
     outputs = scene.outputs
     batch = scene.batch
-    known = np.asarray(moments, dtype=float) if moments is not None else _member_moments(scene)
-    body = classify_moments(known) if known is not None else "derived"
-    wants_attitude = "attitude" in outputs or "euler_angles" in outputs
     steps: list[Step] = []
     skipped: list[Step] = []
     derive: list[str] = []
     kernels: list[str] = []
     options: dict = {}
+    is_model = getattr(scene, "model", None) is not None
+    if is_model:
+        frame = model_frame(model) if model is not None else None
+        regime = frame.regime if frame is not None else "model"
+        known = frame.moments if frame is not None else None
+        options["frame"] = frame
+        _model_steps(scene, model, frame, steps, skipped, derive, kernels)
+    else:
+        regime = scene.regime
+        known = np.asarray(moments, dtype=float) if moments is not None else _member_moments(scene)
+    body = classify_moments(known) if known is not None else "derived"
+    # a model scene always propagates the attitude: the vertical and the kernel's invariants are functions of it
+    wants_attitude = "attitude" in outputs or "euler_angles" in outputs or is_model
 
     # ---- the body ----------------------------------------------------------------------------------------------
-    if scene.shape is not None:
+    if is_model:
+        pass
+    elif scene.shape is not None:
         derive.append(f"inertia.{scene.shape}")
         steps.append(Step("derive", f"inertia tensor of the {scene.shape}", "eulersym.inertia integrates I_jk = ∫ρ(r²δ_jk − x_j x_k)dV (SymPy)"))
-    if scene.shape is not None or scene.tensor is not None:
+    if is_model:
+        pass
+    elif scene.shape is not None or scene.tensor is not None:
         if regime == "heavy top":
             steps.append(Step("compute", "principal frame about e3", "the pivot–centre-of-mass line e3 must be a principal axis; the (1, 2) block is diagonalised by a turn about e3 (NumPy)"))
         else:
@@ -230,7 +245,12 @@ def make_plan(scene, moments=None) -> Plan:
 
     # ---- the motion --------------------------------------------------------------------------------------------
     method = scene.method
-    if regime == "torque-free":
+    if is_model and method == "closed-form" and regime != "torque-free":
+        raise InvalidInput("method", method, f"an integrator: the model {getattr(model, 'name', '')!r} has no closed form in eulersym (it is not torque-free); use 'auto'")
+    if regime == "model":
+        engine = _model_motion(scene, model, steps, skipped, options)
+        propagate = ("omega", "gamma", "attitude") if model is not None and "gamma1" in model.state else ("omega", "attitude")
+    elif regime == "torque-free":
         skipped.append(Step("skip", "the heavy top (Lagrangian, equations of motion, its kernels)", "no pivot under gravity: no torque about the reference point"))
         propagate = ("omega", "attitude") if wants_attitude else ("omega",)
         if method in ("auto", "closed-form"):
@@ -269,35 +289,57 @@ def make_plan(scene, moments=None) -> Plan:
             skipped.append(Step("skip", "attitude propagation", "no output needs the attitude; Euler's equations with N = 0 close on ω alone"))
     elif regime == "heavy top":
         propagate = ("omega", "gamma", "attitude")
-        kernels.append("heavy_top_euler_poisson")
         symmetric = body in ("symmetric", "spherical") and known is not None and _axis3_symmetric(known)
-        skipped.append(Step("skip", "closed form", "none for the heavy top's ω(t) and attitude (θ(t) alone reduces to a quadrature)"))
-        skipped.append(Step("skip", "Euler-angle kernel heavy_top_euler_angles", "singular at θ = 0 (the sleeping top); the Euler–Poisson form (ω, Γ, q) is not"))
-        if batch > 1:
-            engine = "integrate: batched DOP853 on heavy_top_euler_poisson"
-            steps.append(Step("integrate", f"{batch} members in one vectorised pass", f"adaptive DOP853 on the batched kernel, rtol = {ivp_tolerances(scene.accuracy)[0]:g}, one step size per chunk of members"))
-            options["call"] = "batched"
-        elif method == "splitting" or (method == "auto" and symmetric and scene.accuracy >= SPLITTING_ACCURACY):
-            engine = "integrate: splitting (Yoshida 4th order, Euler–Poisson form)"
-            why = "asked for" if method == "splitting" else (
-                f"accuracy {scene.accuracy:g} ≥ {SPLITTING_ACCURACY:g}: the geometric splitting, step (30·accuracy)^¼/Ω, Ω the fastest "
-                "of the nutation, pendulum and transverse rates")
-            steps.append(Step("integrate", "eulersym.numerics.integrate_heavy_top", why + "; |Γ| and L·Γ conserved, never singular at θ = 0"))
-            options["call"] = "integrate_heavy_top"
+        no_closed_form = (_no_heavy_top_closed_form(scene, known, symmetric) if not is_model else
+                          "a model scene integrates its own kernel (the closed form serves the chapter's keys: moments, l)")
+        if no_closed_form is None:
+            engine = "closed form: elliptic (Lagrange top)"
+            steps.append(Step("closed form", "ω(t), Γ(t) and q(t) by eulersym.numerics.heavy_top_exact",
+                              "a heavy symmetric top (I1 = I2 about the pivot, centre of mass on the axis, no other torque) "
+                              "is integrable: u = cos θ = u1 + (u2 − u1) sn²(λt + τ0), φ ± ψ from elliptic integrals of the "
+                              "third kind; exact to round-off, beyond any accuracy asked"))
+            skipped.append(Step("skip", "integration", "a closed form exists for the heavy symmetric top"))
+            if batch > 1:
+                steps.append(Step("compute", f"{batch} sweep members", "the closed form for all members in one call, vectorised over the output times"))
+            options["call"] = "heavy_top_exact"
         else:
-            m = "DOP853" if method == "auto" else method
-            engine = f"integrate: {m} on heavy_top_euler_poisson"
-            why = "asked for" if method != "auto" else (
-                f"accuracy {scene.accuracy:g} < {SPLITTING_ACCURACY:g}: an 8th-order adaptive method, its step following the motion" if symmetric
-                else "an asymmetric (or not yet derived) body: the symmetric-top splitting does not apply")
-            steps.append(Step("integrate", f"solve_ivp {m} on heavy_top_euler_poisson (ω, Γ, q)", f"{why}; rtol = {ivp_tolerances(scene.accuracy)[0]:g}"))
-            options["call"] = "integrate_ivp"
-            options["ivp_method"] = m
-        steps.append(Step("compute", "attitude", "propagated: the gravity torque M g l Γ × e3 depends on the vertical Γ"))
-        if batch == 1 and symmetric and "euler_angles" in outputs:
+            if is_model and method == "splitting" and not symmetric:
+                raise InvalidInput("method", method, "the splitting needs a symmetric top (I1 = I2 about the pivot–centre-of-mass line); use 'auto'")
+            if method == "closed-form":
+                raise InvalidInput("method", method, f"an integrator ('auto', 'DOP853', 'splitting', ...): {no_closed_form}")
+            kernels.append("heavy_top_euler_poisson")
+            skipped.append(Step("skip", "closed form", no_closed_form))
+            skipped.append(Step("skip", "Euler-angle kernel heavy_top_euler_angles", "singular at θ = 0 (the sleeping top); the Euler–Poisson form (ω, Γ, q) is not"))
+            if batch > 1:
+                engine = "integrate: batched DOP853 on heavy_top_euler_poisson"
+                steps.append(Step("integrate", f"{batch} members in one vectorised pass", f"adaptive DOP853 on the batched kernel, rtol = {ivp_tolerances(scene.accuracy)[0]:g}, one step size per chunk of members"))
+                options["call"] = "batched"
+            elif method == "splitting" or (method == "auto" and symmetric and scene.accuracy >= SPLITTING_ACCURACY):
+                engine = "integrate: splitting (Yoshida 4th order, Euler–Poisson form)"
+                why = "asked for" if method == "splitting" else (
+                    f"accuracy {scene.accuracy:g} ≥ {SPLITTING_ACCURACY:g}: the geometric splitting, step (30·accuracy)^¼/Ω, Ω the fastest "
+                    "of the nutation, pendulum and transverse rates")
+                steps.append(Step("integrate", "eulersym.numerics.integrate_heavy_top", why + "; |Γ| and L·Γ conserved, never singular at θ = 0"))
+                options["call"] = "integrate_heavy_top"
+            else:
+                m = "DOP853" if method == "auto" else method
+                engine = f"integrate: {m} on heavy_top_euler_poisson"
+                why = "asked for" if method != "auto" else (
+                    f"accuracy {scene.accuracy:g} < {SPLITTING_ACCURACY:g}: an 8th-order adaptive method, its step following the motion" if symmetric
+                    else "an asymmetric (or not yet derived) body: the symmetric-top splitting does not apply")
+                steps.append(Step("integrate", f"solve_ivp {m} on heavy_top_euler_poisson (ω, Γ, q)", f"{why}; rtol = {ivp_tolerances(scene.accuracy)[0]:g}"))
+                options["call"] = "integrate_ivp"
+                options["ivp_method"] = m
+        if no_closed_form is None:
+            steps.append(Step("compute", "attitude", "q(t) and the vertical Γ(t) from the same closed form (θ, φ ± ψ)"))
+        else:
+            steps.append(Step("compute", "attitude", "propagated: the gravity torque M g l Γ × e3 depends on the vertical Γ"))
+        if is_model:
+            skipped.append(Step("skip", "eulersym.top derivations (turning points, sleeping-top threshold)", "a model scene reports what it integrated; those derivations need SymPy"))
+        elif batch == 1 and symmetric and "euler_angles" in outputs:
             derive.append("top.turning_points")
             steps.append(Step("derive", "turning points θ1, θ2", "θ(t) is reported against the roots of the effective-potential cubic (eulersym.top), from E, p_φ, p_ψ"))
-        if _upright_start(scene):
+        if not is_model and _upright_start(scene):
             derive.append("top.sleeping_top_threshold")
             steps.append(Step("derive", "sleeping-top threshold 4 M g l I1 / I3²", "the start is near upright: report ω3² against the derived bound"))
     else:  # torque
@@ -337,15 +379,20 @@ def make_plan(scene, moments=None) -> Plan:
         steps.append(Step("compute", f"Euler angles ({scene.convention})", "from the quaternion, φ and ψ unwrapped"))
     else:
         skipped.append(Step("skip", "Euler angles", "not asked for"))
-    if "invariants" in outputs:
+    if "invariants" in outputs and is_model:
+        names = ", ".join(model.invariants) if model is not None else "the kernel's INVARIANTS"
+        steps.append(Step("compute", "invariants and their drift", (names or "none proven conserved") + " (the model's kernel, model frame)"))
+    elif "invariants" in outputs:
         names = {"torque-free": "energy, |L|²" + (", L in space, |q|²" if "attitude" in propagate else ""),
                  "heavy top": "energy, |Γ|², L·Γ (p_φ), I3 ω3 (p_ψ), |q|²"}[regime]
         steps.append(Step("compute", "invariants and their drift", names))
     else:
         skipped.append(Step("skip", "invariants", "not asked for"))
-    if "polhode" in outputs:
+    if "polhode" in outputs and regime != "torque-free":
+        skipped.append(Step("skip", "polhode", "Poinsot's construction needs a torque-free body"))
+    elif "polhode" in outputs:
         steps.append(Step("compute", "polhode", "ω in the principal frame, on the energy ellipsoid ω·Iω = 2E"))
-    options["engine"] = ENGINE_OF_CALL[options["call"]]
+    options["engine"] = ENGINE_OF_CALL.get(options.get("call"))
     return Plan(
         scene=scene.name,
         regime=regime,
@@ -362,12 +409,29 @@ def make_plan(scene, moments=None) -> Plan:
     )
 
 
+def _no_heavy_top_closed_form(scene, known, symmetric) -> str | None:
+    """Why the heavy top's closed form does not apply to ``scene`` (None when it does)."""
+    if scene.method not in ("auto", "closed-form"):
+        return f"method {scene.method!r} asked for (the closed form applies: method 'auto' or 'closed-form')"
+    if known is None:
+        return "the principal moments are derived first"
+    if not symmetric:
+        return ("I1 ≠ I2 about the pivot: the asymmetric heavy top has no closed form in general "
+                "(Lagrange's top needs I1 = I2 with the centre of mass on the axis)")
+    if scene.torque is not None and any(np.any(_values(c) != 0) for c in scene.torque):
+        return "a torque besides gravity: only the heavy top under gravity alone is integrable"
+    if scene.mass is None or np.any(_values(scene.mass) <= 0):
+        return "the closed form needs a positive mass"
+    return None
+
+
 #: The old runner names (``plan.method``) → the engine module of :mod:`eulersym.scene.engines` that runs them.
 ENGINE_OF_CALL = {
     "free_rigid_body_exact": "free_body_exact",
     "free_rigid_body_attitude_exact": "free_body_exact",
     "integrate_free_body": "free_body_splitting",
     "integrate_heavy_top": "heavy_top_splitting",
+    "heavy_top_exact": "heavy_top_exact",
     "integrate_ivp": "ivp",
     "ivp_combined": "ivp",
     "batched": "batched_dop853",
@@ -378,3 +442,138 @@ def _axis3_symmetric(known: np.ndarray) -> bool:
     m = np.atleast_2d(known)
     return bool(np.all(np.abs(m[:, 0] - m[:, 1]) <= SYMMETRY_RTOL * np.max(m, axis=1)))
 
+
+# ---- models ---------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class ModelFrame:
+    """Which engines a model's motion may use, and the frame they work in (pure NumPy on the kernel's ``body()``).
+
+    Attributes
+    ----------
+    regime : str
+        'torque-free' (the closed form applies), 'heavy top' (the heavy top's engines apply) or 'model' (the
+        model's own kernel is integrated).
+    reason : str
+    moments : ndarray (batch, 3) or None
+        Principal moments in ``axes`` (about the pivot for a heavy top).
+    axes : ndarray (3, 3) or None
+        Columns: the principal axes in the model frame (det +1); for a heavy top ``axes[:, 2]`` points from the
+        pivot to the centre of mass.
+    mass, g, l : ndarray (batch,) or None
+        The heavy top's M, g and pivot–centre-of-mass distance.
+    """
+
+    regime: str
+    reason: str
+    moments: np.ndarray | None = None
+    axes: np.ndarray | None = None
+    mass: np.ndarray | None = None
+    g: np.ndarray | None = None
+    l: np.ndarray | None = None
+
+
+def _diagonal_in(P, tensors) -> bool:
+    D = np.einsum("ji,bjk,kl->bil", P, tensors, P)
+    scale = np.max(np.abs(tensors), axis=(1, 2))
+    off = np.abs(D - np.einsum("bii->bi", D)[:, :, None] * np.eye(3))
+    return bool(np.all(np.max(off, axis=(1, 2)) <= 1e-12 * scale))
+
+
+def model_frame(facts) -> ModelFrame:
+    """Classify a model from its kernel's facts (``FLAGS``, ``body()`` per member): torque-free, a heavy top with its
+    centre of mass on a principal axis through the pivot, or neither.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> body = {"M": np.ones(1), "g": np.zeros(1), **{k: np.zeros(1) for k in ("cx", "cy", "cz", "h1", "h2", "h3")}}
+    >>> body.update({f"I{i}{j}": np.array([float(i) if i == j else 0.0]) for i in (1, 2, 3) for j in (1, 2, 3)})
+    >>> facts = NS(flags={"torque": False, "potential": False, "rotor": False, "pivoted": False, "gravity": False},
+    ...            body=body, tensor=np.diag([1.0, 2.0, 3.0])[None], centre_of_mass=np.zeros((1, 3)), rotor=np.zeros((1, 3)))
+    >>> frame = model_frame(facts)
+    >>> frame.regime, frame.moments.tolist()
+    ('torque-free', [[1.0, 2.0, 3.0]])
+    """
+    flags = facts.flags
+    if flags.get("torque") or flags.get("potential"):
+        return ModelFrame("model", "a torque or a potential beyond gravity: no closed form, the model's own kernel is integrated")
+    if flags.get("rotor") and np.any(facts.rotor != 0):
+        return ModelFrame("model", "an internal rotor (a gyrostat, L = I ω + h): the model's own kernel is integrated")
+    T = np.asarray(facts.tensor, dtype=float)
+    c = np.asarray(facts.centre_of_mass, dtype=float)
+    M, g = np.asarray(facts.body["M"], dtype=float), np.asarray(facts.body["g"], dtype=float)
+    lengths = np.linalg.norm(c, axis=1)
+    heavy = bool(flags.get("pivoted")) and bool(np.any(M * g * lengths != 0))
+    if len(T) == 0:
+        return ModelFrame("model", "no members")
+    if not heavy:
+        moments, P = np.linalg.eigh(T[0])
+        if np.linalg.det(P) < 0:
+            P[:, 0] = -P[:, 0]
+        if not _diagonal_in(P, T):
+            return ModelFrame("model", "torque-free, but the sweep turns the principal axes: the model's own kernel is integrated")
+        D = np.einsum("ji,bjk,ki->bi", P, T, P)
+        why = "no torque, no potential, no rotor" + (", the pivot at the centre of mass" if flags.get("pivoted") else "")
+        return ModelFrame("torque-free", why + ": the free body's closed form in principal axes, outputs turned back to the model's frame", D, P)
+    if np.any(lengths == 0):
+        return ModelFrame("model", "some members have the centre of mass at the pivot: the model's own kernel is integrated")
+    e3 = c[0] / lengths[0]
+    if not np.allclose(c / lengths[:, None], e3, rtol=0, atol=1e-12):
+        return ModelFrame("model", "the sweep turns the pivot–centre-of-mass line: the model's own kernel is integrated")
+    Te3 = T @ e3
+    along = Te3 @ e3
+    if np.any(np.linalg.norm(Te3 - along[:, None] * e3, axis=1) > 1e-12 * np.max(np.abs(T), axis=(1, 2))):
+        return ModelFrame("model", "gravity with the centre of mass off every principal axis through the pivot: the model's own kernel is integrated")
+    helper = np.eye(3)[int(np.argmin(np.abs(e3)))]
+    u = np.cross(e3, helper)
+    u /= np.linalg.norm(u)
+    v = np.cross(e3, u)
+    block = np.array([[u @ T[0] @ u, u @ T[0] @ v], [v @ T[0] @ u, v @ T[0] @ v]])
+    _, R = np.linalg.eigh(block)
+    e1 = R[0, 0] * u + R[1, 0] * v
+    P = np.column_stack([e1, np.cross(e3, e1), e3])
+    if not _diagonal_in(P, T):
+        return ModelFrame("model", "the sweep turns the principal axes about the pivot–centre-of-mass line: the model's own kernel is integrated")
+    D = np.einsum("ji,bjk,ki->bi", P, T, P)
+    return ModelFrame("heavy top", "gravity through a pivot, the centre of mass on a principal axis, no other torque: the heavy top's "
+                      "engines in its principal frame (e3 from the pivot to the centre of mass)", D, P, M, g, lengths)
+
+
+def _model_steps(scene, facts, frame, steps, skipped, derive, kernels) -> None:
+    digest = getattr(scene, "model_digest", None) or ""
+    if facts is None or facts.emitted:
+        derive.append("model.equations")
+        steps.append(Step("derive", "the model's equations of motion", "Newton–Euler in the body frame, its integrals proven (SymPy; eulersym.model)"))
+        where = facts.path if facts is not None else f"the cache, models/{digest}"
+        steps.append(Step("emit", f"the model's kernel to {where}", f"not cached yet for digest {digest[:12]}: written once, reused while the model is unchanged"))
+    else:
+        steps.append(Step("kernel", f"the model's kernel {facts.path}", f"cached for digest {digest[:12]}: the model is unchanged, nothing derived, no SymPy"))
+        skipped.append(Step("skip", "derivation and emission", "the kernel of this exact model is cached"))
+    if facts is None:
+        steps.append(Step("compute", "the engine", "decided once the kernel is emitted: from its FLAGS and body() (closed form, heavy top or the model's kernel)"))
+        return
+    steps.append(Step("compute", "body numbers", "mass, centre of mass, inertia, rotor and g per member from the kernel's body() (NumPy)"))
+    steps.append(Step("compute", f"regime: {frame.regime}", frame.reason))
+
+
+def _model_motion(scene, facts, steps, skipped, options) -> str:
+    if facts is None:
+        options["call"] = None
+        return "decided once the model's kernel is emitted"
+    method, batch = scene.method, scene.batch
+    if method == "splitting":
+        raise InvalidInput("method", method, f"an integrator the model {facts.name!r} allows: 'auto' or a solve_ivp method (no splitting for its torques)")
+    skipped.append(Step("skip", "closed form", "none for this model (a torque, a potential or a rotor)"))
+    rtol = ivp_tolerances(scene.accuracy)[0]
+    state = ", ".join(facts.state)
+    if batch > 1:
+        options["call"] = "batched"
+        steps.append(Step("integrate", f"{batch} members in one vectorised pass", f"adaptive DOP853 on the kernel's rhs_batched ({state}), rtol = {rtol:g}"))
+        return f"integrate: batched DOP853 on model {facts.name}"
+    m = "DOP853" if method == "auto" else method
+    options["call"], options["ivp_method"] = "integrate_ivp", m
+    why = "asked for" if method != "auto" else "no closed form for this model: an 8th-order adaptive method"
+    steps.append(Step("integrate", f"solve_ivp {m} on the kernel's rhs ({state})", f"{why}; rtol = {rtol:g}"))
+    return f"integrate: {m} on model {facts.name}"

@@ -7,7 +7,7 @@ Every engine takes a Problem and nothing else from the scene (see :mod:`eulersym
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Mapping
+from typing import Any, Mapping
 
 import numpy as np
 
@@ -56,6 +56,10 @@ class Problem:
         The ``solve_ivp`` method of an integrating plan ('DOP853' unless asked otherwise).
     kernel : str or None
         The committed kernel (``eulersym.generated.<kernel>``) the plan names for the motion.
+    model : ModelFacts or None
+        A model scene's kernel and its numbers (:mod:`eulersym.scene.model_kernel`): ``model.module`` (``STATE``,
+        ``rhs``, ``rhs_batched``, ``invariants_batched``, ...) and ``model.params`` (per member, in the kernel's
+        ``PARAMETERS`` order). For the regime 'model' the principal frame is the model frame (``axes`` = identity).
 
     Examples
     --------
@@ -89,6 +93,7 @@ class Problem:
     ivp_method: str = "DOP853"
     kernel: str | None = None
     convention: str = "zxz"
+    model: Any = None
     extras: Mapping = field(default_factory=dict)
 
     @property
@@ -140,10 +145,11 @@ def _initial_rotation(scene, members: Mapping, batch: int) -> Rotation:
     return Rotation.identity(batch)
 
 
-def prepare(scene, plan, moments: np.ndarray, axes: np.ndarray, **extras) -> Problem:
+def prepare(scene, plan, moments: np.ndarray, axes: np.ndarray, *, model=None, **extras) -> Problem:
     """Build the :class:`Problem` of ``scene`` under ``plan``, with the principal ``moments`` (batch, 3) and
     ``axes`` (3, 3) already known (given, or derived by :mod:`eulersym.scene.derive`). ``extras`` are kept for
-    engines that need more (e.g. a derived bound)."""
+    engines that need more (e.g. a derived bound). ``model``: a model scene's facts; a heavy top's M, g, l then come
+    from the plan's model frame."""
     members = scene.members()
     batch = scene.batch
     P = np.asarray(axes, dtype=float)
@@ -155,6 +161,13 @@ def prepare(scene, plan, moments: np.ndarray, axes: np.ndarray, **extras) -> Pro
     q0 = np.atleast_2d(rotation_to_quaternion(rot0_pr))
     gamma0 = np.atleast_2d(rot0_pr.inv().apply(np.array([0.0, 0.0, 1.0])))  # Γ = R(q)ᵀ ẑ
     heavy = plan.regime == "heavy top"
+    frame = plan.options.get("frame") if model is not None else None
+    if heavy and frame is not None:
+        mass, g, l = frame.mass, frame.g, frame.l
+    elif heavy:
+        mass, g, l = (_field(scene, members, k, batch) for k in ("mass", "g", "l"))
+    else:
+        mass = g = l = None
     torque = None
     if plan.regime == "torque":
         torque = _vector(scene, members, "torque", batch)
@@ -172,9 +185,9 @@ def prepare(scene, plan, moments: np.ndarray, axes: np.ndarray, **extras) -> Pro
         omega0=omega0 @ P,  # rows: (Pᵀ ω)ᵀ
         q0=q0,
         gamma0=gamma0,
-        mass=_field(scene, members, "mass", batch) if heavy else None,
-        g=_field(scene, members, "g", batch) if heavy else None,
-        l=_field(scene, members, "l", batch) if heavy else None,
+        mass=mass,
+        g=g,
+        l=l,
         torque=torque,
         torque_frame=scene.torque_frame,
         propagate=plan.propagate,
@@ -185,5 +198,6 @@ def prepare(scene, plan, moments: np.ndarray, axes: np.ndarray, **extras) -> Pro
         ivp_method=plan.options.get("ivp_method", "DOP853"),
         kernel=plan.options.get("module", plan.kernels[0] if plan.kernels else None),
         convention=scene.convention,
+        model=model,
         extras=dict(extras),
     )

@@ -118,12 +118,19 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     notes = []
     identity = np.array_equal(P, np.eye(3))
     omega_body = omega_pr if identity else omega_pr @ P.T
-    attitude = euler_angles = None
-    if q_pr is not None and ("attitude" in outputs or "euler_angles" in outputs):
+    attitude = euler_angles = gamma_body = None
+    model = problem.model
+    if q_pr is not None and ("attitude" in outputs or "euler_angles" in outputs or model is not None):
         n = q_pr.shape[1]
         rot_pr = quaternion_to_rotation(q_pr.reshape(-1, 4))
-        rot_body = rot_pr * Rotation.from_matrix(np.repeat(P.T[None], len(rot_pr), axis=0))
+        rot_body = rot_pr if identity else rot_pr * Rotation.from_matrix(np.repeat(P.T[None], len(rot_pr), axis=0))
         attitude = rotation_to_quaternion(rot_body).reshape(batch, n, 4)
+        if identity and model is not None:  # the propagated q, as integrated (the model's |q|² invariant reads it)
+            attitude = q_pr
+        if model is not None:  # the vertical, model frame: Γ = R(q)ᵀ ẑ
+            gamma_body = rot_body.inv().apply(np.array([0.0, 0.0, 1.0])).reshape(batch, n, 3)
+            if gamma is not None and identity:
+                gamma_body = gamma
         if "euler_angles" in outputs:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", UserWarning)  # gimbal lock at θ = 0 is reported as the angles it gives
@@ -133,7 +140,9 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
             euler_angles = angles
     invariants = {}
     if "invariants" in outputs:
-        if plan.regime == "torque-free":
+        if model is not None:
+            invariants = _model_invariants(model, t, omega_body, gamma_body, attitude)
+        elif plan.regime == "torque-free":
             numerics = importlib.import_module("eulersym.numerics")
             inv = numerics.invariants
             invariants["energy"] = np.stack([inv.energy(tuple(moments[b]), omega_pr[b]) for b in range(batch)])
@@ -195,7 +204,22 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
         "drift": drift,
         "notes": notes,
         "turning_points": turning,
+        "gamma": gamma_body,
     }
+
+
+def _model_invariants(model, t, omega, gamma, q) -> dict:
+    """The model kernel's ``INVARIANTS`` along the motion, model frame: ``{name: (batch, n)}``."""
+    batch, n = omega.shape[:2]
+    values = {f"omega{k + 1}": omega[..., k] for k in range(3)}
+    values.update({f"gamma{k + 1}": gamma[..., k] for k in range(3)})
+    values.update({f"q{k}": q[..., k] for k in range(4)})
+    y = np.stack([values[name].reshape(-1) for name in model.state])
+    params = [np.repeat(p, n) for p in model.params]
+    time = np.tile(t, batch) if model.flags.get("time") else 0.0
+    rows = model.module.invariants_batched(time, y, *params)
+    return {name: np.broadcast_to(np.asarray(row, dtype=float), (batch * n,)).reshape(batch, n)
+            for name, row in zip(model.invariants, rows)}
 
 
 def _fmt_time(seconds: float) -> str:

@@ -11,7 +11,7 @@ import time
 import numpy as np
 
 from eulersym.errors import InvalidInput
-from eulersym.scene import derive, engines
+from eulersym.scene import derive, engines, model_kernel
 from eulersym.scene.plan import make_plan
 from eulersym.scene.problem import member_moments, prepare
 from eulersym.scene.progress import Progress
@@ -46,10 +46,17 @@ def simulate(scene: Scene, *, progress: bool = False) -> Result:
     record: list[str] = []
     members = scene.members()
     batch = scene.batch
-    derived, P = derive.principal_frame(scene, record)
-    moments = member_moments(scene, members) if derived is None else np.repeat(derived, batch, axis=0)
-    plan = make_plan(scene, moments=moments)
-    problem = prepare(scene, plan, moments, P)
+    facts = None
+    if scene.model is not None:  # the model's kernel: cached by digest, or derived and emitted once
+        module, path, emitted = model_kernel.ensure(scene.model, record)
+        facts = model_kernel.facts(scene.model, module, path, emitted, scene.parameter_values(), batch)
+        plan = make_plan(scene, model=facts)
+        moments, P = _model_numbers(plan.options["frame"], facts)
+    else:
+        derived, P = derive.principal_frame(scene, record)
+        moments = member_moments(scene, members) if derived is None else np.repeat(derived, batch, axis=0)
+        plan = make_plan(scene, moments=moments)
+    problem = prepare(scene, plan, moments, P, model=facts)
     bound = None
     if "top.sleeping_top_threshold" in plan.derive:
         bound = derive.sleeping_threshold(moments, problem.mass, problem.g, problem.l, record)
@@ -70,7 +77,7 @@ def simulate(scene: Scene, *, progress: bool = False) -> Result:
 
     clock = time.perf_counter()
     out = outputs(problem, plan, traj, bound=bound, turning=turning,
-                  tensor_given=scene.tensor is not None or scene.shape is not None)
+                  tensor_given=scene.tensor is not None or scene.shape is not None or not np.array_equal(P, np.eye(3)))
     timings["outputs"] = time.perf_counter() - clock
     timings["total"] = sum(timings.values())
     bar.done()
@@ -93,9 +100,31 @@ def simulate(scene: Scene, *, progress: bool = False) -> Result:
         timings=timings,
         sweep=members,
         moments=moments[0] if single else moments,
-        axes=P,
+        axes=P if facts is None or plan.regime != "model" else _principal_axes(facts.tensor[0]),
         n_rhs_calls=int(traj.n_calls),
         notes=tuple(out["notes"]),
         turning_points=out["turning_points"],
-        gamma=squeeze(traj.gamma) if "invariants" in scene.outputs or plan.regime == "heavy top" else None,
+        gamma=_gamma(scene, plan, traj, out, squeeze),
     )
+
+
+def _gamma(scene, plan, traj, out, squeeze):
+    if scene.model is not None:  # the vertical in the model frame, always
+        return squeeze(out["gamma"])
+    return squeeze(traj.gamma) if "invariants" in scene.outputs or plan.regime == "heavy top" else None
+
+
+def _principal_axes(tensor) -> np.ndarray:
+    """Principal axes (columns, det +1) of a tensor, for the report of a model integrated in its own frame."""
+    _, P = np.linalg.eigh(tensor)
+    if np.linalg.det(P) < 0:
+        P[:, 0] = -P[:, 0]
+    return P
+
+
+def _model_numbers(frame, facts):
+    """(moments (batch, 3), axes (3, 3)) of a model problem: the plan's principal frame where a closed form or the
+    heavy top's engines apply; else the model frame itself, with the principal moments for the report."""
+    if frame.moments is not None:
+        return frame.moments, frame.axes
+    return np.linalg.eigvalsh(facts.tensor), np.eye(3)

@@ -40,6 +40,7 @@ import numpy as np
 
 from eulersym import validation
 from eulersym.errors import InvalidInput
+from eulersym.scene import model_kernel
 from eulersym.scene.catalog import bundled
 from eulersym.scene.plan import SYMMETRY_RTOL, Plan, make_plan
 from eulersym.scene.values import Sweep, did_you_mean as _did_you_mean, number as _number, scalar as _scalar
@@ -94,7 +95,17 @@ _DEFAULTS = {
     "outputs": ("omega", "invariants"),
     "accuracy": 1e-8,
     "method": "auto",
+    "model": None,
+    "parameters": None,
 }
+
+#: Scene keywords that describe the body the legacy way; a scene with a ``model`` takes none of them.
+_BODY_KEYWORDS = ("moments", "tensor", "shape", "mass", "dimensions", "origin", "l", "g", "torque", "torque_frame")
+#: TOML sections of a scene that are not the model's (a scene file is a model file plus these).
+SCENE_SECTIONS = ("initial", "time", "output")
+#: Sections and keys only a model expresses: their presence makes Scene.from_dict build a Model.
+_MODEL_ONLY = {"": ("parameters", "rotor"), "body": ("parts", "centre_of_mass"), "pivot": ("centre_of_mass",),
+               "torque": ("potential",)}
 
 # TOML layout: section → key → Scene keyword (a tuple names a keyword and a sub-key).
 _TOML_LAYOUT: dict[str, dict[str, Any]] = {
@@ -215,14 +226,23 @@ class Scene:
     outputs: tuple
     accuracy: float
     method: str
+    model: Any = dataclasses.field(compare=False)
+    parameters: tuple | None = None
+    model_digest: str | None = dataclasses.field(init=False, default=None)
 
     def __init__(self, **kwargs):
         for key in kwargs:
             if key not in _DEFAULTS:
                 raise InvalidInput(key, kwargs[key], "a Scene keyword: " + _did_you_mean(key, _DEFAULTS))
+        if kwargs.get("model") is not None:
+            for key in _BODY_KEYWORDS:
+                if kwargs.get(key) is not None and not (key == "torque_frame" and kwargs[key] == "body"):
+                    raise InvalidInput(key, kwargs[key], "no body keyword beside a model (the model is the body: "
+                                       "its mass, inertia, pivot, gravity and torques)")
         values = {**_DEFAULTS, **kwargs}
         for key, value in _normalise(values).items():
             object.__setattr__(self, key, value)
+        object.__setattr__(self, "model_digest", self.model.digest if self.model is not None else None)
 
     # ---- constructors -------------------------------------------------------------------------------------
     @classmethod
@@ -269,6 +289,10 @@ class Scene:
         ...
         eulersym.errors.InvalidInput: intial={} is not valid: expected a TOML section or key: ... (did you mean 'initial'?)
         """
+        if not isinstance(data, Mapping):
+            raise InvalidInput("SCENE", data, "a mapping of TOML sections (body, pivot, torque, initial, time, output)")
+        if _needs_model(data):
+            return _model_scene(cls, data)
         kwargs: dict[str, Any] = {}
         where: dict[str, str] = {}
         top_valid = set(_TOML_LAYOUT[""]) | {s for s in _TOML_LAYOUT if s}
@@ -310,25 +334,14 @@ class Scene:
                     continue
                 raise InvalidInput("pivot.l", None, "the pivot–centre-of-mass distance l (a [pivot] table needs l, "
                                                     "unless the body is a shape: then l comes from the shape)")
-        try:
-            return cls(**kwargs)
-        except InvalidInput as exc:
-            base = exc.argument.split("[")[0].split(".")[0]
-            rest = exc.argument[len(base):]
-            if exc.argument.startswith("dimensions.") and exc.argument in where:
-                raise InvalidInput(where[exc.argument], exc.value, exc.expected) from None
-            if exc.argument.startswith("dimensions."):  # a dimension the file lacks: it goes in [body]
-                raise InvalidInput("body." + exc.argument[len("dimensions."):], exc.value, exc.expected) from None
-            if base in where:
-                raise InvalidInput(where[base] + rest, exc.value, exc.expected) from None
-            if base in _TOML_PATHS:  # a key the file lacks: name where it would go
-                raise InvalidInput(_TOML_PATHS[base] + rest, exc.value, exc.expected) from None
-            raise
+        return _construct(cls, kwargs, where)
 
     # ---- derived facts (pure) -----------------------------------------------------------------------------
     @property
     def regime(self) -> str:
-        """'torque-free', 'heavy top' or 'torque' — which equations of motion the scene needs.
+        """'torque-free', 'heavy top' or 'torque' — which equations of motion the scene needs; 'model' for a scene
+        with a :class:`~eulersym.model.Model` (its plan decides, once the model's kernel is known, whether a closed
+        form or the heavy top's engines apply).
 
         A pivot with ``M g l = 0`` and gravity without a pivot exert no torque about the reference point.
 
@@ -337,6 +350,8 @@ class Scene:
         >>> Scene(moments=(1, 1, 2), mass=1, l=0.1, omega=(0, 0, 5), t_end=1).regime
         'heavy top'
         """
+        if self.model is not None:
+            return "model"
         if self.l is not None and np.any(_values(self.l) != 0) and np.any(_values(self.g) != 0):
             return "heavy top"
         if self.torque is not None and any(np.any(_values(c) != 0) for c in self.torque):
@@ -405,7 +420,126 @@ class Scene:
           skip         Euler angles — not asked for
           skip         invariants — not asked for
         """
+        if self.model is not None:
+            return make_plan(self, model=self.cached_model_facts())
         return make_plan(self)
+
+    def parameter_values(self) -> dict:
+        """A model scene's parameter values given in the scene: ``{name: float or ndarray (batch,)}`` (the kernel's
+        defaults fill the others).
+
+        Examples
+        --------
+        >>> Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1).parameter_values()
+        {}
+        """
+        if not self.parameters:
+            return {}
+        members = self.members()
+        return {name: members.get(f"parameters.{name}", value) for name, value in self.parameters}
+
+    def cached_model_facts(self):
+        """The :class:`~eulersym.scene.model_kernel.ModelFacts` of this model scene when its kernel is cached (read
+        without SymPy), else None (also for a scene without a model).
+
+        Examples
+        --------
+        >>> Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1).cached_model_facts() is None
+        True
+        """
+        if self.model is None:
+            return None
+        path = model_kernel.cached_path(self.model_digest)
+        if path is None:
+            return None
+        module = model_kernel.load(path, self.model_digest)
+        return model_kernel.facts(self.model, module, path, False, self.parameter_values(), self.batch)
+
+
+def _needs_model(data: Mapping) -> bool:
+    """True when a scene file says something only a model expresses: [parameters], [rotor], body parts, a centre
+    of mass off the legacy axis, a potential, or an expression (a string where the legacy keys take numbers)."""
+    if any(key in data for key in _MODEL_ONLY[""]):
+        return True
+    for section in ("body", "pivot", "torque"):
+        table = data.get(section)
+        if not isinstance(table, Mapping):
+            continue
+        if any(key in table for key in _MODEL_ONLY[section]):
+            return True
+        for key, value in table.items():
+            if key in ("shape", "origin"):
+                continue
+            if isinstance(value, str) or (isinstance(value, (list, tuple)) and any(
+                    isinstance(x, str) or (isinstance(x, (list, tuple)) and any(isinstance(y, str) for y in x)) for x in value)):
+                return True
+    return False
+
+
+def _model_scene(cls, data: Mapping):
+    """A Scene with a :class:`~eulersym.model.Model` built from the file's model sections; swept parameters
+    (a list or ``{start, stop, num}`` in [parameters]) stay in the scene, their first value is the model's default."""
+    try:
+        from eulersym.model import Model
+    except ImportError as exc:  # pragma: no cover - the model package ships with eulersym
+        raise InvalidInput("SCENE", dict(data), f"eulersym.model to read a model scene ({exc})") from None
+    model_data = {k: v for k, v in data.items() if k not in SCENE_SECTIONS and k != "description"}
+    swept = None
+    params = data.get("parameters")
+    if isinstance(params, Mapping):
+        defaults, swept = {}, {}
+        for key, value in params.items():
+            if isinstance(value, (list, tuple, Mapping)):
+                sweep = Sweep.of(f"parameters.{key}", value)
+                defaults[key], swept[key] = sweep.values[0], sweep
+            else:
+                defaults[key] = value
+        model_data["parameters"] = defaults
+        swept = swept or None
+    model = Model.from_dict(model_data)
+    kwargs: dict[str, Any] = {"model": model, "parameters": swept}
+    where: dict[str, str] = {"parameters": "parameters"}
+    for key in ("name", "description"):
+        if key in data:
+            kwargs[key], where[key] = data[key], key
+    for section in SCENE_SECTIONS:
+        table = data.get(section)
+        if table is None:
+            continue
+        if not isinstance(table, Mapping):
+            raise InvalidInput(section, table, f"a [{section}] table with keys " + ", ".join(sorted(_TOML_LAYOUT[section])))
+        layout = _TOML_LAYOUT[section]
+        for sub, value in table.items():
+            if sub not in layout:
+                raise InvalidInput(f"{section}.{sub}", value, f"a key of [{section}]: " + _did_you_mean(sub, layout))
+            target = layout[sub]
+            if isinstance(target, tuple):
+                kw, detail = target
+                if kw in kwargs:
+                    raise InvalidInput(f"{section}.{sub}", value, f"only one of {where[kw]} and {section}.{sub}")
+                kwargs[kw], kwargs[f"{kw}_frame"] = value, detail
+                where[kw] = f"{section}.{sub}"
+            else:
+                kwargs[target], where[target] = value, f"{section}.{sub}"
+    return _construct(cls, kwargs, where)
+
+
+def _construct(cls, kwargs: dict, where: dict):
+    """``cls(**kwargs)``, with errors renamed to the TOML keys they came from (``where``)."""
+    try:
+        return cls(**kwargs)
+    except InvalidInput as exc:
+        base = exc.argument.split("[")[0].split(".")[0]
+        rest = exc.argument[len(base):]
+        if exc.argument.startswith("dimensions.") and exc.argument in where:
+            raise InvalidInput(where[exc.argument], exc.value, exc.expected) from None
+        if exc.argument.startswith("dimensions."):  # a dimension the file lacks: it goes in [body]
+            raise InvalidInput("body." + exc.argument[len("dimensions."):], exc.value, exc.expected) from None
+        if base in where:
+            raise InvalidInput(where[base] + rest, exc.value, exc.expected) from None
+        if base in _TOML_PATHS:  # a key the file lacks: name where it would go
+            raise InvalidInput(_TOML_PATHS[base] + rest, exc.value, exc.expected) from None
+        raise
 
 
 def _normalise(v: dict) -> dict:
@@ -414,9 +548,13 @@ def _normalise(v: dict) -> dict:
     for key in ("name", "description"):
         if not isinstance(v[key], str):
             raise InvalidInput(key, v[key], "a string")
-    # ---- body -----------------------------------------------------------------------------------------------
+    # ---- a model, or a body -------------------------------------------------------------------------------------
+    out["parameters"] = _parameters(v["model"], v["parameters"])
     given = [k for k in ("moments", "tensor", "shape") if v[k] is not None]
-    if not given:
+    if v["model"] is not None:
+        if not (hasattr(v["model"], "digest") and hasattr(v["model"], "generate")):
+            raise InvalidInput("model", v["model"], "an eulersym.model.Model (Model(...), Model.from_toml(path))")
+    elif not given:
         raise InvalidInput("moments", None, "a body: one of moments (I1, I2, I3), tensor (3×3) or shape (with mass and dimensions)")
     if len(given) > 1:
         raise InvalidInput(given[1], v[given[1]], f"only one body description; {given[0]} is given too")
@@ -507,9 +645,27 @@ def _normalise(v: dict) -> dict:
         raise InvalidInput("accuracy", v["accuracy"], f"a relative accuracy between {ACCURACY_RANGE[0]:g} and {ACCURACY_RANGE[1]:g}")
     out["accuracy"] = accuracy
     out["method"] = _choice("method", v["method"], METHODS)
-    _check_consistency(out)
-    _check_scales(out, v)
+    if v["model"] is None:
+        _check_consistency(out)  # a model's plan checks what its kernel can give
+        _check_scales(out, v)
     return out
+
+
+def _parameters(model, raw):
+    """A model scene's parameter values: ``((name, float or Sweep), ...)`` in the given order, or None."""
+    if raw is None:
+        return None
+    if model is None:
+        raise InvalidInput("parameters", raw, "parameters only with a model (Scene(model=Model(...), parameters=...))")
+    if not isinstance(raw, Mapping):
+        raise InvalidInput("parameters", raw, "a mapping of parameter names to values (numbers, lists or ranges to sweep)")
+    known = tuple(getattr(model, "parameters", {}) or {})
+    out = []
+    for name, value in raw.items():
+        if not isinstance(name, str) or name not in known:
+            raise InvalidInput(f"parameters.{name}", value, "a parameter of the model: " + (_did_you_mean(str(name), known) if known else "the model has none"))
+        out.append((name, _scalar(f"parameters.{name}", value)))
+    return tuple(out)
 
 
 def _choice(argument, value, valid):

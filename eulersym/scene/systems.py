@@ -17,7 +17,7 @@ from eulersym import quaternion as _quaternion
 from eulersym.scene.frames import rotate_to_body
 from eulersym.scene.trajectory import Trajectory
 
-__all__ = ["System", "system"]
+__all__ = ["System", "system", "model_state", "model_system"]
 
 
 @dataclass(frozen=True)
@@ -59,7 +59,8 @@ class System:
         if self.layout == "omega":
             return Trajectory(Y, None, None, n_calls)
         if self.layout == "omega+q":
-            return Trajectory(Y[..., :3], _quaternion.normalize(Y[..., 3:7]), None, n_calls)
+            q = _quaternion.normalize(Y[..., 3:7]) if self.normalize_q else Y[..., 3:7]
+            return Trajectory(Y[..., :3], q, None, n_calls)
         q = _quaternion.normalize(Y[..., 6:10]) if self.normalize_q else Y[..., 6:10]
         return Trajectory(Y[..., :3], q, Y[..., 3:6], n_calls)
 
@@ -70,6 +71,8 @@ def _kernel(name: str):
 
 def system(problem) -> System:
     """The batched ODE system of ``problem`` (torque-free, heavy top or constant torque) on the committed kernels."""
+    if problem.regime == "model":
+        return model_system(problem)
     I = tuple(problem.moments[:, k] for k in range(3))
     if problem.regime == "torque-free":
         if problem.wants_attitude:
@@ -104,3 +107,32 @@ def _torqued(problem, I) -> System:
         return np.concatenate([dw, dq], axis=0)
 
     return System(fun, np.concatenate([problem.omega0, problem.q0], axis=1).T, params, layout="omega+q")
+
+
+def model_state(problem) -> np.ndarray:
+    """A model problem's initial state (n_state, batch) in its kernel's ``STATE`` order (model frame).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> p = NS(model=NS(state=("omega1", "omega2", "omega3", "q0", "q1", "q2", "q3")), omega0=np.array([[0.0, 1, 2]]),
+    ...        gamma0=np.array([[0.0, 0, 1]]), q0=np.array([[1.0, 0, 0, 0]]))
+    >>> model_state(p)[:, 0].tolist()
+    [0.0, 1.0, 2.0, 1.0, 0.0, 0.0, 0.0]
+    """
+    values = {}
+    for k in range(3):
+        values[f"omega{k + 1}"] = problem.omega0[:, k]
+        values[f"gamma{k + 1}"] = problem.gamma0[:, k]
+    for k in range(4):
+        values[f"q{k}"] = problem.q0[:, k]
+    return np.stack([values[name] for name in problem.model.state])
+
+
+def model_system(problem) -> System:
+    """A model's own kernel as a batched system: ``rhs_batched(t, y, *params, out=)``, its state in ``STATE`` order."""
+    facts = problem.model
+    layout = "omega+gamma+q" if "gamma1" in facts.state else "omega+q"
+    return System(facts.module.rhs_batched, model_state(problem), tuple(facts.params), takes_out=True, layout=layout,
+                  normalize_q=False)  # q as integrated: the model's |q|² invariant reports its drift
+

@@ -30,6 +30,14 @@ def run(problem, *, progress=None) -> Trajectory:
     I = tuple(float(x) for x in problem.moments[0])
     w0, method = problem.omega0[0], problem.ivp_method
     tol = dict(method=method, rtol=problem.rtol, atol=problem.atol)
+    if problem.regime == "model":  # the model's own kernel: rhs and jac, state (ω, [Γ,] q)
+        systems = importlib.import_module("eulersym.scene.systems")
+        y0 = systems.model_state(problem)[:, 0]
+        params = tuple(float(p[0]) for p in problem.model.params)
+        layout = "omega_gamma_q" if "gamma1" in problem.model.state else "omega_q"
+        traj = numerics.integrate_ivp(problem.model.module, y0, problem.t, params, layout=layout, **tol)
+        gamma = np.asarray(traj.gamma)[None] if traj.gamma is not None else None
+        return Trajectory(traj.omega[None], traj.q[None], gamma, traj.n_rhs_calls)  # q as integrated
     if problem.regime == "torque-free":
         if problem.wants_attitude:
             gen = importlib.import_module("eulersym.generated.free_body_quaternion")

@@ -1,0 +1,178 @@
+"""A model's kernel for a scene: found in the cache by the model's digest (SymPy-free), or derived and emitted
+there once; and the numbers a plan needs from it (:class:`ModelFacts`), read without SymPy.
+
+The cache: ``$EULERSYM_CACHE/models/<digest>/`` (default ``~/.cache/eulersym/models/<digest>/``) holds the one
+module :meth:`eulersym.model.Model.generate` wrote. The digest covers the model's normalised data and the eulersym
+and SymPy versions, so a changed model or a new release gets a new folder, and an unchanged model is never
+regenerated. A folder is written beside its final place and renamed into it, so a crash leaves no half module.
+
+Imports nothing of :mod:`eulersym.scene`.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import shutil
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Mapping
+
+import numpy as np
+
+from eulersym.errors import InvalidInput
+
+__all__ = ["cache_root", "cached_path", "load", "ensure", "ModelFacts", "facts", "BODY_FIELDS"]
+
+#: What ``body(*params)`` returns, in order.
+BODY_FIELDS = ("M", "cx", "cy", "cz", "I11", "I12", "I13", "I21", "I22", "I23", "I31", "I32", "I33", "h1", "h2", "h3", "g")
+
+_LOADED: dict = {}
+
+
+def cache_root() -> Path:
+    """``$EULERSYM_CACHE/models`` (default ``~/.cache/eulersym/models``).
+
+    Examples
+    --------
+    >>> cache_root().name
+    'models'
+    """
+    root = os.environ.get("EULERSYM_CACHE") or os.path.join(os.path.expanduser("~"), ".cache", "eulersym")
+    return Path(root) / "models"
+
+
+def cached_path(digest: str) -> Path | None:
+    """The cached kernel module of the model with this digest, or None when there is none yet.
+
+    Examples
+    --------
+    >>> cached_path("0" * 64) is None or True
+    True
+    """
+    folder = cache_root() / digest
+    if not folder.is_dir():
+        return None
+    found = sorted(p for p in folder.glob("*.py") if not p.name.startswith("."))
+    return found[0] if len(found) == 1 else None
+
+
+def load(path: Path, digest: str):
+    """Import a cached kernel module from ``path`` (once per process; plain NumPy, no SymPy)."""
+    key = (str(path), digest)
+    if key in _LOADED:
+        return _LOADED[key]
+    name = f"eulersym_model_{digest[:16]}"
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    _LOADED[key] = module
+    return module
+
+
+def ensure(model, record: list):
+    """The kernel module of ``model``: from the cache, else derived and emitted into it (SymPy) — recorded in
+    ``record`` as 'model.equations' and 'model.kernel' when that happened. Returns ``(module, path, emitted)``."""
+    digest = model.digest
+    path = cached_path(digest)
+    if path is not None:
+        return load(path, digest), path, False
+    root = cache_root()
+    try:
+        root.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(dir=root, prefix=f".{digest[:12]}-"))
+    except OSError as exc:
+        raise InvalidInput("EULERSYM_CACHE", str(root), f"a folder eulersym can write the model's kernel into ({exc})") from None
+    try:
+        written = Path(model.generate(staging))
+        record.append("model.equations")
+        record.append("model.kernel")
+        folder = root / digest
+        try:
+            os.replace(staging, folder)  # atomic: the folder appears whole
+        except OSError:  # another process got there first: use its module
+            if cached_path(digest) is None:
+                raise
+        path = folder / written.name
+    finally:
+        if staging.exists():
+            shutil.rmtree(staging, ignore_errors=True)
+    return load(path, digest), path, True
+
+
+@dataclass(frozen=True, eq=False)
+class ModelFacts:
+    """What a plan needs to know of a model, read from its kernel without SymPy.
+
+    Attributes
+    ----------
+    name, digest : str
+    path : str
+        The kernel module's file.
+    emitted : bool
+        True when this run derived and emitted it; False when it came from the cache.
+    state, parameters, invariants : tuple of str
+        The kernel's ``STATE``, ``PARAMETERS``, ``INVARIANTS``.
+    flags : mapping
+        The kernel's ``FLAGS``.
+    body : mapping name → ndarray (batch,)
+        ``body(*params)`` per member (:data:`BODY_FIELDS`).
+    params : tuple of ndarray (batch,)
+        The parameters per member, in ``parameters`` order.
+    """
+
+    name: str
+    digest: str
+    path: str
+    emitted: bool
+    state: tuple
+    parameters: tuple
+    invariants: tuple
+    flags: Mapping
+    body: Mapping
+    params: tuple
+    module: object = field(default=None, repr=False)
+
+    @property
+    def tensor(self) -> np.ndarray:
+        """(batch, 3, 3) inertia tensors (about the pivot, or the centre of mass), model frame."""
+        return np.stack([self.body[k] for k in BODY_FIELDS[4:13]], axis=-1).reshape(-1, 3, 3)
+
+    @property
+    def centre_of_mass(self) -> np.ndarray:
+        """(batch, 3) centre of mass from the pivot, model frame."""
+        return np.stack([self.body[k] for k in ("cx", "cy", "cz")], axis=-1)
+
+    @property
+    def rotor(self) -> np.ndarray:
+        """(batch, 3) rotor angular momentum h, body components."""
+        return np.stack([self.body[k] for k in ("h1", "h2", "h3")], axis=-1)
+
+
+def facts(model, module, path, emitted: bool, values: Mapping, batch: int) -> ModelFacts:
+    """The :class:`ModelFacts` of ``model`` with its kernel ``module``; ``values`` maps parameter names to a float
+    or a (batch,) array (the scene's values; the kernel's DEFAULTS fill the rest)."""
+    names = tuple(module.PARAMETERS)
+    unknown = sorted(set(values) - set(names))
+    if unknown:
+        raise InvalidInput(f"parameters.{unknown[0]}", values[unknown[0]], "a parameter of the model: one of " + ", ".join(map(repr, names)))
+    params = tuple(np.broadcast_to(np.asarray(values.get(n, d), dtype=float), (batch,)).copy()
+                   for n, d in zip(names, module.DEFAULTS))
+    rows = np.stack(params, axis=1) if params else np.zeros((batch, 0))
+    unique, index = np.unique(rows, axis=0, return_inverse=True)  # a sweep rarely varies the body: evaluate once each
+    evaluated = np.array([[float(v) for v in module.body(*row)] for row in unique]).reshape(len(unique), len(BODY_FIELDS))
+    table = evaluated[np.ravel(index)] if batch else np.zeros((0, len(BODY_FIELDS)))
+    return ModelFacts(
+        name=getattr(model, "name", "model"),
+        digest=model.digest,
+        path=str(path),
+        emitted=bool(emitted),
+        state=tuple(module.STATE),
+        parameters=names,
+        invariants=tuple(module.INVARIANTS),
+        flags=dict(module.FLAGS),
+        body={k: table[:, j] for j, k in enumerate(BODY_FIELDS)},
+        params=params,
+        module=module,
+    )
