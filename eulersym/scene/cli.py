@@ -24,6 +24,8 @@ TEMPLATE = """\
 # Units: any consistent system; the comments say SI. Every key is optional unless marked "required".
 # A number may be a list [a, b, c] or a range {start = a, stop = b, num = n}: a sweep (one run per value,
 # the outer product of all swept numbers, run in one vectorised pass).
+# A user's own body: the model sections [parameters], [[body.parts]], [rotor] and torque expressions
+# (README "Scene files"; eulersym/models/*.toml are examples) take the place of [body], [pivot], [torque].
 name = "my-top"
 description = "a heavy symmetric top released at 30 degrees"
 

@@ -863,6 +863,8 @@ def rate_bound(scene_or_values) -> float:
     """
     out = scene_or_values if isinstance(scene_or_values, dict) else {
         f.name: getattr(scene_or_values, f.name) for f in dataclasses.fields(scene_or_values)}
+    if out.get("model") is not None:
+        return _model_rate(scene_or_values, out)
     i_min, _ = _inertia_range(out)
     rate = _largest(out["omega"])
     if out["torque"] is not None and i_min > 0:
@@ -870,6 +872,21 @@ def rate_bound(scene_or_values) -> float:
     if out["l"] is not None and out["mass"] is not None and i_min > 0:
         rate = max(rate, math.sqrt(_largest(out["mass"]) * _largest(out["g"]) * _largest(out["l"]) / i_min))
     return rate
+
+
+def _model_rate(scene, out) -> float:
+    """A model scene's rate bound: its spin and, when its kernel is cached (read without SymPy), the pendulum rate
+    √(M g |c| / I_min) of its body numbers; a user torque's size is not known before the run."""
+    spin = _largest(out["omega"])
+    facts = scene.cached_model_facts() if isinstance(scene, Scene) else None
+    if facts is None:
+        return spin
+    body = facts.body
+    diag = np.concatenate([np.atleast_1d(np.asarray(body[k], dtype=float)) for k in ("I11", "I22", "I33")])
+    i_min = float(np.min(np.abs(diag)))
+    lever = np.sqrt(sum(np.asarray(body[k], dtype=float) ** 2 for k in ("cx", "cy", "cz")))
+    weight = float(np.max(np.abs(np.asarray(body["M"], dtype=float) * np.asarray(body["g"], dtype=float) * lever)))
+    return max(spin, math.sqrt(weight / i_min)) if i_min > 0 else spin
 
 
 def _size(x: float) -> str:
