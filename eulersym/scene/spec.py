@@ -102,7 +102,7 @@ _BODY_KEYWORDS = ("moments", "tensor", "shape", "mass", "dimensions", "origin", 
 #: TOML sections of a scene that are not the model's (a scene file is a model file plus these).
 SCENE_SECTIONS = ("initial", "time", "output")
 #: Sections and keys only a model expresses: their presence makes Scene.from_dict build a Model.
-_MODEL_ONLY = {"": ("parameters", "rotor"), "body": ("parts", "centre_of_mass"), "pivot": ("centre_of_mass",),
+_MODEL_ONLY = {"": ("parameters", "rotor"), "body": ("parts", "dimensions", "L"), "pivot": ("centre_of_mass",),
                "torque": ("potential",)}
 
 # TOML layout: section → key → Scene keyword (a tuple names a keyword and a sub-key).
@@ -227,8 +227,9 @@ class Scene:
                 raise InvalidInput(key, kwargs[key], "a Scene keyword: " + _did_you_mean(key, _DEFAULTS))
         if kwargs.get("model") is not None:
             for key in _BODY_KEYWORDS:
-                if kwargs.get(key) is not None and not (key == "torque_frame" and kwargs[key] == "body"):
-                    raise InvalidInput(key, kwargs[key], "no body keyword beside a model (the model is the body: "
+                value = kwargs.get(key)
+                if value is not None and not (isinstance(value, (str, float, int)) and value == _DEFAULTS[key]):
+                    raise InvalidInput(key, value, "no body keyword beside a model (the model is the body: "
                                        "its mass, inertia, pivot, gravity and torques)")
         values = {**_DEFAULTS, **kwargs}
         for key, value in _normalise(values).items():
@@ -441,6 +442,13 @@ def _needs_model(data: Mapping) -> bool:
     of mass off the legacy axis, a potential, or an expression (a string where the legacy keys take numbers)."""
     if any(key in data for key in _MODEL_ONLY[""]):
         return True
+    body, pivot = data.get("body"), data.get("pivot")
+    if isinstance(body, Mapping):
+        shape, origin = body.get("shape"), body.get("origin")
+        if isinstance(shape, str) and (shape not in SHAPES or (isinstance(origin, str) and origin not in SHAPE_ORIGINS.get(shape, ("center",)))):
+            return shape in ("rod", "point", "cylinder")  # a model's shapes and origins (a rod, a cylinder on its base)
+        if isinstance(pivot, Mapping) and "l" not in pivot and ("shape" in body or "parts" in body):
+            return True  # a shape on a pivot: the model derives its centre of mass
     for section in ("body", "pivot", "torque"):
         table = data.get(section)
         if not isinstance(table, Mapping):
@@ -625,6 +633,8 @@ def _parameters(model, raw):
         return None
     if model is None:
         raise InvalidInput("parameters", raw, "parameters only with a model (Scene(model=Model(...), parameters=...))")
+    if isinstance(raw, tuple) and all(isinstance(p, tuple) and len(p) == 2 for p in raw):
+        raw = dict(raw)  # the normalised form, as dataclasses.replace passes it back
     if not isinstance(raw, Mapping):
         raise InvalidInput("parameters", raw, "a mapping of parameter names to values (numbers, lists or ranges to sweep)")
     known = tuple(getattr(model, "parameters", {}) or {})
