@@ -23,7 +23,7 @@ _MAX_REPR = 120
 
 
 def _short_repr(value: object) -> str:
-    text = repr(value)
+    text = " ".join(repr(value).split())  # one line, whatever the value (an array's repr spans several)
     if len(text) > _MAX_REPR:
         text = text[: _MAX_REPR - 3] + "..."
     return text

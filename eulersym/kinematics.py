@@ -25,11 +25,12 @@ import numpy as np
 import sympy as sp
 
 from eulersym.errors import InvalidInput, SingularConfiguration
-from eulersym.rotation import _convention, _three, elementary, euler_matrix, quaternion_multiply
+from eulersym.rotation import _convention, _three, elementary, euler_matrix, quaternion_multiply, to_euler
 from eulersym.validation import finite_array
-from eulersym.symbols import euler_angles, t
+from eulersym.symbols import euler_angles as _EULER_ANGLES, t
 
 __all__ = [
+    "euler_angles",
     "omega_body",
     "omega_space",
     "angular_velocity_matrix",
@@ -40,6 +41,22 @@ __all__ = [
 ]
 
 _E = {"x": sp.Matrix([1, 0, 0]), "y": sp.Matrix([0, 1, 0]), "z": sp.Matrix([0, 0, 1])}
+
+
+def euler_angles(A, convention: str = "zxz", *, degrees: bool = False):
+    """The Euler angles (φ, θ, ψ) of an attitude matrix ``A`` (``r_body = A @ r_space``): the angles whose
+    rates :func:`euler_rates` gives, by :func:`eulersym.rotation.to_euler` (SciPy's ranges; defined at gimbal
+    lock with ψ = 0).
+
+    The symbols φ, θ, ψ themselves (functions of t) are :data:`eulersym.symbols.euler_angles`.
+
+    Examples
+    --------
+    >>> from eulersym.rotation import euler_matrix
+    >>> [round(a, 12) for a in euler_angles(euler_matrix(0.1, 0.5, 0.2))]
+    [0.1, 0.5, 0.2]
+    """
+    return to_euler(A, convention, degrees=degrees)
 
 
 def omega_body(convention: str = "zxz") -> sp.Matrix:
@@ -71,7 +88,7 @@ def omega_body(convention: str = "zxz") -> sp.Matrix:
 @functools.lru_cache(maxsize=32)
 def _omega_body(convention: str) -> sp.Matrix:
     a, b, c = convention
-    phi, theta, psi = euler_angles
+    phi, theta, psi = _EULER_ANGLES
     Pc, Pb = elementary(c, psi), elementary(b, theta)
     w = Pc * Pb * _E[a] * phi.diff(t) + Pc * _E[b] * theta.diff(t) + _E[c] * psi.diff(t)
     return w.applyfunc(sp.expand)
@@ -93,7 +110,7 @@ def omega_space(convention: str = "zxz") -> sp.Matrix:
 @functools.lru_cache(maxsize=32)
 def _omega_space(convention: str) -> sp.Matrix:
     a, b, c = convention
-    phi, theta, psi = euler_angles
+    phi, theta, psi = _EULER_ANGLES
     PaT, PbT = elementary(a, phi).T, elementary(b, theta).T
     w = _E[a] * phi.diff(t) + PaT * _E[b] * theta.diff(t) + PaT * PbT * _E[c] * psi.diff(t)
     return w.applyfunc(sp.expand)
@@ -113,7 +130,7 @@ def angular_velocity_matrix(convention: str = "zxz", frame: str = "body") -> sp.
     """
     if frame not in ("body", "space"):
         raise InvalidInput("frame", frame, "'body' or 'space'")
-    A = euler_matrix(*euler_angles, convention=convention)
+    A = euler_matrix(*_EULER_ANGLES, convention=convention)
     Adot = A.diff(t)
     W = -Adot * A.T if frame == "body" else -A.T * Adot
     return W.applyfunc(sp.expand)
@@ -132,7 +149,7 @@ def euler_rate_matrix(convention: str = "zxz") -> sp.Matrix:
 
 @functools.lru_cache(maxsize=32)
 def _euler_rate_matrix(convention: str) -> sp.Matrix:
-    rates = [q.diff(t) for q in euler_angles]
+    rates = [q.diff(t) for q in _EULER_ANGLES]
     return _omega_body(convention).jacobian(rates)
 
 
@@ -166,7 +183,7 @@ def euler_rates(omega_body, angles, convention: str = "zxz"):
     eulersym.errors.SingularConfiguration: angles=[0.0, 0.0, 0.0] is not valid: expected a non-singular attitude for 'zxz' (det J = 0 here; J is singular where sin(theta) = 0): integrate with quaternions there
     """
     J = euler_rate_matrix(convention)
-    syms = list(euler_angles)
+    syms = list(_EULER_ANGLES)
     angles = _three("angles", angles)
     omega_body = _three("omega_body", omega_body)
     where = _singular_set(convention)
@@ -203,7 +220,7 @@ def _singular_set(convention: str) -> str:
 @functools.lru_cache(maxsize=32)
 def _rate_matrix_function(convention: str):
     J = euler_rate_matrix(convention)
-    return sp.lambdify(list(euler_angles), J, modules="numpy")
+    return sp.lambdify(list(_EULER_ANGLES), J, modules="numpy")
 
 
 def quaternion_rate(q, omega_body):
@@ -243,5 +260,5 @@ def space_rate_in_body(G_body, convention: str = "zxz") -> sp.Matrix:
     G = sp.Matrix(G_body)
     if G.shape != (3, 1):
         raise InvalidInput("G_body", G_body, "a 3-vector of body components")
-    A = euler_matrix(*euler_angles, convention=convention)
+    A = euler_matrix(*_EULER_ANGLES, convention=convention)
     return (A * (A.T * G).diff(t)).applyfunc(sp.expand)

@@ -25,7 +25,11 @@ Names (the canonical symbols of :mod:`eulersym.symbols`):
 - **rule for other names**: a name that occurs in the quantity being verified against (``known``) takes that
   symbol, with its assumptions; any other name becomes a *positive* real symbol (the unknowns of a hand derivation
   in mechanics — lengths, masses, rates of a problem — are positive; comparisons sample them in [0.5, 2]).
-  ``e`` is a plain name, not Euler's number: write ``exp(1)``.
+  ``e`` is a plain name, not Euler's number: write ``exp(1)``;
+- **a namespace of one's own** (what :mod:`eulersym.model` uses): ``names=`` gives names that take precedence
+  over all of the above (symbols, 3-vectors, 3×3 matrices), ``functions=`` extra functions whose arguments may be
+  vectors (their kinds are checked before the call), and ``strict=True`` refuses every other name with a
+  did-you-mean instead of making it a positive symbol.
 
 Limits, each refused with :class:`~eulersym.errors.UnsafeExpression` (or ``InvalidInput``) naming the argument,
 the value and what is valid, in time and memory bounded by the input length:
@@ -34,6 +38,11 @@ the value and what is valid, in time and memory bounded by the input length:
 - number literals of at most :data:`MAX_DIGITS` digits (and decimal exponents up to the same);
 - numeric exponents with ``|n| <= MAX_EXPONENT``, checked *before* the power is built (so ``9**9**9`` is refused
   at once instead of being evaluated), and exact numbers of at most :data:`MAX_RESULT_DIGITS` digits;
+- fractional powers of numbers (``2^(1/3)``) with a denominator of at most :data:`MAX_ROOT`, and at most
+  :data:`MAX_RESULT_DIGITS` digits in the base's large prime factors times the numerator (SymPy looks for
+  perfect roots in the base raised to the numerator: ``640^-640^-64`` would run for minutes);
+- only ASCII digits are numbers (``①``, Arabic-Indic ``٣`` are refused); vectors and matrices add to their own
+  shape only (``[x] + 1`` is refused);
 - no exponential inside the argument of ``sin cos tan exp sinh cosh`` or of a symbolic exponent
   (``exp(exp(x))``): such towers cannot be evaluated at high precision in bounded time;
 - anything else — attribute access (``os.system``), subscripts (``x[0]``), strings, lambdas, keywords, dunder names
@@ -641,9 +650,17 @@ class _Parser:
                 digits = max(_digits(base.p), _digits(base.q)) * magnitude
                 if digits > MAX_RESULT_DIGITS:
                     _refuse(self.argument, where, f"exact numbers of at most {MAX_RESULT_DIGITS} digits")
-            if base.is_number and exponent.is_Rational and abs(exponent.q) > MAX_ROOT:
-                _refuse(self.argument, where, f"fractional powers of numbers with a denominator of at most "
-                        f"{MAX_ROOT} (x^(1/3), 2^0.25)")
+            if base.is_number and exponent.is_Rational and not exponent.is_Integer:
+                # SymPy extracts perfect roots: it factors the base raised to the numerator, then roots it
+                if abs(exponent.q) > MAX_ROOT:
+                    _refuse(self.argument, where, f"fractional powers of numbers with a denominator of at most "
+                            f"{MAX_ROOT} (x^(1/3), 2^0.25)")
+                size = max((max(_rough_digits(r.p), _rough_digits(r.q)) for r in base.atoms(sp.Rational)),
+                           default=0)
+                if size * abs(exponent.p) > MAX_RESULT_DIGITS:
+                    _refuse(self.argument, where, f"fractional powers of numbers of at most {MAX_RESULT_DIGITS} "
+                            "digits, counting the digits of the base's large prime factors times the power's "
+                            "numerator")
         elif _has_exponential(exponent):
             _refuse(self.argument, where, "no exponential inside a symbolic exponent (towers such as x^(y^z) "
                     "cannot be evaluated in bounded time)")
@@ -697,6 +714,21 @@ def _is_kind(value, kind: str) -> bool:
 def _digits(n: int) -> int:
     """Decimal digits of ``n``, within one (from the bit length: no conversion to str)."""
     return int(abs(int(n)).bit_length() * 0.30103) + 1
+
+
+#: SymPy's perfect-root search in ``Integer**Rational`` factors out primes below this bound (``factors(limit=)``).
+_SMALL_PRIMES = 2**15
+
+
+def _rough_digits(n: int) -> int:
+    """Digits of the part of ``n`` without prime factors below :data:`_SMALL_PRIMES`: what SymPy's perfect-root
+    search raises to a power's numerator (bounded work: trial division of a number of at most
+    MAX_RESULT_DIGITS digits)."""
+    n = abs(int(n))
+    if n < _SMALL_PRIMES:
+        return 0
+    factors = sp.factorint(n, limit=_SMALL_PRIMES, use_rho=False, use_pm1=False, use_ecm=False)
+    return sum(_digits(p) * k for p, k in factors.items() if p >= _SMALL_PRIMES)
 
 
 def _magnitude(number) -> float | None:

@@ -27,6 +27,7 @@ True
 from __future__ import annotations
 
 import functools
+import math
 import random
 from typing import Any
 
@@ -46,6 +47,8 @@ __all__ = [
     "C",
     "B",
     "euler_matrix",
+    "to_euler",
+    "GIMBAL_LOCK_TOLERANCE",
     "is_rotation",
     "axis_angle",
     "to_quaternion",
@@ -87,9 +90,9 @@ def skew(v):
     """
     v = _three("v", v)
     if _is_numeric(*v):
-        x, y, z = finite_array("v", v, shape=(3,))
+        x, y, z = _numbers("v", v, shape=(3,), what="a vector")
         return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-    x, y, z = [sp.sympify(c) for c in v]
+    x, y, z = [_angle(f"v[{k}]", c) for k, c in enumerate(v)]
     return sp.Matrix([[0, -z, y], [z, 0, -x], [-y, x, 0]])
 
 
@@ -100,8 +103,44 @@ def _three(argument: str, value, n: int = 3) -> list:
     return list(value)
 
 
+def _numbers(argument: str, value, shape=None, what: str = "an angle in radians") -> np.ndarray:
+    """``value`` as a finite float array: numbers only (a string such as ``"30"`` is not an angle, and is never
+    converted); then :func:`eulersym.validation.finite_array`'s checks."""
+    if isinstance(value, (str, bytes)):
+        raise InvalidInput(argument, value, f"{what}: a number or an array of numbers, not a string")
+    try:
+        raw = np.asarray(value)
+    except (TypeError, ValueError):
+        raise InvalidInput(argument, value, f"{what}: a number or an array of numbers") from None
+    if raw.dtype.kind == "O":
+        import numbers
+
+        if not all(isinstance(v, numbers.Real) and not isinstance(v, bool) for v in raw.reshape(-1)):
+            raise InvalidInput(argument, value, f"{what}: a number or an array of numbers")
+    elif raw.dtype.kind not in "iuf":
+        raise InvalidInput(argument, value, f"{what}: a number or an array of numbers, not {raw.dtype.kind!r}-typed "
+                                            f"data ({raw.dtype})")
+    return finite_array(argument, raw, shape=shape)
+
+
+def _radians(angle, degrees: bool):
+    """The angle in radians (numbers or SymPy), from degrees when ``degrees``."""
+    if not isinstance(degrees, bool):
+        raise InvalidInput("degrees", degrees, "True or False")
+    if not degrees:
+        return angle
+    if isinstance(angle, np.ndarray):
+        return np.deg2rad(angle)
+    if isinstance(angle, sp.Basic):
+        return angle * sp.pi / 180
+    return math.radians(angle)
+
+
 def _angle(argument: str, angle):
-    """A finite angle: a real number or a SymPy expression (NaN and infinities refused)."""
+    """A finite angle: a real number or a SymPy expression (NaN and infinities refused; strings refused, never
+    sympified)."""
+    if isinstance(angle, (str, bytes)):
+        raise InvalidInput(argument, angle, "an angle: a number (radians) or a SymPy expression, not a string")
     value = sp.sympify(angle) if not isinstance(angle, sp.Basic) else angle
     if value.is_number and (value.has(sp.nan, sp.zoo, sp.oo, -sp.oo) or value.is_real is False):
         raise InvalidInput(argument, angle, "a finite real angle in radians")
@@ -116,7 +155,7 @@ def _unit_axis(axis):
     return _three("axis", axis)
 
 
-def from_axis_angle(axis, angle):
+def from_axis_angle(axis, angle, *, degrees: bool = False):
     """Passive rotation matrix of the frame turned by ``angle`` about ``axis``: ``r_body = A @ r_space``.
 
     ``A = I − sin α [n]× + (1 − cos α) [n]×²`` — the transpose of Rodrigues' active rotation. The axis is normalised
@@ -125,7 +164,9 @@ def from_axis_angle(axis, angle):
     Parameters
     ----------
     axis : 'x', 'y', 'z' or sequence of 3
-    angle : SymPy expression or float (radians)
+    angle : SymPy expression or float (radians; degrees with ``degrees=True``)
+    degrees : bool, keyword-only
+        Read ``angle`` in degrees.
 
     Returns
     -------
@@ -141,16 +182,21 @@ def from_axis_angle(axis, angle):
     [           0,           0, 1]])
     >>> np.allclose(from_axis_angle([1, 1, 1], 2 * np.pi / 3), [[0, 1, 0], [0, 0, 1], [1, 0, 0]])
     True
+    >>> np.allclose(from_axis_angle("z", 90, degrees=True), from_axis_angle("z", np.pi / 2))
+    True
     """
     axis = _unit_axis(axis)
     if _is_numeric(*axis, angle):
-        n = finite_array("axis", axis, shape=(3,))
+        n = _numbers("axis", axis, shape=(3,), what="an axis")
         norm = np.linalg.norm(n)
         if norm == 0.0:
             raise InvalidInput("axis", axis, "a non-zero 3-vector")
-        angle = float(finite_array("angle", angle, shape=()))
+        angle = _radians(float(_numbers("angle", angle, shape=())), degrees)
         K = skew(n / norm)
         return np.eye(3) - np.sin(angle) * K + (1.0 - np.cos(angle)) * (K @ K)
+    for k, c in enumerate(axis):
+        if isinstance(c, (str, bytes)):
+            raise InvalidInput(f"axis[{k}]", c, "a number or a SymPy expression, not a string")
     n = sp.Matrix([sp.sympify(c) for c in axis])
     if len(n) != 3:
         raise InvalidInput("axis", axis, "a 3-vector")
@@ -160,7 +206,7 @@ def from_axis_angle(axis, angle):
     if norm2 != 1:
         n = n / sp.sqrt(norm2)
     K = skew(n)
-    angle = _angle("angle", angle)
+    angle = _radians(_angle("angle", angle), degrees)
     return sp.eye(3) - sp.sin(angle) * K + (1 - sp.cos(angle)) * (K * K).applyfunc(sp.expand)
 
 
@@ -252,19 +298,22 @@ def _numeric_elementary(axis: str, angle: np.ndarray) -> np.ndarray:
     return out
 
 
-def euler_matrix(phi, theta, psi, convention: str = "zxz"):
+def euler_matrix(phi, theta, psi, convention: str = "zxz", *, degrees: bool = False):
     """The attitude matrix from three Euler (or Tait–Bryan) angles, passive and body-fixed.
 
     For the sequence ``"abc"``: turn by φ about a, then by θ about the new b, then by ψ about the newest c, and
     ``A = P_c(ψ) P_b(θ) P_a(φ)`` with ``P`` the passive elementary rotations; ``r_body = A @ r_space``. The default
     ``"zxz"`` is the text's ``A = B(ψ) C(θ) D(φ)``. Equals SciPy's
-    ``Rotation.from_euler(convention.upper(), [φ, θ, ψ]).as_matrix().T``.
+    ``Rotation.from_euler(convention.upper(), [φ, θ, ψ]).as_matrix().T``. :func:`to_euler` is its inverse.
 
     Parameters
     ----------
     phi, theta, psi : SymPy expressions, or floats / arrays (broadcast; the result has shape ``(..., 3, 3)``)
+        Radians, or degrees with ``degrees=True``. A string is refused, not read as a number.
     convention : str
         One of :data:`CONVENTIONS` (lower case).
+    degrees : bool, keyword-only
+        Read the angles in degrees.
 
     Returns
     -------
@@ -276,14 +325,18 @@ def euler_matrix(phi, theta, psi, convention: str = "zxz"):
     >>> A = euler_matrix(0.3, 0.5, 0.7)
     >>> np.allclose(A, Rotation.from_euler("ZXZ", [0.3, 0.5, 0.7]).as_matrix().T)
     True
+    >>> np.allclose(euler_matrix(30, 45, 60, degrees=True), euler_matrix(*np.radians([30, 45, 60])))
+    True
     """
     seq = _convention(convention)
+    named = (("phi", phi), ("theta", theta), ("psi", psi))
     if _is_numeric(phi, theta, psi):
-        angles = [finite_array(name, v) for name, v in (("phi", phi), ("theta", theta), ("psi", psi))]
+        angles = [_radians(_numbers(name, v), degrees) for name, v in named]
         angles = np.broadcast_arrays(*angles)
         Pa, Pb, Pc = (_numeric_elementary(ax, ang) for ax, ang in zip(seq, angles))
         return Pc @ Pb @ Pa
-    return _euler_matrix_symbolic(sp.sympify(phi), sp.sympify(theta), sp.sympify(psi), seq)
+    phi, theta, psi = (_radians(_angle(name, v), degrees) for name, v in named)
+    return _euler_matrix_symbolic(phi, theta, psi, seq)
 
 
 @functools.lru_cache(maxsize=64)
@@ -291,12 +344,137 @@ def _euler_matrix_symbolic(phi, theta, psi, seq):
     return elementary(seq[2], psi) * elementary(seq[1], theta) * elementary(seq[0], phi)
 
 
+#: Below this distance of the middle angle from its singular values (0 or π for proper Euler sequences, ±π/2 for
+#: Tait–Bryan), :func:`to_euler` treats the attitude as gimbal-locked; SciPy's threshold, so the angles agree.
+GIMBAL_LOCK_TOLERANCE = 1e-7
+
+
+def to_euler(A, convention: str = "zxz", *, degrees: bool = False):
+    """The Euler (or Tait–Bryan) angles of an attitude matrix: the inverse of :func:`euler_matrix`.
+
+    For the passive, body-fixed sequence ``"abc"`` (``r_body = A @ r_space``, ``A = P_c(ψ) P_b(θ) P_a(φ)``) this
+    returns (φ, θ, ψ) with ``euler_matrix(φ, θ, ψ, convention) == A``. The angles are SciPy's:
+    ``Rotation.from_matrix(A.T).as_euler(convention.upper())``, computed from the attitude quaternion by the
+    method of Bernardes and Viollet (PLoS ONE 17, e0276302, 2022), one formula for all 12 sequences.
+
+    Ranges: φ and ψ in [−π, π]; θ in [0, π] for proper Euler sequences (a = c, such as the text's "zxz") and in
+    [−π/2, π/2] for Tait–Bryan sequences (a, b, c all different).
+
+    Gimbal lock (θ within :data:`GIMBAL_LOCK_TOLERANCE` of 0 or π for proper Euler sequences, of ±π/2 for
+    Tait–Bryan): only a combination of φ and ψ is determined. The documented choice, SciPy's, is ψ = 0 with φ
+    carrying the whole turn; no warning, never NaN, and ``euler_matrix`` of the result is ``A`` again.
+
+    Parameters
+    ----------
+    A : (3, 3) or (..., 3, 3) array_like, or a SymPy Matrix with numeric entries
+        Proper rotation matrices (``AᵀA = 1`` and ``det A = +1`` within 1e-9).
+    convention : str
+        One of :data:`CONVENTIONS` (lower case).
+    degrees : bool, keyword-only
+        Return degrees instead of radians.
+
+    Returns
+    -------
+    (φ, θ, ψ) : tuple of floats for one matrix; an array of shape ``(..., 3)`` for a stack.
+
+    Examples
+    --------
+    >>> phi, theta, psi = to_euler(euler_matrix(0.3, 0.5, 0.7))
+    >>> round(phi, 12), round(theta, 12), round(psi, 12)
+    (0.3, 0.5, 0.7)
+    >>> [round(a, 9) for a in to_euler(euler_matrix(10, 20, 30, "xyz", degrees=True), "xyz", degrees=True)]
+    [10.0, 20.0, 30.0]
+    >>> to_euler(np.eye(3))  # gimbal lock: θ = 0, and ψ = 0 by choice
+    (0.0, 0.0, 0.0)
+    """
+    seq = _convention(convention)
+    if not isinstance(degrees, bool):
+        raise InvalidInput("degrees", degrees, "True or False")
+    if isinstance(A, sp.MatrixBase):
+        if A.free_symbols:
+            raise InvalidInput("A", A, "a numeric rotation matrix (its angles are not defined for symbols: "
+                                       "use the angles you built it from)")
+        A = np.array(A.evalf(), dtype=float)
+    arr = _numbers("A", A, what="a rotation matrix")
+    if arr.ndim < 2 or arr.shape[-2:] != (3, 3):
+        raise InvalidInput("A", A, f"a 3×3 rotation matrix or a stack of shape (..., 3, 3), got shape {arr.shape}")
+    stack = arr.reshape(-1, 3, 3)
+    for k, matrix in enumerate(stack):
+        _require_rotation("A" if arr.ndim == 2 else f"A[{k}]", matrix)
+    angles = _euler_from_quaternions(_quaternions(stack), seq)
+    if degrees:
+        angles = np.rad2deg(angles)
+    if arr.ndim == 2:
+        return tuple(float(a) for a in angles[0])
+    return angles.reshape(arr.shape[:-2] + (3,))
+
+
+def _quaternions(A: np.ndarray) -> np.ndarray:
+    """Unit quaternions (scalar first) of a stack of passive attitude matrices, ``from_quaternion(q) == A``:
+    :func:`to_quaternion`'s Shepperd method, vectorised."""
+    R = np.swapaxes(A, -1, -2)  # active
+    tr = np.trace(R, axis1=-2, axis2=-1)
+    diag = np.diagonal(R, axis1=-2, axis2=-1)
+    choice = np.argmax(np.concatenate([tr[:, None], diag], axis=1), axis=1)
+    q = np.empty((len(A), 4))
+    for k in range(4):
+        rows = choice == k
+        if not rows.any():
+            continue
+        r = R[rows]
+        if k == 0:
+            w = 0.5 * np.sqrt(1.0 + tr[rows])
+            q[rows] = np.stack([w, (r[:, 2, 1] - r[:, 1, 2]) / (4 * w), (r[:, 0, 2] - r[:, 2, 0]) / (4 * w),
+                                (r[:, 1, 0] - r[:, 0, 1]) / (4 * w)], axis=1)
+        else:
+            i = k - 1
+            j, m = (i + 1) % 3, (i + 2) % 3
+            v = 0.5 * np.sqrt(np.maximum(1.0 + 2.0 * r[:, i, i] - tr[rows], 0.0))
+            out = np.empty((len(r), 4))
+            out[:, 1 + i] = v
+            out[:, 0] = (r[:, m, j] - r[:, j, m]) / (4 * v)
+            out[:, 1 + j] = (r[:, j, i] + r[:, i, j]) / (4 * v)
+            out[:, 1 + m] = (r[:, m, i] + r[:, i, m]) / (4 * v)
+            q[rows] = out
+    return q / np.linalg.norm(q, axis=1, keepdims=True)
+
+
+def _euler_from_quaternions(q: np.ndarray, seq: str) -> np.ndarray:
+    """(φ, θ, ψ) rows for the body-fixed (intrinsic) sequence ``seq`` of the active rotations of ``q``.
+
+    An intrinsic sequence "abc" is the extrinsic "cba" with the angles reversed; the extrinsic angles of axes
+    (i, j, k) follow from the quaternion permuted to (a, b, c, d) (Bernardes & Viollet, as SciPy does)."""
+    i, j, k = ("xyz".index(ax) for ax in reversed(seq))
+    symmetric = i == k
+    if symmetric:
+        k = 3 - i - j
+    sign = (i - j) * (j - k) * (k - i) // 2  # the parity of (i, j, k)
+    w, v = q[:, 0], q[:, 1:]
+    if symmetric:
+        a, b, c, d = w, v[:, i], v[:, j], v[:, k] * sign
+    else:
+        a, b, c, d = w - v[:, j], v[:, i] + v[:, k] * sign, v[:, j] + w, v[:, k] * sign - v[:, i]
+    middle = 2.0 * np.arctan2(np.hypot(c, d), np.hypot(a, b))  # in [0, π]
+    half_sum, half_diff = np.arctan2(b, a), np.arctan2(d, c)
+    at_zero = np.abs(middle) <= GIMBAL_LOCK_TOLERANCE
+    at_pi = np.abs(middle - np.pi) <= GIMBAL_LOCK_TOLERANCE
+    regular = ~(at_zero | at_pi)
+    # extrinsic (first, middle, third) = intrinsic (ψ, θ, φ); at gimbal lock the intrinsic third angle ψ is 0
+    phi = np.where(regular, half_sum + half_diff, np.where(at_zero, 2.0 * half_sum, 2.0 * half_diff))
+    psi = np.where(regular, half_sum - half_diff, 0.0)
+    if not symmetric:
+        phi = phi * sign
+        middle = middle - np.pi / 2
+    phi, psi = (np.mod(x + np.pi, 2.0 * np.pi) - np.pi for x in (phi, psi))
+    return np.stack([phi, middle, psi], axis=1)
+
+
 def _square3(argument: str, A):
     if isinstance(A, sp.MatrixBase):
         if A.shape != (3, 3):
             raise InvalidInput(argument, A, f"a 3×3 matrix, got shape {A.shape}")
         return A
-    arr = finite_array(argument, A)
+    arr = _numbers(argument, A, what="a 3×3 matrix")
     if arr.shape != (3, 3):
         raise InvalidInput(argument, A, f"a 3×3 matrix, got shape {arr.shape}")
     return arr
@@ -344,7 +522,7 @@ def _require_rotation(argument: str, A, tol: float = 1e-9):
     return A
 
 
-def axis_angle(A):
+def axis_angle(A, *, degrees: bool = False):
     """Euler's rotation theorem: the unit axis and the angle of a proper rotation, ``A = from_axis_angle(axis, angle)``.
 
     The angle is in [0, π]. The axis is the eigenvector of eigenvalue 1 (every proper rotation has one). Robust
@@ -355,6 +533,9 @@ def axis_angle(A):
     ----------
     A : 3×3 proper rotation (ndarray, or SymPy Matrix with numeric entries or symbols)
 
+    degrees : bool, keyword-only
+        Return the angle in degrees.
+
     Returns
     -------
     (axis, angle): ndarray (3,) and float for numeric input; SymPy Matrix and expression for SymPy input.
@@ -364,8 +545,18 @@ def axis_angle(A):
     >>> axis, angle = axis_angle(from_axis_angle([0, 0, 1], 0.5))
     >>> np.round(axis, 12), round(angle, 12)
     (array([0., 0., 1.]), 0.5)
+    >>> round(axis_angle(from_axis_angle("x", 30, degrees=True), degrees=True)[1], 9)
+    30.0
     """
-    A = _require_rotation("A", A)
+    if not isinstance(degrees, bool):
+        raise InvalidInput("degrees", degrees, "True or False")
+    axis, angle = _axis_angle(_require_rotation("A", A))
+    if not degrees:
+        return axis, angle
+    return axis, (angle * 180 / sp.pi if isinstance(angle, sp.Basic) else math.degrees(angle))
+
+
+def _axis_angle(A):
     if isinstance(A, sp.MatrixBase):
         angle = sp.acos(sp.simplify((A.trace() - 1) / 2))
         null = (A - sp.eye(3)).nullspace(simplify=True)
@@ -414,8 +605,8 @@ def quaternion_multiply(p, q):
     p0, p1, p2, p3 = _three("p", p, 4)
     q0, q1, q2, q3 = _three("q", q, 4)
     if _is_numeric(p0, p1, p2, p3, q0, q1, q2, q3):
-        finite_array("p", [p0, p1, p2, p3])
-        finite_array("q", [q0, q1, q2, q3])
+        _numbers("p", [p0, p1, p2, p3], what="a quaternion")
+        _numbers("q", [q0, q1, q2, q3], what="a quaternion")
     out = list(hamilton((p0, p1, p2, p3), (q0, q1, q2, q3)))
     if _is_numeric(*p, *q):
         return np.array(out, dtype=float)
@@ -437,7 +628,7 @@ def from_quaternion(q):
     """
     q = _three("q", q, 4)
     if _is_numeric(*q):
-        qa = finite_array("q", q, shape=(4,))
+        qa = _numbers("q", q, shape=(4,), what="a quaternion")
         norm = np.linalg.norm(qa)
         if norm == 0.0:
             raise InvalidInput("q", q, "a non-zero quaternion (scalar first)")

@@ -23,7 +23,6 @@ True
 from __future__ import annotations
 
 import sympy as sp
-from sympy.physics.vector import dynamicsymbols
 
 __all__ = [
     "t",
@@ -37,15 +36,23 @@ __all__ = [
     "euler_angles", "euler_rates_symbols", "omega_symbols", "moments", "torques",
 ]
 
-t: sp.Symbol = dynamicsymbols._t
-phi, theta, psi = dynamicsymbols("phi theta psi")
-omega1, omega2, omega3 = dynamicsymbols("omega1 omega2 omega3")
+t: sp.Symbol = sp.Symbol("t")
+
+
+def _dynamicsymbols(names: str) -> list:
+    """``sympy.physics.vector.dynamicsymbols(names)`` (undefined functions of ``t``) without importing
+    ``sympy.physics`` (a third of SymPy's import time)."""
+    return [f(t) for f in sp.symbols(names, cls=sp.Function)]
+
+
+phi, theta, psi = _dynamicsymbols("phi theta psi")
+omega1, omega2, omega3 = _dynamicsymbols("omega1 omega2 omega3")
 I1, I2, I3, M, g, l = sp.symbols("I1 I2 I3 M g l", positive=True)
 N1, N2, N3 = sp.symbols("N1 N2 N3", real=True)
-eta1, eta2, eta3 = dynamicsymbols("eta1 eta2 eta3")
+eta1, eta2, eta3 = _dynamicsymbols("eta1 eta2 eta3")
 omega0 = sp.Symbol("omega0", positive=True)
-Gamma1, Gamma2, Gamma3 = dynamicsymbols("Gamma1 Gamma2 Gamma3")
-q0, q1, q2, q3 = dynamicsymbols("q0 q1 q2 q3")
+Gamma1, Gamma2, Gamma3 = _dynamicsymbols("Gamma1 Gamma2 Gamma3")
+q0, q1, q2, q3 = _dynamicsymbols("q0 q1 q2 q3")
 
 #: (φ, θ, ψ) as functions of t.
 euler_angles = (phi, theta, psi)

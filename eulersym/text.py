@@ -359,6 +359,19 @@ def _entries() -> list[ClosedForm]:
         E("ex4.3.limits", "Example 4.3", "Large spin: φ̇_slow ≈ M g l/(I3 ω3), φ̇_fast ≈ I3 ω3/(I1 cos θ).",
           (M * g * l / (I3 * omega3), I3 * omega3 / (I1 * _c(theta))), "top.precession_limits()",
           _call("eulersym.top:precession_limits")),
+        # The turning-point cubic f(u) = u̇², u = cos θ (issue 11) ---------------------------------------------
+        E("4.5.sleeping_top_nutation", "4.5",
+          "Small nutations of the sleeping top (double root of f(u) at u = 1): ω_n² = (I3/I1)² (ω3² − 4 M g l I1/I3²), "
+          "real iff the text's bound holds.",
+          (I3 / I1) ** 2 * (omega3**2 - 4 * M * g * l * I1 / I3**2),
+          "top.sleeping_top_nutation_frequency() = −½ f″(1) of top.turning_point_cubic()",
+          _call("eulersym.top:sleeping_top_nutation_frequency")),
+        E("ex4.3.double_root", "Example 4.3",
+          "Steady precession is a double root of the turning-point cubic: f′(cos θ) = 0 is the quadratic "
+          "I1 cos θ φ̇² − I3 ω3 φ̇ + M g l = 0.",
+          sp.Eq(I1 * _c(theta) * _phid**2 - I3 * omega3 * _phid + M * g * l, 0),
+          "top.steady_precession_double_root() (f(cos θ) = f′(cos θ) = 0 at θ̇ = 0)",
+          _call("eulersym.top:steady_precession_double_root"), up_to_factor=True),
     ]
 
 

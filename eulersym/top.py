@@ -56,6 +56,8 @@ __all__ = [
     "steady_precession_rates",
     "precession_limits",
     "sleeping_top_threshold",
+    "sleeping_top_nutation_frequency",
+    "steady_precession_double_root",
 ]
 
 #: Conserved momenta conjugate to φ and ψ.
@@ -275,19 +277,95 @@ def _top_numbers(E, p_phi, p_psi, I1_, I3_, M_, g_, l_) -> tuple:
     return tuple(float(v) for v in (E, p_phi, p_psi, I1_, I3_, M_, g_, l_))
 
 
-def _roots(values) -> np.ndarray:
+def _cubic_value(c, u) -> float:
+    return float(((c[0] * u + c[1]) * u + c[2]) * u + c[3])
+
+
+def _noise(c, u) -> float:
+    """A bound on the rounding error of evaluating the cubic at u (and of its coefficients)."""
+    au = abs(u)
+    return 16 * np.finfo(float).eps * float(((abs(c[0]) * au + abs(c[1])) * au + abs(c[2])) * au + abs(c[3]))
+
+
+def _stable_quadratic(A, B, C) -> list:
+    """Real roots of A x² + B x + C (A ≠ 0) without cancellation; a double root once."""
+    disc = B * B - 4 * A * C
+    if disc < 0:
+        return []
+    q = -0.5 * (B + math.copysign(math.sqrt(disc), B))
+    if q == 0:
+        return [0.0]
+    return sorted({q / A, C / q})
+
+
+def _bisect_root(c, lo, hi) -> float:
+    """The root of the cubic in [lo, hi] where it changes sign: bisection to the last bit (monotone segment)."""
+    flo = _cubic_value(c, lo)
+    for _ in range(2000):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        fm = _cubic_value(c, mid)
+        if fm == 0:
+            return mid
+        if (fm > 0) == (flo > 0):
+            lo, flo = mid, fm
+        else:
+            hi = mid
+    return lo if abs(_cubic_value(c, lo)) <= abs(_cubic_value(c, hi)) else hi
+
+
+def _turning_roots(values, c):
+    """The roots of the cubic on [−1, 1] that bound the motion, exact at double roots.
+
+    The cubic is monotone between its critical points (roots of f′, a quadratic), so each simple root is found by
+    bisection to the last bit; at a critical point where |f| is below the rounding noise the root is double and is
+    returned as the critical point itself (to round-off), not by a solver that loses half the digits. A pole
+    ``u = ±1`` is a root exactly when ``p_φ = ±p_ψ`` (``f(±1) = −(p_φ ∓ p_ψ)²/I1²``).
+    """
+    E, p_phi, p_psi = values[:3]
+    crit = [u for u in _stable_quadratic(3 * c[0], 2 * c[1], c[2]) if -1.0 < u < 1.0]
+    knots = [-1.0, *crit, 1.0]
+    fvals = [_cubic_value(c, u) for u in knots]
+    if p_phi == p_psi:
+        fvals[-1] = 0.0
+    if p_phi == -p_psi:
+        fvals[0] = 0.0
+    roots = []  # (u, double?)
+    for k, (u, fu) in enumerate(zip(knots, fvals)):
+        is_crit = 0 < k < len(knots) - 1
+        if fu == 0.0 or (is_crit and abs(fu) <= _noise(c, u)):
+            roots.append((u, is_crit or _double_at_pole(c, u)))
+            fvals[k] = 0.0
+    for a, b, fa, fb in zip(knots, knots[1:], fvals, fvals[1:]):
+        if fa != 0.0 and fb != 0.0 and (fa > 0) != (fb > 0):
+            roots.append((_bisect_root(c, a, b), False))
+    roots.sort()
+    return roots, knots, fvals
+
+
+def _double_at_pole(c, u) -> bool:
+    """Whether the root at the pole u = ±1 is double: f′(u) within its rounding noise of zero."""
+    d = (3 * c[0] * u + 2 * c[1]) * u + c[2]
+    noise = 16 * np.finfo(float).eps * (3 * abs(c[0]) + 2 * abs(c[1]) + abs(c[2]))
+    return abs(d) <= noise
+
+
+def _roots(values) -> tuple:
+    """(coefficients, the turning roots on [−1, 1] with their multiplicity flags, the third root)."""
     coefficients = np.array(_cubic_coefficients()(*values), dtype=float)
-    roots = np.roots(coefficients)
-    scale = max(1.0, float(np.abs(roots).max()))
-    real = np.sort(roots[np.abs(roots.imag) <= 1e-7 * scale].real)
-    return coefficients, real
+    roots, _, _ = _turning_roots(values, coefficients)
+    return coefficients, roots
 
 
 def turning_points(E, p_phi, p_psi, I1, I3, M, g, l) -> tuple:
     """The turning points of the nutation: the roots ``u1 ≤ u2`` of :func:`turning_point_cubic` in [−1, 1].
 
     The nutation angle oscillates between ``θ1 = arccos u2`` and ``θ2 = arccos u1``; ``f(u) ≥ 0`` between the
-    roots. (``f(±1) = −(p_φ ∓ p_ψ)²/I1² ≤ 0`` and ``f → +∞`` as ``u → ∞``, so the third root is ≥ 1.)
+    roots. (``f(±1) = −(p_φ ∓ p_ψ)²/I1² ≤ 0`` and ``f → +∞`` as ``u → ∞``, so the third root is ≥ 1.) A double root
+    (steady precession, the sleeping top) is returned as ``(u, u)`` to round-off: the roots are bracketed by the
+    critical points of the cubic and a pole ``u = ±1`` is a root exactly when ``p_φ = ±p_ψ``, so no digits are lost
+    to a generic cubic solver.
 
     Parameters
     ----------
@@ -316,21 +394,27 @@ def turning_points(E, p_phi, p_psi, I1, I3, M, g, l) -> tuple:
     >>> u1, u2 = turning_points(E, p_phi, p_psi, I1_, I3_, M_, g_, l_)
     >>> round(u2, 12), round(u1, 6)
     (0.5, 0.496303)
+
+    The stable sleeping top: a double root at u = 1, exactly.
+
+    >>> p = I3_ * w3
+    >>> turning_points(p**2/(2*I3_) + M_*g_*l_, p, p, I1_, I3_, M_, g_, l_)
+    (1.0, 1.0)
     """
     values = _top_numbers(E, p_phi, p_psi, I1, I3, M, g, l)
-    coefficients, real = _roots(values)
-    tol = 1e-9
-    inside = [min(max(r, -1.0), 1.0) for r in real if -1 - tol <= r <= 1 + tol]
+    coefficients, roots = _roots(values)
 
     def f(u):
-        return float(np.polyval(coefficients, u))
+        return _cubic_value(coefficients, u)
 
-    scale = max(1.0, float(np.abs(coefficients).max()))
-    for a, b in zip(inside, inside[1:]):
-        if f((a + b) / 2) >= -1e-12 * scale:
+    for (a, da), (b, db) in zip(roots, roots[1:]):
+        if b > a and f(0.5 * (a + b)) > 0:
             return (float(a), float(b))
-    if len(inside) == 1 and abs(f(inside[0])) <= 1e-9 * scale:
-        return (float(inside[0]), float(inside[0]))
+    doubles = [u for u, dbl in roots if dbl]
+    if doubles:
+        poles = [u for u in doubles if abs(u) == 1.0]  # a pole that is a root is exact; prefer it
+        u = poles[0] if poles else min(doubles, key=lambda v: abs(f(v)))
+        return (float(u), float(u))
     raise InvalidInput(
         "E", E, "an energy at or above the minimum of the effective potential for these momenta "
         "(f(u) = u̇² is negative everywhere on [-1, 1]: no motion is possible)"
@@ -366,9 +450,9 @@ def nutation_period(E, p_phi, p_psi, I1, I3, M, g, l) -> float:
 
     values = _top_numbers(E, p_phi, p_psi, I1, I3, M, g, l)
     u1, u2 = turning_points(E, p_phi, p_psi, I1, I3, M, g, l)
-    coefficients, real = _roots(values)
+    coefficients, _ = _roots(values)
     beta = coefficients[0]
-    u3 = float(real.max()) if real.size else math.nan
+    u3 = float(-coefficients[1] / beta - u1 - u2)  # the sum of the roots
     if not u3 >= u2:
         raise CheckFailed(f"the third root of the cubic ({u3}) should lie above u2 = {u2}")
     if u3 - u1 <= 0:
@@ -543,6 +627,79 @@ def _precession_limits(value) -> tuple:
 
 
 @functools.lru_cache(maxsize=1)
+def _upright_cubic() -> tuple:
+    """(w, f): the cubic of the top spinning upright with spin w (θ = 0, θ̇ = 0, φ̇ + ψ̇ = w); u = 1 is a double root."""
+    w = sp.Symbol("w", positive=True)  # the spin about the vertical: φ̇ + ψ̇ at θ = 0
+    rest = {theta.diff(t): 0, psi.diff(t): w - phi.diff(t)}
+    p_phi, p_psi = (sp.expand(p.xreplace(rest).xreplace({theta: 0})) for p in conserved_momenta())
+    e_upright = sp.expand(energy().xreplace(rest).xreplace({theta: 0}))
+    upright = {P_PHI: p_phi, P_PSI: p_psi, ENERGY: e_upright}
+    f = sp.expand(turning_point_cubic().xreplace(upright))
+    if sp.expand(f.subs(U, 1)) != 0 or sp.expand(sp.diff(f, U).subs(U, 1)) != 0:
+        raise CheckFailed(f"u = 1 is not a double root for the upright top: {f}")
+    return w, f
+
+
+@functools.lru_cache(maxsize=1)
+def sleeping_top_nutation_frequency() -> sp.Expr:
+    """The squared angular frequency of small nutations of the sleeping top, from the double root of f at u = 1.
+
+    Near a double root ``u_d`` of :func:`turning_point_cubic` a slightly disturbed top has
+    ``ü = ½ f′(u) ≈ ½ f″(u_d) (u − u_d)``, so ``u`` oscillates at ``ω_n² = −½ f″(u_d)``. For the upright top
+    (``p_φ = p_ψ = I3 ω3``, ``E = I3 ω3²/2 + M g l``; see :func:`sleeping_top_threshold`):
+    ``ω_n² = (I3² ω3² − 4 I1 M g l)/I1²``, positive exactly above the threshold; it is also the limit of
+    :func:`nutation_period` (``2π/ω_n``) as the top goes to sleep.
+
+    Returns
+    -------
+    sympy.Expr in ``omega3`` (the spin, a function of t, constant on the motion).
+
+    Examples
+    --------
+    >>> sp.factor(sleeping_top_nutation_frequency())
+    -(4*I1*M*g*l - I3**2*omega3(t)**2)/I1**2
+    """
+    w, f = _upright_cubic()
+    return sp.expand(-sp.diff(f, U, 2).subs(U, 1) / 2).xreplace({w: _OMEGA3})
+
+
+@functools.lru_cache(maxsize=1)
+def steady_precession_double_root() -> sp.Eq:
+    """Steady precession as a double root of the cubic: ``f(cos θ) = f′(cos θ) = 0`` at θ̇ = 0.
+
+    With θ̇ = 0, precession rate φ̇ and spin ``ω3 = φ̇ cos θ + ψ̇``, :func:`conserved_momenta` and :func:`energy`
+    give ``p_φ, p_ψ, E``; then ``f(cos θ) = 0`` identically (θ̇ = 0 is a turning point) and the motion stays at
+    ``θ`` iff the root is double, ``f′(cos θ) = 0``. Divided by the non-zero ``−2 sin²θ/I1`` this is the
+    steady-precession quadratic in φ̇ — found here from the turning-point cubic, independently of
+    :func:`steady_precession_condition`, which balances the θ equation of motion.
+
+    Returns
+    -------
+    sympy.Eq ``Eq(expression, 0)`` with φ̇ as ``Derivative(phi(t), t)``.
+
+    Examples
+    --------
+    >>> steady_precession_double_root()
+    Eq(I1*cos(theta(t))*Derivative(phi(t), t)**2 - I3*omega3(t)*Derivative(phi(t), t) + M*g*l, 0)
+    """
+    phid = phi.diff(t)
+    rest = {theta.diff(t): 0, psi.diff(t): _OMEGA3 - phid * sp.cos(theta)}
+    p_phi, p_psi = (sp.expand(p.xreplace(rest)) for p in conserved_momenta())
+    e_steady = sp.expand(energy().xreplace(rest))
+    f = turning_point_cubic().xreplace({P_PHI: p_phi, P_PSI: p_psi, ENERGY: e_steady})
+    at = {U: sp.cos(theta)}
+    value = _reduce_sin_squares(f.xreplace(at), (theta,))
+    if sp.simplify(value) != 0:
+        raise CheckFailed(f"θ̇ = 0 is not a root of the cubic: f(cos θ) = {value}")
+    slope = _reduce_sin_squares(sp.diff(f, U).xreplace(at), (theta,))
+    reduced = sp.factor(sp.cancel(slope / (-2 * (1 - sp.cos(theta) ** 2) / I1)))
+    reduced = sp.expand(reduced)
+    if reduced.has(sp.sin(theta)) or sp.Poly(reduced, phid).degree() != 2:
+        raise CheckFailed(f"f′(cos θ) is not sin²θ times a quadratic in φ̇: {slope}")
+    return sp.Eq(reduced, 0, evaluate=False)
+
+
+@functools.lru_cache(maxsize=1)
 def sleeping_top_threshold() -> sp.Expr:
     """The bound on ω3² above which the vertical ("sleeping") top is stable, derived from a double root of f(u).
 
@@ -565,14 +722,7 @@ def sleeping_top_threshold() -> sp.Expr:
     >>> sleeping_top_threshold()
     4*I1*M*g*l/I3**2
     """
-    w = sp.Symbol("w", positive=True)  # the spin about the vertical: φ̇ + ψ̇ at θ = 0
-    rest = {theta.diff(t): 0, psi.diff(t): w - phi.diff(t)}
-    p_phi, p_psi = (sp.expand(p.xreplace(rest).xreplace({theta: 0})) for p in conserved_momenta())
-    e_upright = sp.expand(energy().xreplace(rest).xreplace({theta: 0}))
-    upright = {P_PHI: p_phi, P_PSI: p_psi, ENERGY: e_upright}
-    f = sp.expand(turning_point_cubic().xreplace(upright))
-    if sp.expand(f.subs(U, 1)) != 0 or sp.expand(sp.diff(f, U).subs(U, 1)) != 0:
-        raise CheckFailed(f"u = 1 is not a double root for the upright top: {f}")
+    w, f = _upright_cubic()
     rest = sp.cancel(f / (1 - U) ** 2)
     u3 = sp.solve(rest, U)
     if len(u3) != 1:

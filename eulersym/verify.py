@@ -5,8 +5,8 @@ target (a SymPy object, a formula, or the name of a derived quantity in :data:`Q
 comparison engine :mod:`eulersym.compare`, cheapest first:
 
 1. **numeric** — the difference itself is evaluated with mpmath at ``points`` seeded random points with ``dps``
-   digits (``compare(..., exact=False)``); it must stay within ``10**(-dps/2)`` (relative to the difference when
-   that exceeds 1). A point where it does not is a counterexample: inequality is proved (``exact=False``);
+   digits (``compare(..., exact=False)``, 1 to 10 000 points, 15 to 300 digits); it must stay within
+   ``10**(5 - dps)`` (relative to the sides when they exceed 1). A point where it does not is a counterexample: inequality is proved (``exact=False``);
 2. **exact** — otherwise every component of the difference is simplified to zero by
    :func:`eulersym.compare.zero_exact` (expand, trig-polynomial reduction, bounded simplify) within a time budget
    (``budget`` seconds, default 2; an interval timer stops the attempt: POSIX, main thread). Proved: ``exact=True``;
@@ -58,7 +58,7 @@ from sympy.core.function import AppliedUndef
 
 from eulersym import symbols as S
 from eulersym.compare import SIMPLIFY_BUDGET, compare, components, freeze_functions, zero_exact
-from eulersym.errors import InvalidInput
+from eulersym.errors import EulersymError, InvalidInput
 from eulersym.parsing import parse, parse_latex
 
 __all__ = ["verify", "Verdict", "QUANTITIES", "Quantity", "cli", "resolve", "DEFAULT_BUDGET"]
@@ -169,38 +169,98 @@ def _available(module: str, attr: str) -> bool:
     return callable(getattr(mod, attr, None))
 
 
+#: name → its row of :data:`_DERIVED`, so that one name is looked up without building the catalogue.
+_DERIVED_BY_NAME = {row[0]: row for row in _DERIVED}
+
+_PRINCIPAL_MOMENTS = "cube_corner_principal_moments"
+
+
+def _principal_moments_quantity() -> Quantity | None:
+    if not (_available("inertia", "principal_axes") and _available("inertia", "cube")):
+        return None
+    return Quantity(
+        "principal moments of the cube about a corner (ascending), Example 4.1",
+        lambda: sp.Matrix(list(_call("inertia", "principal_axes", _call(
+            "inertia", "cube", S.M, sp.Symbol("a", positive=True), origin="corner"))[0])))
+
+
+def _derived_quantity(name: str) -> Quantity | None:
+    """The catalogue entry of a derived (not text) name, importing only its own module; None if absent."""
+    if name == _PRINCIPAL_MOMENTS:
+        return _principal_moments_quantity()
+    row = _DERIVED_BY_NAME.get(name)
+    if row is None:
+        return None
+    _, description, module, attr, args, kwargs, post = row
+    if not _available(module, attr):
+        return None
+    return Quantity(description, _derived_callable(module, attr, args, kwargs, post))
+
+
+def _closed_forms() -> dict:
+    try:
+        return getattr(importlib.import_module("eulersym.text"), "CLOSED_FORMS", {})
+    except ImportError:
+        return {}
+
+
+def _text_quantity(key: str, form) -> Quantity | None:
+    needs = re.findall(r"\b(rotation|kinematics|inertia|dynamics|top)\.(\w+)\(", getattr(form, "derivation", ""))
+    if not all(_available(module, attr) for module, attr in needs):
+        return None
+    section = getattr(form, "section", "")
+    statement = getattr(form, "statement", "")
+    return Quantity(f"{statement} [text, {section}]".strip(), form.derived)
+
+
+def _derived_names() -> tuple[str, ...]:
+    return tuple(_DERIVED_BY_NAME) + (_PRINCIPAL_MOMENTS,)
+
+
+@functools.lru_cache(maxsize=256)
+def _lookup(name: str) -> Quantity | None:
+    """One entry of the catalogue, built alone: a derived name imports its own module only; a text id (or
+    ``text:<id>``) reads :data:`eulersym.text.CLOSED_FORMS` (typed data; nothing is derived until ``derive()``)."""
+    if not isinstance(name, str):
+        return None
+    if name in _DERIVED_BY_NAME or name == _PRINCIPAL_MOMENTS:
+        return _derived_quantity(name)
+    key = name[len("text:"):] if name.startswith("text:") else name
+    if "." not in key:  # every id of the text has a dot ("4.2.omega_body"); a formula such as "x" is no id
+        return None
+    if name.startswith("text:") and key not in _DERIVED_BY_NAME and key != _PRINCIPAL_MOMENTS:
+        return None  # ``text:<id>`` names only an id that a derived name shadows
+    form = _closed_forms().get(key)
+    return None if form is None else _text_quantity(key, form)
+
+
 @functools.lru_cache(maxsize=1)
 def _catalogue() -> dict[str, Quantity]:
     entries: dict[str, Quantity] = {}
-    for name, description, module, attr, args, kwargs, post in _DERIVED:
-        if _available(module, attr):
-            entries[name] = Quantity(description, _derived_callable(module, attr, args, kwargs, post))
-    if _available("inertia", "principal_axes") and _available("inertia", "cube"):
-        entries["cube_corner_principal_moments"] = Quantity(
-            "principal moments of the cube about a corner (ascending), Example 4.1",
-            lambda: sp.Matrix(list(_call("inertia", "principal_axes", _call(
-                "inertia", "cube", S.M, sp.Symbol("a", positive=True), origin="corner"))[0])))
-    try:
-        text = importlib.import_module("eulersym.text")
-        closed = getattr(text, "CLOSED_FORMS", {})
-    except ImportError:
-        closed = {}
-    for key, form in closed.items():
-        needs = re.findall(r"\b(rotation|kinematics|inertia|dynamics|top)\.(\w+)\(", getattr(form, "derivation", ""))
-        if not all(_available(module, attr) for module, attr in needs):
+    for name in _derived_names():
+        quantity = _derived_quantity(name)
+        if quantity is not None:
+            entries[name] = quantity
+    for key, form in _closed_forms().items():
+        quantity = _text_quantity(key, form)
+        if quantity is None:
             continue
-        name = key if key not in entries else f"text:{key}"
-        section = getattr(form, "section", "")
-        statement = getattr(form, "statement", "")
-        entries[name] = Quantity(f"{statement} [text, {section}]".strip(), form.derived)
+        entries[key if key not in entries else f"text:{key}"] = quantity
     return entries
 
 
 class _Catalogue(Mapping):
-    """name → :class:`Quantity`, built on first use (so that ``import eulersym.verify`` stays cheap)."""
+    """name → :class:`Quantity`. One name is looked up alone (its own module, no other derivation); iterating
+    builds the whole table. Either way ``import eulersym.verify`` stays cheap."""
 
     def __getitem__(self, name: str) -> Quantity:
-        return _catalogue()[name]
+        quantity = _lookup(name)
+        if quantity is None:
+            raise KeyError(name)
+        return quantity
+
+    def __contains__(self, name) -> bool:
+        return _lookup(name) is not None
 
     def __iter__(self):
         return iter(_catalogue())
@@ -250,9 +310,10 @@ def resolve(name: str):
         base, index = m.group(1), tuple(int(g) for g in m.groups()[1:] if g is not None)
     if base not in QUANTITIES:
         close = difflib.get_close_matches(base, list(QUANTITIES), n=3)
-        hint = f" (did you mean {', '.join(close)}?)" if close else ""
-        raise InvalidInput("against", name, f"a name in eulersym.verify.QUANTITIES{hint}; "
-                                            "`eulersym verify --list` prints them")
+        suffix = "" if index is None else "[" + ", ".join(map(str, index)) + "]"
+        hint = f" (did you mean {', '.join(c + suffix for c in close)}?)" if close else ""
+        raise InvalidInput("against", name, f"a name in eulersym.verify.QUANTITIES{hint} or a formula; "
+                                            "`eulersym verify --list` prints the names")
     obj = _copy(_derived(base))
     if index is None:
         return obj
@@ -262,6 +323,48 @@ def resolve(name: str):
         return obj[index if len(index) == 2 else index[0]]
     except (IndexError, TypeError, KeyError):
         raise InvalidInput("against", name, f"an index within the shape of {base}") from None
+
+
+def _names_a_quantity(text: str) -> bool:
+    """True when ``--against`` text is meant as a quantity name (so an unknown one gets a did-you-mean), False
+    when it is a formula. Names: a catalogue entry, optionally indexed; or a word with ``_``, ``.``, ``:`` or an
+    index that the parser does not know as a symbol (``omega_bdy[0]``, ``4.2.omega_bdy``). A plain word such as
+    ``x`` or ``k`` is a formula: two formulas are compared."""
+    m = _INDEXED.match(text)
+    base = m.group(1) if m else text
+    if base in QUANTITIES:
+        return True
+    if not re.fullmatch(r"[A-Za-z_0-9][\w:.\-]*", base) or not re.search(r"[A-Za-z]", base):
+        return False
+    if _is_symbol_name(base):
+        return False
+    return m is not None or any(c in base for c in "_.:")
+
+
+#: The bounds of the numeric test: more points cost minutes and prove little more (10 000 points at 300 digits take
+#: about 15 s); past 300 digits the tolerance 10**(5 - dps) is below the smallest double and every equal pair would
+#: read as different.
+MAX_POINTS = 10_000
+MAX_DPS = 300
+MIN_DPS = 15
+MAX_BUDGET = 3600.0
+
+
+def _numeric_settings(points, dps, budget):
+    """Validated ``(points, dps, budget)``; an :class:`InvalidInput` naming the valid range otherwise."""
+    def integer(argument, value, low, high):
+        if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+            raise InvalidInput(argument, value, f"an integer from {low} to {high}")
+        return value
+
+    points = integer("points", points, 1, MAX_POINTS)
+    dps = integer("dps", dps, MIN_DPS, MAX_DPS)
+    if budget is not None:
+        if isinstance(budget, bool) or not isinstance(budget, (int, float)) or not (
+                math.isfinite(budget) and 0 < budget <= MAX_BUDGET):
+            raise InvalidInput("budget", budget, f"seconds, a number in (0, {MAX_BUDGET:g}], or None (no limit)")
+        budget = float(budget)
+    return points, dps, budget
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -304,7 +407,7 @@ class Verdict:
     >>> v.equal, v.exact, v.components
     (False, False, ('[1, 1]',))
     >>> print(v.diagnosis)
-    component [1, 1]: a factor 2 missing (½ too many): the candidate is half the right result
+    component [1, 1]: a factor 2 missing (½ too many): this component is half the right one
     """
 
     equal: bool
@@ -685,20 +788,27 @@ def _trig_args_scaled(factor):
 _ANGLE_NAMES = {S.phi: "phi", S.theta: "theta", S.psi: "psi"}
 
 
-def _slips(candidate, target, *, term: bool = False) -> list[tuple[str, Callable]]:
+def _slips(candidate, target, *, term: bool = False, part: str | None = None) -> list[tuple[str, Callable]]:
     """(diagnosis, transformation of the candidate object) in the order they are tried.
 
-    With ``term=True`` the candidate is one term of a sum: sign and factor slips apply to equations too."""
+    With ``term=True`` the candidate is one term of a sum: sign and factor slips apply to equations too. ``part``
+    ("term" or "component") words the sign and factor slips for that part, not for the whole candidate."""
     equation = isinstance(target, (sp.Equality, list)) and not term
+    part = "term" if term else part
     slips: list[tuple[str, Callable]] = []
     if not equation:
+        if part is None:
+            sign = "overall sign: the candidate is the negative of the right result"
+            twice = "a factor 2 too many: the candidate is twice the right result"
+            half = "a factor 2 missing (½ too many): the candidate is half the right result"
+        else:
+            sign = f"wrong sign: this {part} is the negative of the right one"
+            twice = f"a factor 2 too many: this {part} is twice the right one"
+            half = f"a factor 2 missing (½ too many): this {part} is half the right one"
         slips += [
-            ("overall sign: the candidate is the negative of the right result",
-             lambda c: _map_scalars(c, lambda e: -e)),
-            ("a factor 2 too many: the candidate is twice the right result",
-             lambda c: _map_scalars(c, lambda e: e / 2)),
-            ("a factor 2 missing (½ too many): the candidate is half the right result",
-             lambda c: _map_scalars(c, lambda e: 2 * e)),
+            (sign, lambda c: _map_scalars(c, lambda e: -e)),
+            (twice, lambda c: _map_scalars(c, lambda e: e / 2)),
+            (half, lambda c: _map_scalars(c, lambda e: 2 * e)),
         ]
     free = _free_symbols(candidate)
     funcs = set().union(*(e.atoms(AppliedUndef) for _, e in components(candidate)))
@@ -827,7 +937,7 @@ def _diagnose_components(candidate, target, labels: tuple, seed: int) -> str | N
     for label in labels:
         if label not in cands or label not in targets:
             return None
-        text = _diagnose(cands[label], targets[label], seed, conventions=False)
+        text = _diagnose(cands[label], targets[label], seed, conventions=False, part="component")
         if text is None:
             return None  # a component no single slip explains: say nothing rather than half
         found.setdefault(text, []).append(label)
@@ -854,7 +964,7 @@ def _diagnose_terms(candidate_scalar, probe: _Probe, target, equation: bool) -> 
     return None
 
 
-def _diagnose(candidate, target, seed: int, conventions: bool = True) -> str | None:
+def _diagnose(candidate, target, seed: int, conventions: bool = True, part: str | None = None) -> str | None:
     """The first slip whose transformation makes the candidate equal to the target (numerically), or None."""
     equation = isinstance(target, (sp.Equality, list))
     mapping: dict = {}
@@ -874,7 +984,7 @@ def _diagnose(candidate, target, seed: int, conventions: bool = True) -> str | N
     probe = _Probe(t_flat, symbols, mapping, seed, proportional=equation)
     if not probe.usable:
         return None
-    for text, transform in _slips(candidate, target):
+    for text, transform in _slips(candidate, target, part=part):
         try:
             transformed = transform(candidate)
             tc = _equation_differences(transformed, target)[0] if equation else transformed
@@ -915,11 +1025,12 @@ def verify(candidate, against, *, points: int = 5, dps: int = 30, seed: int = 0,
         The name of a quantity in :data:`QUANTITIES` (optionally indexed, ``"A[0, 1]"``), or a SymPy object, or
         a formula string (parsed like the candidate).
     points, dps, seed : int
-        The numeric test: number of seeded random points and working digits (tolerance ``10**(-dps/2)``).
+        The numeric test: number of seeded random points (1 to :data:`MAX_POINTS`) and working digits
+        (:data:`MIN_DPS` to :data:`MAX_DPS`; tolerance ``10**(5 - dps)``).
     budget : float or None
         Seconds for the exact attempt (the factor of equations, the proof and the tidying of the difference);
         past it the decision is numeric only. The search for a slip has the same number of seconds of its own.
-        None: no limit. The budget needs an interval timer: POSIX, main thread, no other timer running.
+        None: no limit; otherwise in (0, 3600]. The budget needs an interval timer: POSIX, main thread, no other timer running.
     latex : bool
         Read a string candidate as LaTeX.
 
@@ -945,13 +1056,11 @@ def verify(candidate, against, *, points: int = 5, dps: int = 30, seed: int = 0,
     >>> verify("[[1, 0], [0, 2]]", sp.Matrix([[1, 0], [0, 3]])).components
     ('[1, 1]',)
     """
+    points, dps, budget = _numeric_settings(points, dps, budget)
     name = None
     if isinstance(against, str):
         text = against.strip()
-        m = _INDEXED.match(text)
-        by_name = text in QUANTITIES or (m is not None and m.group(1) in QUANTITIES)
-        looks_like_name = re.fullmatch(r"[A-Za-z_][\w:]*", text) is not None and not _is_symbol_name(text)
-        if by_name or looks_like_name:
+        if _names_a_quantity(text):
             target = resolve(text)
             name = text
         else:
@@ -1134,8 +1243,8 @@ def cli(argv: list[str]) -> int:
     parser.add_argument("--json", action="store_true", help="print the verdict as JSON")
     parser.add_argument("--latex", action="store_true", help="read EXPR as LaTeX")
     parser.add_argument("--list", action="store_true", help="list the quantities and exit")
-    parser.add_argument("--points", type=int, default=5, help="random points of the numeric test (default 5)")
-    parser.add_argument("--dps", type=int, default=30, help="digits of the numeric test (default 30)")
+    parser.add_argument("--points", type=int, default=5, help=f"random points of the numeric test, 1 to {MAX_POINTS} (default 5)")
+    parser.add_argument("--dps", type=int, default=30, help=f"digits of the numeric test, {MIN_DPS} to {MAX_DPS} (default 30)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the random points (default 0)")
     parser.add_argument("--budget", type=float, default=DEFAULT_BUDGET,
                         help=f"seconds for the exact attempt (default {DEFAULT_BUDGET:g})")
@@ -1156,12 +1265,17 @@ def cli(argv: list[str]) -> int:
         raise InvalidInput("EXPR", None, "a formula to check (quote it), or --list")
     if args.against is None:
         raise InvalidInput("--against", None, "a quantity name (see --list) or a formula to check EXPR against")
-    verdict = verify(args.expr, args.against, points=args.points, dps=args.dps, seed=args.seed,
-                     budget=args.budget, latex=args.latex)
-    if args.json:
-        print(json.dumps(verdict.to_dict(), indent=2, ensure_ascii=False))
-    else:
-        print(verdict.report())
+    try:
+        verdict = verify(args.expr, args.against, points=args.points, dps=args.dps, seed=args.seed,
+                         budget=args.budget, latex=args.latex)
+        text = json.dumps(verdict.to_dict(), indent=2, ensure_ascii=False) if args.json else verdict.report()
+    except (EulersymError, KeyboardInterrupt):
+        raise
+    except (Exception, RecursionError) as exc:  # noqa: BLE001 - exit 1 means NOT EQUAL: a crash must not read as one
+        raise InvalidInput("EXPR", args.expr, "a formula eulersym can compare with --against "
+                           f"{args.against!r}; comparing them failed inside eulersym ({type(exc).__name__}: "
+                           f"{str(exc)[:120]}) — a bug: please report it") from None
+    print(text)
     return 0 if verdict.equal else 1
 
 

@@ -3,9 +3,17 @@
 
 import numpy as np
 
-from eulersym.errors import InvalidInput
+from eulersym.errors import InvalidInput, SingularConfiguration
 
-__all__ = ["_as_vector", "_prepare_out", "_too_many", "_unpack", "_wrong_length"]
+__all__ = ["_as_vector", "_blocked", "_prepare_out", "_singular", "_too_many", "_unpack", "_wrong_length"]
+
+#: Columns per block of a long 1-d batch: a block's temporaries (a few rows of 128 KiB) stay in cache.
+_BLOCK = 16384
+
+
+def _singular(name, value, expected):
+    """The error for a state on the singularity of the coordinates (where the scalar flavour divided by zero)."""
+    return SingularConfiguration(name, value, expected)
 
 
 def _too_many(function, extra, names):
@@ -59,4 +67,21 @@ def _prepare_out(out, head, shapes, inputs=()):
         raise InvalidInput("out", got, f"a float64 ndarray of shape {shape}")
     if any(np.may_share_memory(out, array) for array in inputs):
         raise InvalidInput("out", "an array overlapping an input", "a separate array (out is written in place)")
+    return out
+
+
+def _blocked(block, out, head, args, vectors):
+    """``block(*args, out)`` over slices of a long 1-d batch (``out.shape[head:] == (n,)``), else in one call.
+
+    An argument is sliced when it carries the batch: a vector (``vectors[i]``) of shape ``(k, n)``, a scalar
+    argument of shape ``(n,)``; anything else (floats, shape ``(1,)``) broadcasts as it is.
+    """
+    batch = out.shape[head:]
+    if len(batch) != 1 or batch[0] <= 2 * _BLOCK:
+        return block(*args, out)
+    n = batch[0]
+    sliced = [isinstance(a, np.ndarray) and a.ndim == 1 + v and a.shape[-1] == n for a, v in zip(args, vectors)]
+    for start in range(0, n, _BLOCK):
+        cut = slice(start, start + _BLOCK)
+        block(*[a[..., cut] if s else a for a, s in zip(args, sliced)], out[..., cut])
     return out

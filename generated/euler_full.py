@@ -2,14 +2,14 @@
 # Source derivation: eulersym.dynamics.euler_equations(I=<full symmetric tensor>, torque=(N1, N2, N3)) solved for d(omega)/dt
 # eulersym version: 0.1.0
 # SymPy version: 1.14.0
-# Input hash: sha256:62d9e4ee3ffba53ae0cf0671686d4008848015435ee22929b31b97b4659d4b19
+# Input hash: sha256:1ed1e6a7fec54a0090ff1afec5b5cffdb6561d9124931935870759526c3486e1
 # Arguments: rhs(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3); y = (omega1, omega2, omega3)
 # Arguments: jac(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3); y = (omega1, omega2, omega3)
 # Arguments: invariants(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3); y = (omega1, omega2, omega3)
 """Euler's equations with a full (symmetric) inertia tensor and a body torque: I ω̇ = (I ω) × ω + N, I
 = [[I11, I12, I13], [I12, I22, I23], [I13, I23, I33]] (the tensor's entries, body axes).
 
-Functions (each also as ``<name>_batched(..., out=None)`` and ``<name>_flat(...)``):
+Functions (each also as ``<name>_batched(..., out=None)``, ``<name>_flat(...)`` and ``<name>_loop(..., out)``):
 
 - ``rhs(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3)`` → (domega1/dt, domega2/dt, domega3/dt): the right-hand side dy/dt
 - ``jac(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3)`` → shape (3, 3): the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -21,22 +21,26 @@ Arguments, in order (the same for every function):
   y = (omega1, omega2, omega3): state
   I11, I12, I13, I22, I23, I33, N1, N2, N3
 
-Scalar flavour: Python floats and ``math``; returns a new list on every call (safe with
-``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.
+Scalar flavour: Python floats and ``math``; a vector may be a list, a tuple or an ndarray (same
+speed: an ndarray is turned into floats with one ``tolist()``); returns a new list on every call (safe
+with ``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.
 Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once
 per call, and the result is a new array unless ``out=`` is given (written in place, so it may not
-overlap the inputs).
+overlap the inputs). A long 1-d batch is computed in blocks whose temporaries stay in cache.
 Flat flavour: ``<name>_flat`` takes every symbol as its own float argument (vectors unpacked, in
 order) and returns a tuple: plain ``math`` on floats, no checks, so ``numba.njit`` compiles it.
+Loop flavour: ``<name>_loop(..., out)`` loops ``<name>_flat`` over the columns of a 1-d batch (float
+parameters); ``eulersym.numerics._fast.batched(module, name)`` compiles it with numba (cached on disk),
+the module itself never imports numba.
 
 Invariants: E = ½ ω·Iω and L² = |Iω|² (conserved only without torque).
 """
 
 import numpy as np
 
-from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, _wrong_length
+from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _too_many, _wrong_length
 
-__all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched']
+__all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched', 'rhs_loop', 'jac_loop', 'invariants_loop']
 
 
 def rhs(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra):
@@ -51,11 +55,11 @@ def rhs(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra):
     """
     if extra:
         raise _too_many('rhs', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
+    if isinstance(y, np.ndarray):
+        y = y.tolist()  # Python floats: ``math`` on them is fastest
     try:
-        omega1, omega2, omega3 = y.tolist()
-    except AttributeError:
-        omega1, omega2, omega3 = _unpack('y', y, ('omega1', 'omega2', 'omega3'))
-    except ValueError:
+        omega1, omega2, omega3 = y
+    except (TypeError, ValueError):
         raise _wrong_length('y', y, ('omega1', 'omega2', 'omega3')) from None
     x0 = 1/I11
     x1 = I13*omega2
@@ -97,11 +101,11 @@ def jac(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra):
     """
     if extra:
         raise _too_many('jac', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
+    if isinstance(y, np.ndarray):
+        y = y.tolist()  # Python floats: ``math`` on them is fastest
     try:
-        omega1, omega2, omega3 = y.tolist()
-    except AttributeError:
-        omega1, omega2, omega3 = _unpack('y', y, ('omega1', 'omega2', 'omega3'))
-    except ValueError:
+        omega1, omega2, omega3 = y
+    except (TypeError, ValueError):
         raise _wrong_length('y', y, ('omega1', 'omega2', 'omega3')) from None
     x0 = 1/I11
     x1 = I13*omega2
@@ -157,11 +161,11 @@ def invariants(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra):
     """
     if extra:
         raise _too_many('invariants', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
+    if isinstance(y, np.ndarray):
+        y = y.tolist()  # Python floats: ``math`` on them is fastest
     try:
-        omega1, omega2, omega3 = y.tolist()
-    except AttributeError:
-        omega1, omega2, omega3 = _unpack('y', y, ('omega1', 'omega2', 'omega3'))
-    except ValueError:
+        omega1, omega2, omega3 = y
+    except (TypeError, ValueError):
         raise _wrong_length('y', y, ('omega1', 'omega2', 'omega3')) from None
     x1 = I13*omega2
     x3 = I33*omega3
@@ -311,6 +315,11 @@ def rhs_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra, out=None
         raise _too_many('rhs', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
     out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
+    return _blocked(_rhs_block, out, 1, (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,), (False, True, False, False, False, False, False, False, False, False, False))
+
+
+def _rhs_block(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out):
+    """``rhs_batched`` on one block of the batch (checked by the caller), into ``out``."""
     omega1, omega2, omega3 = y
     x0 = 1/I11
     x1 = I13*omega2
@@ -369,6 +378,11 @@ def jac_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra, out=None
         raise _too_many('jac', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
     out = _prepare_out(out, (3, 3), (np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
+    return _blocked(_jac_block, out, 2, (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,), (False, True, False, False, False, False, False, False, False, False, False))
+
+
+def _jac_block(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out):
+    """``jac_batched`` on one block of the batch (checked by the caller), into ``out``."""
     omega1, omega2, omega3 = y
     x0 = 1/I11
     x1 = I13*omega2
@@ -447,6 +461,11 @@ def invariants_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra, o
         raise _too_many('invariants', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
     out = _prepare_out(out, (2,), (np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
+    return _blocked(_invariants_block, out, 1, (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,), (False, True, False, False, False, False, False, False, False, False, False))
+
+
+def _invariants_block(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out):
+    """``invariants_batched`` on one block of the batch (checked by the caller), into ``out``."""
     omega1, omega2, omega3 = y
     x1 = I13*omega2
     x3 = I33*omega3
@@ -491,4 +510,51 @@ def invariants_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra, o
     out[1, ...] += x5*x50
     out[1, ...] += x50*x7
     out[1, ...] += x7*x8
+    return out
+
+
+def rhs_loop(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out):
+    """rhs_loop(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out) -> out
+
+    ``rhs_batched`` as a plain loop over the columns of a 1-d batch, calling ``rhs_flat``: vectors
+    ``y`` (3, n), every other argument a float, ``out`` of shape (3,) + (n,). No checks and
+    slow as Python: it is the source numba compiles (``eulersym.numerics._fast.batched``). """
+    for _column in range(out.shape[-1]):
+        _values = rhs_flat(t, y[0, _column], y[1, _column], y[2, _column], I11, I12, I13, I22, I23, I33, N1, N2, N3)
+        out[0, _column] = _values[0]
+        out[1, _column] = _values[1]
+        out[2, _column] = _values[2]
+    return out
+
+
+def jac_loop(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out):
+    """jac_loop(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out) -> out
+
+    ``jac_batched`` as a plain loop over the columns of a 1-d batch, calling ``jac_flat``: vectors
+    ``y`` (3, n), every other argument a float, ``out`` of shape (3, 3) + (n,). No checks and
+    slow as Python: it is the source numba compiles (``eulersym.numerics._fast.batched``). """
+    for _column in range(out.shape[-1]):
+        _values = jac_flat(t, y[0, _column], y[1, _column], y[2, _column], I11, I12, I13, I22, I23, I33, N1, N2, N3)
+        out[0, 0, _column] = _values[0][0]
+        out[0, 1, _column] = _values[0][1]
+        out[0, 2, _column] = _values[0][2]
+        out[1, 0, _column] = _values[1][0]
+        out[1, 1, _column] = _values[1][1]
+        out[1, 2, _column] = _values[1][2]
+        out[2, 0, _column] = _values[2][0]
+        out[2, 1, _column] = _values[2][1]
+        out[2, 2, _column] = _values[2][2]
+    return out
+
+
+def invariants_loop(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out):
+    """invariants_loop(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out) -> out
+
+    ``invariants_batched`` as a plain loop over the columns of a 1-d batch, calling ``invariants_flat``: vectors
+    ``y`` (3, n), every other argument a float, ``out`` of shape (2,) + (n,). No checks and
+    slow as Python: it is the source numba compiles (``eulersym.numerics._fast.batched``). """
+    for _column in range(out.shape[-1]):
+        _values = invariants_flat(t, y[0, _column], y[1, _column], y[2, _column], I11, I12, I13, I22, I23, I33, N1, N2, N3)
+        out[0, _column] = _values[0]
+        out[1, _column] = _values[1]
     return out

@@ -2,14 +2,14 @@
 # Source derivation: eulersym.dynamics.euler_equations(I=(I1, I2, I3), torque=(0, 0, 0)) and eulersym.kinematics.quaternion_rate(q, omega)
 # eulersym version: 0.1.0
 # SymPy version: 1.14.0
-# Input hash: sha256:e1f182f6405b8fa3c2fbc4809e8168d5aad6117eab0174fb8ba03833a6706364
+# Input hash: sha256:1488036f2fe08c9c2ebc1f56a35d4b7af2f86cf604b4a2b489c9a75f92ee9e61
 # Arguments: rhs(t, y, I1, I2, I3); y = (omega1, omega2, omega3, q0, q1, q2, q3)
 # Arguments: jac(t, y, I1, I2, I3); y = (omega1, omega2, omega3, q0, q1, q2, q3)
 # Arguments: invariants(t, y, I1, I2, I3); y = (omega1, omega2, omega3, q0, q1, q2, q3)
 """The torque-free rigid body with its attitude as a unit quaternion (scalar first): Euler's equations
 I ω̇ = (I ω) × ω and q̇ = ½ q ⊗ (0, ω_body).
 
-Functions (each also as ``<name>_batched(..., out=None)`` and ``<name>_flat(...)``):
+Functions (each also as ``<name>_batched(..., out=None)``, ``<name>_flat(...)`` and ``<name>_loop(..., out)``):
 
 - ``rhs(t, y, I1, I2, I3)`` → (domega1/dt, domega2/dt, domega3/dt, dq0/dt, dq1/dt, dq2/dt, dq3/dt): the right-hand side dy/dt
 - ``jac(t, y, I1, I2, I3)`` → shape (7, 7): the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -21,20 +21,24 @@ Arguments, in order (the same for every function):
   y = (omega1, omega2, omega3, q0, q1, q2, q3): state
   I1, I2, I3
 
-Scalar flavour: Python floats and ``math``; returns a new list on every call (safe with
-``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.
+Scalar flavour: Python floats and ``math``; a vector may be a list, a tuple or an ndarray (same
+speed: an ndarray is turned into floats with one ``tolist()``); returns a new list on every call (safe
+with ``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.
 Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once
 per call, and the result is a new array unless ``out=`` is given (written in place, so it may not
-overlap the inputs).
+overlap the inputs). A long 1-d batch is computed in blocks whose temporaries stay in cache.
 Flat flavour: ``<name>_flat`` takes every symbol as its own float argument (vectors unpacked, in
 order) and returns a tuple: plain ``math`` on floats, no checks, so ``numba.njit`` compiles it.
+Loop flavour: ``<name>_loop(..., out)`` loops ``<name>_flat`` over the columns of a 1-d batch (float
+parameters); ``eulersym.numerics._fast.batched(module, name)`` compiles it with numba (cached on disk),
+the module itself never imports numba.
 """
 
 import numpy as np
 
-from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, _wrong_length
+from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _too_many, _wrong_length
 
-__all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched']
+__all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched', 'rhs_loop', 'jac_loop', 'invariants_loop']
 
 
 def rhs(t, y, I1, I2, I3, *extra):
@@ -49,11 +53,11 @@ def rhs(t, y, I1, I2, I3, *extra):
     """
     if extra:
         raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I2', 'I3'))
+    if isinstance(y, np.ndarray):
+        y = y.tolist()  # Python floats: ``math`` on them is fastest
     try:
-        omega1, omega2, omega3, q0, q1, q2, q3 = y.tolist()
-    except AttributeError:
-        omega1, omega2, omega3, q0, q1, q2, q3 = _unpack('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3'))
-    except ValueError:
+        omega1, omega2, omega3, q0, q1, q2, q3 = y
+    except (TypeError, ValueError):
         raise _wrong_length('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3')) from None
     x0 = 1/I1
     x1 = I2*omega3
@@ -84,11 +88,11 @@ def jac(t, y, I1, I2, I3, *extra):
     """
     if extra:
         raise _too_many('jac', extra, ('t', 'y', 'I1', 'I2', 'I3'))
+    if isinstance(y, np.ndarray):
+        y = y.tolist()  # Python floats: ``math`` on them is fastest
     try:
-        omega1, omega2, omega3, q0, q1, q2, q3 = y.tolist()
-    except AttributeError:
-        omega1, omega2, omega3, q0, q1, q2, q3 = _unpack('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3'))
-    except ValueError:
+        omega1, omega2, omega3, q0, q1, q2, q3 = y
+    except (TypeError, ValueError):
         raise _wrong_length('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3')) from None
     x0 = 1/I1
     x1 = I2*omega3
@@ -127,11 +131,11 @@ def invariants(t, y, I1, I2, I3, *extra):
     """
     if extra:
         raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I2', 'I3'))
+    if isinstance(y, np.ndarray):
+        y = y.tolist()  # Python floats: ``math`` on them is fastest
     try:
-        omega1, omega2, omega3, q0, q1, q2, q3 = y.tolist()
-    except AttributeError:
-        omega1, omega2, omega3, q0, q1, q2, q3 = _unpack('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3'))
-    except ValueError:
+        omega1, omega2, omega3, q0, q1, q2, q3 = y
+    except (TypeError, ValueError):
         raise _wrong_length('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3')) from None
     x22 = (omega1*omega1)
     x23 = (omega2*omega2)
@@ -221,6 +225,11 @@ def rhs_batched(t, y, I1, I2, I3, *extra, out=None):
         raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I2', 'I3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3'))
     out = _prepare_out(out, (7,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3),), (t, y, I1, I2, I3,))
+    return _blocked(_rhs_block, out, 1, (t, y, I1, I2, I3,), (False, True, False, False, False))
+
+
+def _rhs_block(t, y, I1, I2, I3, out):
+    """``rhs_batched`` on one block of the batch (checked by the caller), into ``out``."""
     omega1, omega2, omega3, q0, q1, q2, q3 = y
     x0 = 1/I1
     x1 = I2*omega3
@@ -278,6 +287,11 @@ def jac_batched(t, y, I1, I2, I3, *extra, out=None):
         raise _too_many('jac', extra, ('t', 'y', 'I1', 'I2', 'I3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3'))
     out = _prepare_out(out, (7, 7), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3),), (t, y, I1, I2, I3,))
+    return _blocked(_jac_block, out, 2, (t, y, I1, I2, I3,), (False, True, False, False, False))
+
+
+def _jac_block(t, y, I1, I2, I3, out):
+    """``jac_batched`` on one block of the batch (checked by the caller), into ``out``."""
     omega1, omega2, omega3, q0, q1, q2, q3 = y
     x0 = 1/I1
     x1 = I2*omega3
@@ -381,6 +395,11 @@ def invariants_batched(t, y, I1, I2, I3, *extra, out=None):
         raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I2', 'I3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3'))
     out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3),), (t, y, I1, I2, I3,))
+    return _blocked(_invariants_block, out, 1, (t, y, I1, I2, I3,), (False, True, False, False, False))
+
+
+def _invariants_block(t, y, I1, I2, I3, out):
+    """``invariants_batched`` on one block of the batch (checked by the caller), into ``out``."""
     omega1, omega2, omega3, q0, q1, q2, q3 = y
     x22 = (omega1*omega1)
     x23 = (omega2*omega2)
@@ -395,4 +414,96 @@ def invariants_batched(t, y, I1, I2, I3, *extra, out=None):
     out[2, ...] += (q1*q1)
     out[2, ...] += (q2*q2)
     out[2, ...] += (q3*q3)
+    return out
+
+
+def rhs_loop(t, y, I1, I2, I3, out):
+    """rhs_loop(t, y, I1, I2, I3, out) -> out
+
+    ``rhs_batched`` as a plain loop over the columns of a 1-d batch, calling ``rhs_flat``: vectors
+    ``y`` (7, n), every other argument a float, ``out`` of shape (7,) + (n,). No checks and
+    slow as Python: it is the source numba compiles (``eulersym.numerics._fast.batched``). """
+    for _column in range(out.shape[-1]):
+        _values = rhs_flat(t, y[0, _column], y[1, _column], y[2, _column], y[3, _column], y[4, _column], y[5, _column], y[6, _column], I1, I2, I3)
+        out[0, _column] = _values[0]
+        out[1, _column] = _values[1]
+        out[2, _column] = _values[2]
+        out[3, _column] = _values[3]
+        out[4, _column] = _values[4]
+        out[5, _column] = _values[5]
+        out[6, _column] = _values[6]
+    return out
+
+
+def jac_loop(t, y, I1, I2, I3, out):
+    """jac_loop(t, y, I1, I2, I3, out) -> out
+
+    ``jac_batched`` as a plain loop over the columns of a 1-d batch, calling ``jac_flat``: vectors
+    ``y`` (7, n), every other argument a float, ``out`` of shape (7, 7) + (n,). No checks and
+    slow as Python: it is the source numba compiles (``eulersym.numerics._fast.batched``). """
+    for _column in range(out.shape[-1]):
+        _values = jac_flat(t, y[0, _column], y[1, _column], y[2, _column], y[3, _column], y[4, _column], y[5, _column], y[6, _column], I1, I2, I3)
+        out[0, 0, _column] = _values[0][0]
+        out[0, 1, _column] = _values[0][1]
+        out[0, 2, _column] = _values[0][2]
+        out[0, 3, _column] = _values[0][3]
+        out[0, 4, _column] = _values[0][4]
+        out[0, 5, _column] = _values[0][5]
+        out[0, 6, _column] = _values[0][6]
+        out[1, 0, _column] = _values[1][0]
+        out[1, 1, _column] = _values[1][1]
+        out[1, 2, _column] = _values[1][2]
+        out[1, 3, _column] = _values[1][3]
+        out[1, 4, _column] = _values[1][4]
+        out[1, 5, _column] = _values[1][5]
+        out[1, 6, _column] = _values[1][6]
+        out[2, 0, _column] = _values[2][0]
+        out[2, 1, _column] = _values[2][1]
+        out[2, 2, _column] = _values[2][2]
+        out[2, 3, _column] = _values[2][3]
+        out[2, 4, _column] = _values[2][4]
+        out[2, 5, _column] = _values[2][5]
+        out[2, 6, _column] = _values[2][6]
+        out[3, 0, _column] = _values[3][0]
+        out[3, 1, _column] = _values[3][1]
+        out[3, 2, _column] = _values[3][2]
+        out[3, 3, _column] = _values[3][3]
+        out[3, 4, _column] = _values[3][4]
+        out[3, 5, _column] = _values[3][5]
+        out[3, 6, _column] = _values[3][6]
+        out[4, 0, _column] = _values[4][0]
+        out[4, 1, _column] = _values[4][1]
+        out[4, 2, _column] = _values[4][2]
+        out[4, 3, _column] = _values[4][3]
+        out[4, 4, _column] = _values[4][4]
+        out[4, 5, _column] = _values[4][5]
+        out[4, 6, _column] = _values[4][6]
+        out[5, 0, _column] = _values[5][0]
+        out[5, 1, _column] = _values[5][1]
+        out[5, 2, _column] = _values[5][2]
+        out[5, 3, _column] = _values[5][3]
+        out[5, 4, _column] = _values[5][4]
+        out[5, 5, _column] = _values[5][5]
+        out[5, 6, _column] = _values[5][6]
+        out[6, 0, _column] = _values[6][0]
+        out[6, 1, _column] = _values[6][1]
+        out[6, 2, _column] = _values[6][2]
+        out[6, 3, _column] = _values[6][3]
+        out[6, 4, _column] = _values[6][4]
+        out[6, 5, _column] = _values[6][5]
+        out[6, 6, _column] = _values[6][6]
+    return out
+
+
+def invariants_loop(t, y, I1, I2, I3, out):
+    """invariants_loop(t, y, I1, I2, I3, out) -> out
+
+    ``invariants_batched`` as a plain loop over the columns of a 1-d batch, calling ``invariants_flat``: vectors
+    ``y`` (7, n), every other argument a float, ``out`` of shape (3,) + (n,). No checks and
+    slow as Python: it is the source numba compiles (``eulersym.numerics._fast.batched``). """
+    for _column in range(out.shape[-1]):
+        _values = invariants_flat(t, y[0, _column], y[1, _column], y[2, _column], y[3, _column], y[4, _column], y[5, _column], y[6, _column], I1, I2, I3)
+        out[0, _column] = _values[0]
+        out[1, _column] = _values[1]
+        out[2, _column] = _values[2]
     return out

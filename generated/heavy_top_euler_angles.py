@@ -2,15 +2,16 @@
 # Source derivation: eulersym.top.equations_of_motion() solved for the second derivatives (mass matrix); invariants eulersym.top.energy(), eulersym.top.conserved_momenta()
 # eulersym version: 0.1.0
 # SymPy version: 1.14.0
-# Input hash: sha256:2afdc4a14fac367d39cb0b4803cb8feb3304bb97c0d2c5197ab7a8d0e91a6545
+# Input hash: sha256:fdc9149ec6a60d1f7b85cd36fafa35077e4d4389c31b4f974d1aa28032567f35
 # Arguments: rhs(t, y, I1, I3, M, g, l); y = (phi, theta, psi, phidot, thetadot, psidot)
 # Arguments: jac(t, y, I1, I3, M, g, l); y = (phi, theta, psi, phidot, thetadot, psidot)
 # Arguments: invariants(t, y, I1, I3, M, g, l); y = (phi, theta, psi, phidot, thetadot, psidot)
 """The heavy symmetric top with a fixed pivot in Euler angles (zxz): Lagrange's equations in
-first-order form, y = (φ, θ, ψ, φ̇, θ̇, ψ̇). Singular at sin θ = 0 (the scalar flavour then divides
-by zero).
+first-order form, y = (φ, θ, ψ, φ̇, θ̇, ψ̇). Singular at sin θ = 0: there the scalar flavour raises
+eulersym.errors.SingularConfiguration (the batched flavour gives inf or nan; the flat one divides by
+zero).
 
-Functions (each also as ``<name>_batched(..., out=None)`` and ``<name>_flat(...)``):
+Functions (each also as ``<name>_batched(..., out=None)``, ``<name>_flat(...)`` and ``<name>_loop(..., out)``):
 
 - ``rhs(t, y, I1, I3, M, g, l)`` → (dphi/dt, dtheta/dt, dpsi/dt, dphidot/dt, dthetadot/dt, dpsidot/dt): the right-hand side dy/dt
 - ``jac(t, y, I1, I3, M, g, l)`` → shape (6, 6): the Jacobian d(rhs)/dy, derived symbolically; row i = d(dy_i/dt)/dy
@@ -22,21 +23,25 @@ Arguments, in order (the same for every function):
   y = (phi, theta, psi, phidot, thetadot, psidot): state
   I1, I3, M, g, l
 
-Scalar flavour: Python floats and ``math``; returns a new list on every call (safe with
-``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.
+Scalar flavour: Python floats and ``math``; a vector may be a list, a tuple or an ndarray (same
+speed: an ndarray is turned into floats with one ``tolist()``); returns a new list on every call (safe
+with ``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.
 Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once
 per call, and the result is a new array unless ``out=`` is given (written in place, so it may not
-overlap the inputs).
+overlap the inputs). A long 1-d batch is computed in blocks whose temporaries stay in cache.
 Flat flavour: ``<name>_flat`` takes every symbol as its own float argument (vectors unpacked, in
 order) and returns a tuple: plain ``math`` on floats, no checks, so ``numba.njit`` compiles it.
+Loop flavour: ``<name>_loop(..., out)`` loops ``<name>_flat`` over the columns of a 1-d batch (float
+parameters); ``eulersym.numerics._fast.batched(module, name)`` compiles it with numba (cached on disk),
+the module itself never imports numba.
 """
 
 import numpy as np
 from math import cos, sin
 
-from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, _wrong_length
+from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _too_many, _wrong_length, _singular
 
-__all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched']
+__all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched', 'rhs_loop', 'jac_loop', 'invariants_loop']
 
 
 def rhs(t, y, I1, I3, M, g, l, *extra):
@@ -51,42 +56,47 @@ def rhs(t, y, I1, I3, M, g, l, *extra):
     """
     if extra:
         raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
+    if isinstance(y, np.ndarray):
+        y = y.tolist()  # Python floats: ``math`` on them is fastest
     try:
-        phi, theta, psi, phidot, thetadot, psidot = y.tolist()
-    except AttributeError:
-        phi, theta, psi, phidot, thetadot, psidot = _unpack('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
-    except ValueError:
+        phi, theta, psi, phidot, thetadot, psidot = y
+    except (TypeError, ValueError):
         raise _wrong_length('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot')) from None
-    x0 = cos(theta)
-    x1 = I1*x0
-    x2 = 2*x1
-    x3 = phidot*x2
-    x4 = -x3
-    x5 = I3*psidot
-    x6 = I3*x0
-    x7 = phidot*x6
-    x8 = x5 + x7
-    x9 = x4 + x8
-    x10 = 1/I1
-    x11 = sin(theta)
-    x12 = x10/x11
-    x13 = x12*x9
-    x14 = M*g*l
-    x15 = phidot*x5
-    x16 = (phidot*phidot)
-    x17 = x1*x16 + x14 - x15 - x16*x6
-    x18 = x10*x11
-    x19 = x0*x5
-    x20 = (x11*x11)
-    x21 = I1*x20
-    x22 = phidot*x21
-    x23 = (x0*x0)
-    x24 = 2*I1*x23
-    x25 = I3*x23
-    x26 = phidot*x25
-    x27 = phidot*x24 - x19 + x22 - x26
-    x28 = x12*x27
-    return [phidot, thetadot, psidot, thetadot*x13, x17*x18, thetadot*x28]
+    try:
+        x0 = cos(theta)
+        x1 = I1*x0
+        x2 = 2*x1
+        x3 = phidot*x2
+        x4 = -x3
+        x5 = I3*psidot
+        x6 = I3*x0
+        x7 = phidot*x6
+        x8 = x5 + x7
+        x9 = x4 + x8
+        x10 = 1/I1
+        x11 = sin(theta)
+        x12 = x10/x11
+        x13 = x12*x9
+        x14 = M*g*l
+        x15 = phidot*x5
+        x16 = (phidot*phidot)
+        x17 = x1*x16 + x14 - x15 - x16*x6
+        x18 = x10*x11
+        x19 = x0*x5
+        x20 = (x11*x11)
+        x21 = I1*x20
+        x22 = phidot*x21
+        x23 = (x0*x0)
+        x24 = 2*I1*x23
+        x25 = I3*x23
+        x26 = phidot*x25
+        x27 = phidot*x24 - x19 + x22 - x26
+        x28 = x12*x27
+        return [phidot, thetadot, psidot, thetadot*x13, x17*x18, thetadot*x28]
+    except ZeroDivisionError:
+        if sin(theta) == 0:
+            raise _singular('theta', theta, 'sin(theta) != 0 (theta strictly between 0 and pi, modulo pi): the Euler-angle equations are singular at theta = 0 and pi (the sleeping top); use heavy_top_euler_poisson there') from None
+        raise
 
 
 def jac(t, y, I1, I3, M, g, l, *extra):
@@ -101,47 +111,52 @@ def jac(t, y, I1, I3, M, g, l, *extra):
     """
     if extra:
         raise _too_many('jac', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
+    if isinstance(y, np.ndarray):
+        y = y.tolist()  # Python floats: ``math`` on them is fastest
     try:
-        phi, theta, psi, phidot, thetadot, psidot = y.tolist()
-    except AttributeError:
-        phi, theta, psi, phidot, thetadot, psidot = _unpack('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
-    except ValueError:
+        phi, theta, psi, phidot, thetadot, psidot = y
+    except (TypeError, ValueError):
         raise _wrong_length('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot')) from None
-    x0 = cos(theta)
-    x1 = I1*x0
-    x2 = 2*x1
-    x3 = phidot*x2
-    x4 = -x3
-    x5 = I3*psidot
-    x6 = I3*x0
-    x7 = phidot*x6
-    x8 = x5 + x7
-    x9 = x4 + x8
-    x10 = 1/I1
-    x11 = sin(theta)
-    x12 = x10/x11
-    x13 = x12*x9
-    x14 = M*g*l
-    x15 = phidot*x5
-    x16 = (phidot*phidot)
-    x17 = x1*x16 + x14 - x15 - x16*x6
-    x18 = x10*x11
-    x19 = x0*x5
-    x20 = (x11*x11)
-    x21 = I1*x20
-    x22 = phidot*x21
-    x23 = (x0*x0)
-    x24 = 2*I1*x23
-    x25 = I3*x23
-    x26 = phidot*x25
-    x27 = phidot*x24 - x19 + x22 - x26
-    x28 = x12*x27
-    x29 = I1*x11
-    x30 = thetadot*x12
-    x31 = x0*x10
-    x32 = thetadot*x31/x20
-    x33 = 2*x7
-    return [[0.0, 0.0, 0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 0.0, 0.0, 1.0], [0.0, x30*(-I3*phidot*x11 + 2*phidot*x29) - x32*x9, 0.0, x30*(I3*x0 - x2), x13, I3*x30], [0.0, x17*x31 + x18*(I3*x11*x16 - x16*x29), 0.0, x18*(-x33 - x4 - x5), 0.0, -I3*phidot*x18], [0.0, -x27*x32 + x30*(-x11*x3 + x11*x33 + x11*x5), 0.0, x30*(x21 + x24 - x25), x28, -x30*x6]]
+    try:
+        x0 = cos(theta)
+        x1 = I1*x0
+        x2 = 2*x1
+        x3 = phidot*x2
+        x4 = -x3
+        x5 = I3*psidot
+        x6 = I3*x0
+        x7 = phidot*x6
+        x8 = x5 + x7
+        x9 = x4 + x8
+        x10 = 1/I1
+        x11 = sin(theta)
+        x12 = x10/x11
+        x13 = x12*x9
+        x14 = M*g*l
+        x15 = phidot*x5
+        x16 = (phidot*phidot)
+        x17 = x1*x16 + x14 - x15 - x16*x6
+        x18 = x10*x11
+        x19 = x0*x5
+        x20 = (x11*x11)
+        x21 = I1*x20
+        x22 = phidot*x21
+        x23 = (x0*x0)
+        x24 = 2*I1*x23
+        x25 = I3*x23
+        x26 = phidot*x25
+        x27 = phidot*x24 - x19 + x22 - x26
+        x28 = x12*x27
+        x29 = I1*x11
+        x30 = thetadot*x12
+        x31 = x0*x10
+        x32 = thetadot*x31/x20
+        x33 = 2*x7
+        return [[0.0, 0.0, 0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 0.0, 0.0, 1.0], [0.0, x30*(-I3*phidot*x11 + 2*phidot*x29) - x32*x9, 0.0, x30*(I3*x0 - x2), x13, I3*x30], [0.0, x17*x31 + x18*(I3*x11*x16 - x16*x29), 0.0, x18*(-x33 - x4 - x5), 0.0, -I3*phidot*x18], [0.0, -x27*x32 + x30*(-x11*x3 + x11*x33 + x11*x5), 0.0, x30*(x21 + x24 - x25), x28, -x30*x6]]
+    except ZeroDivisionError:
+        if sin(theta) == 0:
+            raise _singular('theta', theta, 'sin(theta) != 0 (theta strictly between 0 and pi, modulo pi): the Euler-angle equations are singular at theta = 0 and pi (the sleeping top); use heavy_top_euler_poisson there') from None
+        raise
 
 
 def invariants(t, y, I1, I3, M, g, l, *extra):
@@ -156,30 +171,35 @@ def invariants(t, y, I1, I3, M, g, l, *extra):
     """
     if extra:
         raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
+    if isinstance(y, np.ndarray):
+        y = y.tolist()  # Python floats: ``math`` on them is fastest
     try:
-        phi, theta, psi, phidot, thetadot, psidot = y.tolist()
-    except AttributeError:
-        phi, theta, psi, phidot, thetadot, psidot = _unpack('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
-    except ValueError:
+        phi, theta, psi, phidot, thetadot, psidot = y
+    except (TypeError, ValueError):
         raise _wrong_length('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot')) from None
-    x0 = cos(theta)
-    x5 = I3*psidot
-    x6 = I3*x0
-    x7 = phidot*x6
-    x8 = x5 + x7
-    x11 = sin(theta)
-    x14 = M*g*l
-    x15 = phidot*x5
-    x16 = (phidot*phidot)
-    x19 = x0*x5
-    x20 = (x11*x11)
-    x21 = I1*x20
-    x22 = phidot*x21
-    x23 = (x0*x0)
-    x25 = I3*x23
-    x26 = phidot*x25
-    x34 = (0.5)*x16
-    return [(0.5)*I1*(thetadot*thetadot) + (0.5)*I3*(psidot*psidot) + x0*x14 + x0*x15 + x21*x34 + x25*x34, x19 + x22 + x26, x8]
+    try:
+        x0 = cos(theta)
+        x5 = I3*psidot
+        x6 = I3*x0
+        x7 = phidot*x6
+        x8 = x5 + x7
+        x11 = sin(theta)
+        x14 = M*g*l
+        x15 = phidot*x5
+        x16 = (phidot*phidot)
+        x19 = x0*x5
+        x20 = (x11*x11)
+        x21 = I1*x20
+        x22 = phidot*x21
+        x23 = (x0*x0)
+        x25 = I3*x23
+        x26 = phidot*x25
+        x34 = (0.5)*x16
+        return [(0.5)*I1*(thetadot*thetadot) + (0.5)*I3*(psidot*psidot) + x0*x14 + x0*x15 + x21*x34 + x25*x34, x19 + x22 + x26, x8]
+    except ZeroDivisionError:
+        if sin(theta) == 0:
+            raise _singular('theta', theta, 'sin(theta) != 0 (theta strictly between 0 and pi, modulo pi): the Euler-angle equations are singular at theta = 0 and pi (the sleeping top); use heavy_top_euler_poisson there') from None
+        raise
 
 
 def rhs_flat(t, phi, theta, psi, phidot, thetadot, psidot, I1, I3, M, g, l):
@@ -305,6 +325,11 @@ def rhs_batched(t, y, I1, I3, M, g, l, *extra, out=None):
         raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     out = _prepare_out(out, (6,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
+    return _blocked(_rhs_block, out, 1, (t, y, I1, I3, M, g, l,), (False, True, False, False, False, False, False))
+
+
+def _rhs_block(t, y, I1, I3, M, g, l, out):
+    """``rhs_batched`` on one block of the batch (checked by the caller), into ``out``."""
     phi, theta, psi, phidot, thetadot, psidot = y
     x0 = np.cos(theta)
     x1 = I1*x0
@@ -360,6 +385,11 @@ def jac_batched(t, y, I1, I3, M, g, l, *extra, out=None):
         raise _too_many('jac', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     out = _prepare_out(out, (6, 6), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
+    return _blocked(_jac_block, out, 2, (t, y, I1, I3, M, g, l,), (False, True, False, False, False, False, False))
+
+
+def _jac_block(t, y, I1, I3, M, g, l, out):
+    """``jac_batched`` on one block of the batch (checked by the caller), into ``out``."""
     phi, theta, psi, phidot, thetadot, psidot = y
     x0 = np.cos(theta)
     x1 = I1*x0
@@ -455,6 +485,11 @@ def invariants_batched(t, y, I1, I3, M, g, l, *extra, out=None):
         raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
+    return _blocked(_invariants_block, out, 1, (t, y, I1, I3, M, g, l,), (False, True, False, False, False, False, False))
+
+
+def _invariants_block(t, y, I1, I3, M, g, l, out):
+    """``invariants_batched`` on one block of the batch (checked by the caller), into ``out``."""
     phi, theta, psi, phidot, thetadot, psidot = y
     x0 = np.cos(theta)
     x5 = I3*psidot
@@ -483,4 +518,82 @@ def invariants_batched(t, y, I1, I3, M, g, l, *extra, out=None):
     out[1, ...] += x22
     out[1, ...] += x26
     out[2, ...] = x8
+    return out
+
+
+def rhs_loop(t, y, I1, I3, M, g, l, out):
+    """rhs_loop(t, y, I1, I3, M, g, l, out) -> out
+
+    ``rhs_batched`` as a plain loop over the columns of a 1-d batch, calling ``rhs_flat``: vectors
+    ``y`` (6, n), every other argument a float, ``out`` of shape (6,) + (n,). No checks and
+    slow as Python: it is the source numba compiles (``eulersym.numerics._fast.batched``). """
+    for _column in range(out.shape[-1]):
+        _values = rhs_flat(t, y[0, _column], y[1, _column], y[2, _column], y[3, _column], y[4, _column], y[5, _column], I1, I3, M, g, l)
+        out[0, _column] = _values[0]
+        out[1, _column] = _values[1]
+        out[2, _column] = _values[2]
+        out[3, _column] = _values[3]
+        out[4, _column] = _values[4]
+        out[5, _column] = _values[5]
+    return out
+
+
+def jac_loop(t, y, I1, I3, M, g, l, out):
+    """jac_loop(t, y, I1, I3, M, g, l, out) -> out
+
+    ``jac_batched`` as a plain loop over the columns of a 1-d batch, calling ``jac_flat``: vectors
+    ``y`` (6, n), every other argument a float, ``out`` of shape (6, 6) + (n,). No checks and
+    slow as Python: it is the source numba compiles (``eulersym.numerics._fast.batched``). """
+    for _column in range(out.shape[-1]):
+        _values = jac_flat(t, y[0, _column], y[1, _column], y[2, _column], y[3, _column], y[4, _column], y[5, _column], I1, I3, M, g, l)
+        out[0, 0, _column] = _values[0][0]
+        out[0, 1, _column] = _values[0][1]
+        out[0, 2, _column] = _values[0][2]
+        out[0, 3, _column] = _values[0][3]
+        out[0, 4, _column] = _values[0][4]
+        out[0, 5, _column] = _values[0][5]
+        out[1, 0, _column] = _values[1][0]
+        out[1, 1, _column] = _values[1][1]
+        out[1, 2, _column] = _values[1][2]
+        out[1, 3, _column] = _values[1][3]
+        out[1, 4, _column] = _values[1][4]
+        out[1, 5, _column] = _values[1][5]
+        out[2, 0, _column] = _values[2][0]
+        out[2, 1, _column] = _values[2][1]
+        out[2, 2, _column] = _values[2][2]
+        out[2, 3, _column] = _values[2][3]
+        out[2, 4, _column] = _values[2][4]
+        out[2, 5, _column] = _values[2][5]
+        out[3, 0, _column] = _values[3][0]
+        out[3, 1, _column] = _values[3][1]
+        out[3, 2, _column] = _values[3][2]
+        out[3, 3, _column] = _values[3][3]
+        out[3, 4, _column] = _values[3][4]
+        out[3, 5, _column] = _values[3][5]
+        out[4, 0, _column] = _values[4][0]
+        out[4, 1, _column] = _values[4][1]
+        out[4, 2, _column] = _values[4][2]
+        out[4, 3, _column] = _values[4][3]
+        out[4, 4, _column] = _values[4][4]
+        out[4, 5, _column] = _values[4][5]
+        out[5, 0, _column] = _values[5][0]
+        out[5, 1, _column] = _values[5][1]
+        out[5, 2, _column] = _values[5][2]
+        out[5, 3, _column] = _values[5][3]
+        out[5, 4, _column] = _values[5][4]
+        out[5, 5, _column] = _values[5][5]
+    return out
+
+
+def invariants_loop(t, y, I1, I3, M, g, l, out):
+    """invariants_loop(t, y, I1, I3, M, g, l, out) -> out
+
+    ``invariants_batched`` as a plain loop over the columns of a 1-d batch, calling ``invariants_flat``: vectors
+    ``y`` (6, n), every other argument a float, ``out`` of shape (3,) + (n,). No checks and
+    slow as Python: it is the source numba compiles (``eulersym.numerics._fast.batched``). """
+    for _column in range(out.shape[-1]):
+        _values = invariants_flat(t, y[0, _column], y[1, _column], y[2, _column], y[3, _column], y[4, _column], y[5, _column], I1, I3, M, g, l)
+        out[0, _column] = _values[0]
+        out[1, _column] = _values[1]
+        out[2, _column] = _values[2]
     return out

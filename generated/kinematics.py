@@ -2,34 +2,38 @@
 # Source derivation: eulersym.rotation.euler_matrix(phi, theta, psi) and eulersym.kinematics.omega_body()
 # eulersym version: 0.1.0
 # SymPy version: 1.14.0
-# Input hash: sha256:73d1e95d9d97816a1f82886615062da0d9ef3bf58f4bbc89274109e4a5c473ef
+# Input hash: sha256:f1e38b9860c3f6bb2f482612317d0b9a44c5c9f15f459cf8c17d4bab64257959
 # Arguments: attitude_matrix(phi, theta, psi)
 # Arguments: omega_body(phi, theta, psi, phidot, thetadot, psidot)
 """Kinematics of the zxz Euler angles (passive, the text's convention): the attitude matrix A = B(ψ)
 C(θ) D(φ), r_body = A @ r_space, and the body angular velocity ω from the angles and rates.
 
-Functions (each also as ``<name>_batched(..., out=None)`` and ``<name>_flat(...)``):
+Functions (each also as ``<name>_batched(..., out=None)``, ``<name>_flat(...)`` and ``<name>_loop(..., out)``):
 
 - ``attitude_matrix(phi, theta, psi)`` → shape (3, 3): A (3×3), r_body = A @ r_space
   phi, theta, psi
 - ``omega_body(phi, theta, psi, phidot, thetadot, psidot)`` → (omega1, omega2, omega3): ω in body components
   phi, theta, psi, phidot, thetadot, psidot
 
-Scalar flavour: Python floats and ``math``; returns a new list on every call (safe with
-``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.
+Scalar flavour: Python floats and ``math``; a vector may be a list, a tuple or an ndarray (same
+speed: an ndarray is turned into floats with one ``tolist()``); returns a new list on every call (safe
+with ``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.
 Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once
 per call, and the result is a new array unless ``out=`` is given (written in place, so it may not
-overlap the inputs).
+overlap the inputs). A long 1-d batch is computed in blocks whose temporaries stay in cache.
 Flat flavour: ``<name>_flat`` takes every symbol as its own float argument (vectors unpacked, in
 order) and returns a tuple: plain ``math`` on floats, no checks, so ``numba.njit`` compiles it.
+Loop flavour: ``<name>_loop(..., out)`` loops ``<name>_flat`` over the columns of a 1-d batch (float
+parameters); ``eulersym.numerics._fast.batched(module, name)`` compiles it with numba (cached on disk),
+the module itself never imports numba.
 """
 
 import numpy as np
 from math import cos, sin
 
-from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, _wrong_length
+from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _too_many, _wrong_length
 
-__all__ = ['attitude_matrix', 'omega_body', 'attitude_matrix_flat', 'omega_body_flat', 'attitude_matrix_batched', 'omega_body_batched']
+__all__ = ['attitude_matrix', 'omega_body', 'attitude_matrix_flat', 'omega_body_flat', 'attitude_matrix_batched', 'omega_body_batched', 'attitude_matrix_loop', 'omega_body_loop']
 
 
 def attitude_matrix(phi, theta, psi, *extra):
@@ -123,6 +127,11 @@ def attitude_matrix_batched(phi, theta, psi, *extra, out=None):
     if extra:
         raise _too_many('attitude_matrix', extra, ('phi', 'theta', 'psi'))
     out = _prepare_out(out, (3, 3), (np.shape(phi), np.shape(theta), np.shape(psi),), (phi, theta, psi,))
+    return _blocked(_attitude_matrix_block, out, 2, (phi, theta, psi,), (False, False, False))
+
+
+def _attitude_matrix_block(phi, theta, psi, out):
+    """``attitude_matrix_batched`` on one block of the batch (checked by the caller), into ``out``."""
     x0 = np.cos(phi)
     x1 = np.cos(psi)
     x2 = np.cos(theta)
@@ -166,6 +175,11 @@ def omega_body_batched(phi, theta, psi, phidot, thetadot, psidot, *extra, out=No
     if extra:
         raise _too_many('omega_body', extra, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     out = _prepare_out(out, (3,), (np.shape(phi), np.shape(theta), np.shape(psi), np.shape(phidot), np.shape(thetadot), np.shape(psidot),), (phi, theta, psi, phidot, thetadot, psidot,))
+    return _blocked(_omega_body_block, out, 1, (phi, theta, psi, phidot, thetadot, psidot,), (False, False, False, False, False, False))
+
+
+def _omega_body_block(phi, theta, psi, phidot, thetadot, psidot, out):
+    """``omega_body_batched`` on one block of the batch (checked by the caller), into ``out``."""
     x1 = np.cos(psi)
     x2 = np.cos(theta)
     x4 = np.sin(psi)
@@ -178,4 +192,38 @@ def omega_body_batched(phi, theta, psi, phidot, thetadot, psidot, *extra, out=No
     out[1, ...] -= thetadot*x4
     np.multiply(phidot, x2, out=out[2, ...])
     out[2, ...] += psidot
+    return out
+
+
+def attitude_matrix_loop(phi, theta, psi, out):
+    """attitude_matrix_loop(phi, theta, psi, out) -> out
+
+    ``attitude_matrix_batched`` as a plain loop over the columns of a 1-d batch, calling ``attitude_matrix_flat``: vectors
+    none, every other argument a float, ``out`` of shape (3, 3) + (n,). No checks and
+    slow as Python: it is the source numba compiles (``eulersym.numerics._fast.batched``). """
+    for _column in range(out.shape[-1]):
+        _values = attitude_matrix_flat(phi, theta, psi)
+        out[0, 0, _column] = _values[0][0]
+        out[0, 1, _column] = _values[0][1]
+        out[0, 2, _column] = _values[0][2]
+        out[1, 0, _column] = _values[1][0]
+        out[1, 1, _column] = _values[1][1]
+        out[1, 2, _column] = _values[1][2]
+        out[2, 0, _column] = _values[2][0]
+        out[2, 1, _column] = _values[2][1]
+        out[2, 2, _column] = _values[2][2]
+    return out
+
+
+def omega_body_loop(phi, theta, psi, phidot, thetadot, psidot, out):
+    """omega_body_loop(phi, theta, psi, phidot, thetadot, psidot, out) -> out
+
+    ``omega_body_batched`` as a plain loop over the columns of a 1-d batch, calling ``omega_body_flat``: vectors
+    none, every other argument a float, ``out`` of shape (3,) + (n,). No checks and
+    slow as Python: it is the source numba compiles (``eulersym.numerics._fast.batched``). """
+    for _column in range(out.shape[-1]):
+        _values = omega_body_flat(phi, theta, psi, phidot, thetadot, psidot)
+        out[0, _column] = _values[0]
+        out[1, _column] = _values[1]
+        out[2, _column] = _values[2]
     return out

@@ -196,8 +196,15 @@ def test_wrong_state_length_names_the_order(name, rng):
 
 def test_heavy_top_in_euler_angles_refuses_the_singular_attitude_loudly():
     mod = _module("heavy_top_euler_angles")
-    with pytest.raises(ZeroDivisionError):
-        mod.rhs(0.0, [0.0, 0.0, 0.0, 1.0, 0.0, 1.0], 1.0, 0.5, 1.0, 9.81, 0.3)
+    from eulersym.errors import SingularConfiguration
+
+    for theta in (0.0, -0.0):
+        with pytest.raises(SingularConfiguration, match=r"theta=-?0\.0 is not valid: expected sin\(theta\) != 0"):
+            mod.rhs(0.0, [0.0, theta, 0.0, 1.0, 0.0, 1.0], 1.0, 0.5, 1.0, 9.81, 0.3)
+        with pytest.raises(SingularConfiguration, match="heavy_top_euler_poisson"):
+            mod.jac(0.0, [0.0, theta, 0.0, 1.0, 0.0, 1.0], 1.0, 0.5, 1.0, 9.81, 0.3)
+    with pytest.raises(ZeroDivisionError):  # I1 = 0 is not the attitude's fault: not blamed on theta
+        mod.rhs(0.0, [0.0, 0.5, 0.0, 1.0, 0.0, 1.0], 0.0, 0.5, 1.0, 9.81, 0.3)
 
 
 @pytest.mark.parametrize("name", ODE_KERNELS)

@@ -130,3 +130,26 @@ def test_fast_required_without_numba(monkeypatch):
     monkeypatch.setattr(_fast, "available", lambda: False)
     with pytest.raises(InvalidInput):
         integrate_heavy_top(I, M, G, L, W0, Q_TILT, [0.0, 1.0], h=0.01, fast=True)
+
+
+@pytest.mark.parametrize("rtol", [1e-3, 1e-6, 1e-10])
+@pytest.mark.parametrize("body", [(1.0, 2.0, 1.0, 1.0, 1.0), (1.0, 2.0, 1.0, 9.81, 0.5), (0.3, 0.5, 2.0, 9.81, 0.05)])
+def test_sleeping_threshold_honours_its_rtol(body, rtol):
+    I1, I3, m, g, l = body
+    found = sleeping_top_threshold_numeric(I1, I3, m, g, l, rtol=rtol)
+    assert abs(found / (4 * m * g * l * I1 / I3**2) - 1) <= rtol
+
+
+def test_sleeping_threshold_by_integration_sees_the_slow_growth_under_it():
+    found = sleeping_top_threshold_numeric(1.0, 2.0, 1.0, 1.0, 1.0, rtol=1e-2, method="integrate")
+    assert abs(found - 1.0) <= 1e-2
+
+
+@pytest.mark.parametrize("kwargs, argument", [({"rtol": 1e-12}, "rtol"), ({"rtol": 0.0}, "rtol"),
+                                              ({"method": "guess"}, "method"), ({"l": -1.0}, "l")])
+def test_sleeping_threshold_bad_input(kwargs, argument):
+    args = dict(I1=1.0, I3=2.0, M=1.0, g=1.0, l=1.0)
+    args.update(kwargs)
+    with pytest.raises(InvalidInput) as info:
+        sleeping_top_threshold_numeric(**args)
+    assert info.value.argument == argument

@@ -299,3 +299,117 @@ def test_hostile_strings_execute_nothing(tmp_path):
     assert report["events"] == [], report["events"]  # no open, import, exec, compile, process, socket
     assert all(o in ("UnsafeExpression", "InvalidInput") for o in report["outcomes"]), report["outcomes"]
     assert not marker.exists()
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# Issue 14: values bounded, not only literals; shapes refused cleanly; only ASCII digits
+
+
+@pytest.mark.parametrize("text", ["640^-640^-64", "2^(1/10000001)", "(1/3)^(-640^-64)", "sqrt(2)^(640^-64)",
+                                  "3^(7/99999999)"])
+def test_huge_roots_of_numbers_are_refused_at_once(text):
+    start = time.perf_counter()
+    with pytest.raises(UnsafeExpression, match="denominator of at most"):
+        parse(text)
+    assert time.perf_counter() - start < 1.0
+
+
+@pytest.mark.parametrize("text", ["(" + "9" * 30 + "^12 + 3)^(5/7)", "(sqrt(2)*" + "9" * 30 + "^12)^(5/7)"])
+def test_roots_of_powers_of_big_numbers_are_refused_at_once(text):
+    """SymPy would raise the 360-digit base to the numerator 5 and look for 7th powers in it (seconds)."""
+    start = time.perf_counter()
+    with pytest.raises(UnsafeExpression, match="large prime factors times the power's numerator"):
+        parse(text)
+    assert time.perf_counter() - start < 1.0
+
+
+def test_moderate_roots_still_work():
+    assert parse("2^(1/3)") == sp.Integer(2) ** sp.Rational(1, 3)
+    assert parse("2^0.123456") == sp.Integer(2) ** sp.Rational(1929, 15625)
+    assert parse("x^(1/10000001)") == _x ** sp.Rational(1, 10000001)  # a symbol's root costs nothing
+
+
+@pytest.mark.parametrize("text, match", [
+    ("[x] + 1", "between two scalars or two vectors"), ("1 - [x, y]", "between two scalars or two vectors"),
+    ("[x] + [y, z]", "same shape"), ("[[x, y], [y, x]] - [x, y]", "same shape"),
+])
+def test_vector_scalar_mixes_are_refused_cleanly(text, match):
+    with pytest.raises(InvalidInput, match=match):
+        parse(text)
+
+
+def test_vector_arithmetic_of_equal_shapes_still_works():
+    assert parse("[x, y] + [1, 2]") == sp.Matrix([_x + 1, sp.Symbol("y", positive=True) + 2])
+    assert parse("2*[x] - [x]") == sp.Matrix([_x])
+
+
+@pytest.mark.parametrize("text", ["①", "٣", "١٢٣ + x", "x^٢", "１", "߂", "𝟐"])
+def test_only_ascii_digits_are_numbers(text):
+    with pytest.raises(UnsafeExpression, match="ASCII"):
+        parse(text)
+
+
+def test_superscript_and_subscript_digits_keep_working():
+    assert parse("x²") == _x**2 and parse("ω₃") == S.omega3
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# names=, functions=, strict=
+
+
+_k = sp.Symbol("k", real=True)
+_w = sp.Matrix(sp.symbols("w1:4", real=True))
+_CROSS = {"cross": (lambda a, b: a.cross(b), ("vector", "vector")),
+          "double": (lambda a: 2 * a, ("any",))}
+
+
+def test_names_take_precedence_over_the_package_symbols():
+    omega1 = sp.Symbol("omega1", real=True)
+    assert parse("omega1", names={"omega1": omega1}) is omega1
+    assert parse("omega1 + omega2", names={"omega1": omega1}) == omega1 + S.omega2  # the rest as before
+
+
+def test_vector_names_and_functions():
+    out = parse("cross(w, [0, 0, k]) + double(w)", names={"w": _w, "k": _k}, functions=_CROSS, strict=True)
+    assert out == _w.cross(sp.Matrix([0, 0, _k])) + 2 * _w
+
+
+@pytest.mark.parametrize("text, match", [
+    ("cross(w)", "2 argument"), ("cross(w, k)", "argument 2 is scalar, not a vector"),
+    ("cross(w, [1, 2])", "argument 2 is"), ("cross(w, w, w)", "not 3"), ("cross w", "'\\('"),
+])
+def test_extra_function_arguments_are_checked(text, match):
+    with pytest.raises(InvalidInput, match=match):
+        parse(text, names={"w": _w, "k": _k}, functions=_CROSS, strict=True)
+
+
+def test_extra_function_errors_become_invalid_input():
+    def boom(a):
+        raise ValueError("no")
+
+    with pytest.raises(InvalidInput, match="boom"):
+        parse("boom(1)", functions={"boom": (boom, ("scalar",))})
+
+
+@pytest.mark.parametrize("spec", [3, (len,), (len, ("tensor",)), ("x", ("scalar",))])
+def test_bad_function_specs(spec):
+    with pytest.raises(InvalidInput, match="functions"):
+        parse("1", functions={"f": spec})
+
+
+@pytest.mark.parametrize("text, match", [
+    ("kk", "did you mean 'k'"), ("phi", "known name"), ("I1", "known name"), ("k'", "no primes"),
+    ("phidot", "known name"), ("k(2)", "product needs a space"), ("f(k)", "known function"),
+])
+def test_strict_names(text, match):
+    with pytest.raises(InvalidInput, match=match):
+        parse(text, names={"k": _k}, strict=True, argument="torque")
+
+
+def test_strict_keeps_pi_functions_and_spaced_products():
+    assert parse("k (2 + pi)", names={"k": _k}, strict=True) == _k * (2 + sp.pi)
+    assert parse("sin(k)^2 + max(k, 1)", names={"k": _k}, strict=True) == sp.sin(_k) ** 2 + sp.Max(_k, 1)
+
+
+def test_new_functions():
+    assert parse("sign(x) + min(x, 2) + max(x, 2)") == sp.sign(_x) + sp.Min(_x, 2) + sp.Max(_x, 2)

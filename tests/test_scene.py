@@ -258,13 +258,20 @@ def test_plan_symmetric_and_spherical_closed_forms():
     assert plan.propagate == ("omega", "attitude") and plan.options["call"] == "free_rigid_body_attitude_exact"
 
 
-def test_plan_heavy_top_picks_integrator_by_accuracy():
-    tight = Scene(**TOP, accuracy=1e-10).plan()
+def test_plan_heavy_top_closed_form_or_the_integrator_asked_for():
+    for accuracy in (1e-4, 1e-10):  # a symmetric heavy top: the closed form, at any accuracy (issue 11)
+        plan = Scene(**TOP, accuracy=accuracy).plan()
+        assert plan.engine == "closed form: elliptic (Lagrange top)" and plan.kernels == ()
+        assert plan.options["engine"] == "heavy_top_exact"
+        assert any(s.what == "integration" for s in plan.skipped)
+    tight = Scene(**TOP, accuracy=1e-10, method="DOP853").plan()
     assert tight.engine == "integrate: DOP853 on heavy_top_euler_poisson"
-    loose = Scene(**TOP, accuracy=1e-4).plan()
+    assert any(s.what == "closed form" and "'DOP853' asked for" in s.reason for s in tight.skipped)
+    loose = Scene(**TOP, accuracy=1e-4, method="splitting").plan()
     assert loose.engine.startswith("integrate: splitting")
     asym = Scene(**{**TOP, "moments": (1.2e-3, 1.1e-3, 4e-4)}, accuracy=1e-4).plan()
-    assert "DOP853" in asym.engine  # the symmetric-top splitting does not apply
+    assert "DOP853" in asym.engine  # neither the closed form nor the symmetric-top splitting applies
+    assert any(s.what == "closed form" and "I1 ≠ I2" in s.reason for s in asym.skipped)
     assert "gamma" in tight.propagate and "attitude" in tight.propagate
     assert any("heavy_top_euler_angles" in s.what for s in tight.skipped)
 
@@ -315,7 +322,7 @@ def test_heavy_top_frame_diagonalises_about_e3(rng):
 )
 def test_property_plan_is_consistent(moments, outputs, heavy, accuracy):
     """Every plan gives a reason for each step; a torque-free plan never touches the top and propagates the
-    attitude exactly when an output needs it; a heavy top never has a closed form."""
+    attitude exactly when an output needs it; a heavy top has its closed form exactly when it is symmetric."""
     kwargs = {**FREE, "moments": moments, "outputs": tuple(outputs), "accuracy": accuracy}
     if heavy:
         kwargs.update(mass=1.0, l=0.1)
@@ -326,8 +333,9 @@ def test_property_plan_is_consistent(moments, outputs, heavy, accuracy):
     plan = Scene(**kwargs).plan()
     assert all(step.reason for step in plan.steps + plan.skipped)
     if heavy:
-        assert plan.regime == "heavy top" and not plan.engine.startswith("closed form")
-        assert plan.kernels == ("heavy_top_euler_poisson",)
+        symmetric = moments[0] == moments[1]
+        assert plan.regime == "heavy top" and plan.engine.startswith("closed form") == symmetric
+        assert plan.kernels == (() if symmetric else ("heavy_top_euler_poisson",))
     else:
         wants = bool({"attitude", "euler_angles"} & set(outputs))
         assert plan.engine.startswith("closed form") and plan.kernels == ()
@@ -569,8 +577,8 @@ def test_heavy_top_conserves_invariants_and_nutates():
 
 
 def test_heavy_top_splitting_agrees_with_dop853():
-    a = simulate(Scene(**TOP, outputs=("omega",), accuracy=1e-4))
-    b = simulate(Scene(**TOP, outputs=("omega",), accuracy=1e-10))
+    a = simulate(Scene(**TOP, outputs=("omega",), accuracy=1e-4, method="splitting"))
+    b = simulate(Scene(**TOP, outputs=("omega",), accuracy=1e-10, method="DOP853"))
     assert a.plan.engine.startswith("integrate: splitting") and "DOP853" in b.plan.engine
     scale = np.max(np.abs(b.omega))
     assert np.max(np.abs(a.omega - b.omega)) / scale < 1e-2
@@ -586,7 +594,7 @@ def test_sleeping_tops_above_stay_and_below_fall():
 
 
 def test_sweep_equals_looped_single_runs():
-    base = {**TOP, "t_end": 0.2, "points": 21, "accuracy": 1e-9, "outputs": ("omega",)}
+    base = {**TOP, "t_end": 0.2, "points": 21, "accuracy": 1e-9, "outputs": ("omega",), "method": "DOP853"}
     sweep = simulate(Scene(**{**base, "omega": (0, 0, [100.0, 150.0]), "euler": (0, [0.3, 0.5], 0)}))
     assert sweep.omega.shape == (4, 21, 3) and sweep.plan.engine.startswith("integrate: batched DOP853")
     for b in range(4):
@@ -675,7 +683,7 @@ def test_sweep_csv_has_member_columns(tmp_path):
     path = tmp_path / "sweep.csv"
     save(r, str(path))
     lines = path.read_text().splitlines()
-    assert lines[0] == "member,omega[2],t,omega1,omega2,omega3" and len(lines) == 1 + 2 * 3
+    assert lines[0] == "member,omega[2],t,omega1,omega2,omega3,gamma1,gamma2,gamma3" and len(lines) == 1 + 2 * 3
 
 
 def test_outputs_constant_lists_the_contract():

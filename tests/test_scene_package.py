@@ -16,8 +16,9 @@ PACKAGE = Path(eulersym.scene.__file__).parent
 
 #: The modules of eulersym.scene in the order data flows; a module may import only modules listed before it.
 LAYERS = (
-    "values", "catalog", "model_kernel", "plan", "spec", "frames", "trajectory", "derive", "problem", "progress", "systems", "dop853",
+    "values", "catalog", "model_kernel", "rates", "plan", "spec", "frames", "trajectory", "derive", "problem", "progress", "systems", "dop853",
     "engines", "engines.free_body_exact", "engines.free_body_splitting", "engines.heavy_top_splitting", "engines.ivp",
+    "engines.heavy_top_exact",
     "engines.batched_dop853", "result", "run", "io", "cli", "__init__",
 )
 
@@ -88,12 +89,14 @@ IMPORTED = """
          "outputs=('omega', 'attitude', 'euler_angles', 'invariants', 'polhode')", "closed form: trigonometric", []),
         ("moments=(1.0, 2.0, 3.0), omega=(0.01, [1.0, 2.0], 0.01), t_end=10.0", "closed form: elliptic", []),
         # the splittings: their own integrator only, no scipy.integrate
-        ("moments=(1.0, 1.0, 0.5), mass=1.0, l=0.1, euler=(0, 0.5, 0), omega=(0, 0, 20.0), t_end=0.2, accuracy=1e-4",
-         "integrate: splitting (Yoshida", None),
+        ("moments=(1.0, 1.0, 0.5), mass=1.0, l=0.1, euler=(0, 0.5, 0), omega=(0, 0, 20.0), t_end=0.2, accuracy=1e-4, "
+         "method='splitting'", "integrate: splitting (Yoshida", None),
+        ("moments=(1.0, 1.0, 0.5), mass=1.0, l=0.1, euler=(0, 0.5, 0), omega=(0, [20.0, 30.0], 20.0), t_end=0.2, "
+         "outputs=('omega', 'attitude', 'invariants')", "closed form: elliptic (Lagrange top)", []),
         ("moments=(1.0, 2.0, 3.0), omega=(0.01, 1.0, 0.01), t_end=1.0, method='splitting'", "integrate: splitting (Moser", None),
         # solve_ivp / batched DOP853: scipy.integrate, and no SymPy, no numba
-        ("moments=(1.0, 1.0, 0.5), mass=1.0, l=0.1, euler=(0, 0.5, 0), omega=(0, 0, 20.0), t_end=0.2, accuracy=1e-9",
-         "integrate: DOP853 on heavy_top_euler_poisson", ["scipy.integrate"]),
+        ("moments=(1.0, 1.0, 0.5), mass=1.0, l=0.1, euler=(0, 0.5, 0), omega=(0, 0, 20.0), t_end=0.2, accuracy=1e-9, "
+         "method='DOP853'", "integrate: DOP853 on heavy_top_euler_poisson", ["scipy.integrate"]),
         ("moments=(1.0, 2.0, 3.0), omega=(0.01, [1.0, 2.0], 0.01), t_end=1.0, method='DOP853', outputs=('omega',)",
          "integrate: batched DOP853 on euler_principal", ["scipy.integrate"]),
     ],

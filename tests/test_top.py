@@ -269,3 +269,28 @@ def test_numeric_functions_refuse_bad_input():
         top.nutation_period(float("inf"), *good[1:])
     with pytest.raises(InvalidInput):
         top.turning_points(*good[:3], -1.0, 0.5, 1.0, 9.81, 0.1)
+
+
+@pytest.mark.parametrize("w3", [8.0, 10.0, 100.0, 1e4])
+def test_turning_points_of_the_stable_sleeping_top_are_exactly_upright(w3):
+    I1_, I3_, M_, g_, l_ = 1.0, 0.5, 1.0, 9.81, 0.1  # threshold ω3 ≈ 3.96
+    p = I3_ * w3
+    E = p * p / (2 * I3_) + M_ * g_ * l_
+    assert top.turning_points(E, p, p, I1_, I3_, M_, g_, l_) == (1.0, 1.0)
+    # its nutation period is the small-nutation one, 2π/ω_n with ω_n² derived from the double root
+    wn2 = float(top.sleeping_top_nutation_frequency().subs({I1: I1_, I3: I3_, M: M_, g: g_, l: l_,
+                                                           top._OMEGA3: w3}))
+    assert top.nutation_period(E, p, p, I1_, I3_, M_, g_, l_) == pytest.approx(2 * math.pi / math.sqrt(wn2), rel=1e-12)
+
+
+@pytest.mark.parametrize("theta0", [0.3, 0.8, 1.2, 2.0])
+@pytest.mark.parametrize("which", [-1, 1])
+def test_turning_points_of_steady_precession_are_the_double_root(theta0, which):
+    I1_, I3_, M_, g_, l_, w3 = 1.0, 0.5, 1.0, 9.81, 0.1, 20.0
+    c = math.cos(theta0)
+    phid = (I3_ * w3 + which * math.sqrt(I3_**2 * w3**2 - 4 * I1_ * M_ * g_ * l_ * c)) / (2 * I1_ * c)
+    p_psi = I3_ * w3
+    p_phi = I1_ * phid * math.sin(theta0) ** 2 + p_psi * c
+    E = 0.5 * I1_ * phid**2 * math.sin(theta0) ** 2 + 0.5 * I3_ * w3**2 + M_ * g_ * l_ * c
+    u1, u2 = top.turning_points(E, p_phi, p_psi, I1_, I3_, M_, g_, l_)
+    assert u1 == u2 and abs(u1 - c) <= 4e-16

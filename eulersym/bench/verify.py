@@ -115,10 +115,13 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--corpus", default=None, help="a Python file defining CASES")
     parser.add_argument("--csv", default=None, help="write the per-case rows to this CSV file")
     parser.add_argument("--quiet", action="store_true", help="only the summary")
+    parser.add_argument("--quick", action="store_true", help="one repetition, a 2 s cap (smoke run)")
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:
         return int(exc.code or 0)
+    if args.quick:
+        args.repeat, args.cap = 1, min(args.cap, 2.0)
     import sympy
 
     cases = load_corpus(args.corpus)

@@ -44,6 +44,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from eulersym.bench.report import ratio_text
+
 __all__ = ["main", "lambdify_module", "mp_reference_omega", "run_problem", "PROBLEMS"]
 
 
@@ -362,11 +364,10 @@ def summarise(rows, log=print):
                     if any(pred(r) for r in pr):
                         log(f"      {label}: no run reached error {target:.1e}")
                     continue
-                ratio = float(base["time_s"]) / max(float(best["time_s"]), 1e-9)
                 what = f"{label} {best['method']} {best['setting']}" if best["method"] != "oracle" else label
                 log(f"      {what}: {float(best['time_s']):.3g} s, error "
                     f"{float(best['error']):.2e}, energy drift {float(best['energy_drift']):.1e}, invariant drift "
-                    f"{float(best['invariant_drift']):.1e} -> {ratio:.3g}x faster")
+                    f"{float(best['invariant_drift']):.1e} -> {ratio_text(float(base['time_s']), float(best['time_s']))}")
 
 
 def _plot(rows, path):

@@ -15,14 +15,20 @@ Examples
 
 from __future__ import annotations
 
+import keyword
+import math
+
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from eulersym.codegen.emitter import Argument, FunctionSpec, ModuleSpec, emit_module, local_name
+from eulersym.codegen.emitter import Argument, FunctionSpec, ModuleSpec, check_expressions, emit_module, local_name
 from eulersym.codegen.runtime import RUNTIME_SOURCE
 from eulersym.errors import InvalidInput
 
 __all__ = ["compile_expressions", "freeze"]
+
+#: Names the compiled module's namespace uses: a function of that name would shadow them.
+_TAKEN = frozenset({"np", "math", "out", "extra"} | {n for n in dir(math) if not n.startswith("_")})
 
 
 def freeze(objects):
@@ -52,18 +58,53 @@ def freeze(objects):
     return mapping
 
 
+def _expression(argument: str, value):
+    """One output: a SymPy expression or a plain number (a string is not parsed here)."""
+    if isinstance(value, sp.Basic) and not isinstance(value, sp.MatrixBase):
+        return value
+    if isinstance(value, (str, bytes)):
+        raise InvalidInput(argument, value, "a SymPy expression, not a string (strings are not parsed here: "
+                                            "eulersym.parsing.parse reads a formula safely)")
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InvalidInput(argument, value, "a SymPy expression or a number")
+    return sp.sympify(value, strict=True)
+
+
 def _as_matrix(expressions) -> sp.Matrix:
     if isinstance(expressions, sp.MatrixBase):
+        if 0 in expressions.shape:
+            raise InvalidInput("expressions", expressions, "at least one expression")
         return sp.Matrix(expressions)
     if isinstance(expressions, (list, tuple)):
         items = list(expressions)
-        if items and all(isinstance(e, (list, tuple)) for e in items):
-            return sp.Matrix(items)
-        return sp.Matrix(len(items), 1, [sp.sympify(e, strict=True) if not isinstance(e, sp.Basic) else e
-                                         for e in items])
+        if not items:
+            raise InvalidInput("expressions", expressions, "at least one expression")
+        if all(isinstance(e, (list, tuple)) for e in items):
+            widths = {len(row) for row in items}
+            if len(widths) != 1 or 0 in widths:
+                raise InvalidInput("expressions", expressions, "rows of one common, non-zero length (a matrix)")
+            return sp.Matrix([[_expression(f"expressions[{i}][{j}]", e) for j, e in enumerate(row)]
+                              for i, row in enumerate(items)])
+        return sp.Matrix(len(items), 1, [_expression(f"expressions[{i}]", e) for i, e in enumerate(items)])
     if isinstance(expressions, sp.Basic):
         return sp.Matrix([expressions])
     raise InvalidInput("expressions", expressions, "a SymPy expression, a list of them, or a Matrix")
+
+
+def _check_outputs(matrix: sp.Matrix, allowed: set) -> None:
+    """Every output uses the arguments only: a leftover symbol is named with the output that holds it."""
+    flat = list(matrix)
+    for i, expr in enumerate(flat):
+        label = f"expressions[{i}]" if matrix.cols == 1 else f"expressions[{i // matrix.cols}][{i % matrix.cols}]"
+        extra = sorted(expr.free_symbols - allowed, key=sp.default_sort_key)
+        if extra:
+            names = ", ".join(map(str, extra))
+            given = ", ".join(sorted(map(str, allowed))) or "none"
+            raise InvalidInput(label, str(expr), f"symbols from the arguments only ({given}); {names} "
+                                                 f"{'is' if len(extra) == 1 else 'are'} not among them: add "
+                                                 f"{'it' if len(extra) == 1 else 'them'} to the arguments or "
+                                                 "substitute a value")
+        check_expressions([expr], allowed, what=label)
 
 
 def compile_expressions(expressions, arguments, *, flavour: str = "scalar", name: str = "f"):
@@ -105,19 +146,30 @@ def compile_expressions(expressions, arguments, *, flavour: str = "scalar", name
     >>> compile_expressions([a + b], [a])
     Traceback (most recent call last):
     ...
-    eulersym.errors.InvalidInput: f.f='b' is not valid: expected no free symbols other than the arguments (a)
+    eulersym.errors.InvalidInput: expressions[0]='a + b' is not valid: expected symbols from the arguments only (a); b is not among them: add it to the arguments or substitute a value
     """
     if flavour not in ("scalar", "batched"):
         raise InvalidInput("flavour", flavour, "'scalar' or 'batched'")
-    if not isinstance(name, str) or not name.isidentifier():
-        raise InvalidInput("name", name, "a Python identifier")
+    if (not isinstance(name, str) or not name.isidentifier() or keyword.iskeyword(name) or name.startswith("_")
+            or name in _TAKEN):
+        raise InvalidInput("name", name, "a Python identifier that is not a keyword, does not start with '_' and "
+                                         "is not a name the compiled code uses (np, math's functions)")
     matrix = _as_matrix(expressions)
+    if isinstance(arguments, (str, bytes)) or not isinstance(arguments, (list, tuple)):
+        raise InvalidInput("arguments", arguments, "a list of symbols (or tuples of symbols for vectors), in "
+                                                   "signature order")
     groups = [tuple(a) if isinstance(a, (list, tuple)) else (a,) for a in arguments]
     vectors = [isinstance(a, (list, tuple)) for a in arguments]
     mapping = freeze([s for group in groups for s in group])
     replace = {k: v for k, v in mapping.items() if k is not v}
     if replace:
         matrix = matrix.xreplace(replace)
+    symbols_in_order = [mapping[s] for group in groups for s in group]
+    if len(set(symbols_in_order)) != len(symbols_in_order):
+        repeated = sorted({str(x) for x in symbols_in_order if symbols_in_order.count(x) > 1})
+        raise InvalidInput("arguments", [str(x) for x in symbols_in_order],
+                           f"each symbol once ({', '.join(repeated)} given more than once)")
+    _check_outputs(matrix, set(symbols_in_order))
     n_vectors = sum(vectors)
     specs = []
     k = 0

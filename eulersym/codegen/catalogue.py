@@ -186,7 +186,7 @@ def _call(target: str):
     return getattr(importlib.import_module(module), name)
 
 
-def _ode(name, description, source, state, params, rhs, invariants=None, invariant_names=(), notes=()):
+def _ode(name, description, source, state, params, rhs, invariants=None, invariant_names=(), notes=(), singular=()):
     """A ModuleSpec with rhs, jac (and invariants) of (t, y, *params)."""
     args = (Argument("t", (S.t,), doc="time"),
             Argument("y", tuple(state), vector=True, doc="state"),
@@ -199,7 +199,7 @@ def _ode(name, description, source, state, params, rhs, invariants=None, invaria
     if invariants is not None:
         functions.append(FunctionSpec("invariants", args, sp.Matrix(invariants),
                                       "the invariants " + ", ".join(invariant_names), tuple(invariant_names)))
-    return ModuleSpec(name, description, source, tuple(functions), tuple(notes))
+    return ModuleSpec(name, description, source, tuple(functions), tuple(notes), tuple(singular))
 
 
 def _freeze_all(exprs):
@@ -276,10 +276,14 @@ def _build_heavy_top_euler_angles() -> ModuleSpec:
     return _ode(
         "heavy_top_euler_angles",
         "The heavy symmetric top with a fixed pivot in Euler angles (zxz): Lagrange's equations in first-order "
-        "form, y = (φ, θ, ψ, φ̇, θ̇, ψ̇). Singular at sin θ = 0 (the scalar flavour then divides by zero).",
+        "form, y = (φ, θ, ψ, φ̇, θ̇, ψ̇). Singular at sin θ = 0: there the scalar flavour raises "
+        "eulersym.errors.SingularConfiguration (the batched flavour gives inf or nan; the flat one divides by zero).",
         "eulersym.top.equations_of_motion() solved for the second derivatives (mass matrix); "
         "invariants eulersym.top.energy(), eulersym.top.conserved_momenta()",
         (*ANGLES, *RATES), params, list(RATES) + list(accelerations), invariants, ("E", "p_phi", "p_psi"),
+        singular=("theta", "sin(theta) == 0",
+                  "sin(theta) != 0 (theta strictly between 0 and pi, modulo pi): the Euler-angle equations are "
+                  "singular at theta = 0 and pi (the sleeping top); use heavy_top_euler_poisson there"),
     )
 
 

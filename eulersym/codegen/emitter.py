@@ -19,11 +19,14 @@ Printing
     is several times cheaper than ``x**2``. A function outside the table is refused by name.
 
 Flavours
-    *scalar* ``f(t, y, *params)``: Python floats and ``math``, returns a new list; *flat* ``f_flat(t, *state,
-    *params)``: the same with vectors unpacked, returning a tuple (numba-compilable); *batched*
-    ``f_batched(t, y, *params, out=None)``: NumPy, outputs written into ``out`` row by row with in-place
-    ufuncs (``np.multiply(a, b, out=...)``, ``+=``, ``*=``), which avoids the temporaries of
-    ``out[i] = <expression>``.
+    *scalar* ``f(t, y, *params)``: Python floats and ``math``, returns a new list; a vector argument may be a
+    list, a tuple or an ndarray (one ``tolist()``), at the same speed; *flat* ``f_flat(t, *state, *params)``:
+    the same with vectors unpacked, returning a tuple (numba-compilable); *batched* ``f_batched(t, y, *params,
+    out=None)``: NumPy, outputs written into ``out`` row by row with in-place ufuncs (``np.multiply(a, b,
+    out=...)``, ``+=``, ``*=``), which avoids the temporaries of ``out[i] = <expression>``; a long 1-d batch
+    runs in blocks of ``_runtime._BLOCK`` columns (``_f_block``) so that every temporary stays in cache and each
+    input and output crosses memory once; *loop* ``f_loop(t, y, *params, out)``: ``f_flat`` looped over the
+    columns, the source :func:`eulersym.numerics._fast.batched` compiles with numba.
 
 Refusals
     Before anything is printed, :func:`check_expressions` refuses, by name, any ``Derivative``, undefined
@@ -61,6 +64,7 @@ __all__ = [
     "check_expressions",
     "cse_pass",
     "emit_function",
+    "emit_loop",
     "emit_module",
     "input_hash",
     "SCALAR_FUNCTIONS",
@@ -68,7 +72,7 @@ __all__ = [
 ]
 
 #: Bumped whenever the emitted text changes for the same input, so that ``generate --check`` notices.
-EMITTER_VERSION = "1"
+EMITTER_VERSION = "2"
 
 #: SymPy function name → name in the ``math`` module (scalar flavour, imported by bare name).
 SCALAR_FUNCTIONS: dict[str, str] = {
@@ -186,6 +190,10 @@ class ModuleSpec:
     source: str
     functions: tuple
     notes: tuple = field(default=())
+    #: ``(name, condition, expected)``: where the coordinates are singular. The scalar flavour turns a division by
+    #: zero where the Python ``condition`` holds into ``eulersym.errors.SingularConfiguration(name, value,
+    #: expected)``; the flat flavour stays unchecked. Empty: no singularity.
+    singular: tuple = field(default=())
 
     @property
     def function_names(self) -> tuple[str, ...]:
@@ -495,7 +503,7 @@ def _outputs_doc(f: FunctionSpec) -> str:
     return "shape " + str(f.out_shape)
 
 
-def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
+def emit_function(f: FunctionSpec, cse: CsePass, flavour: str, singular: tuple = ()) -> str:
     """Source of one function: ``f.name`` (scalar flavour), ``f.name + "_flat"`` (flat: the scalar flavour with
     vectors unpacked, returning a tuple, numba-compilable) or ``f.name + "_batched"`` (batched).
 
@@ -505,12 +513,12 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
     >>> a, b = sp.symbols("a b")
     >>> f = FunctionSpec("f", (Argument("y", (a, b), vector=True),), sp.Matrix([a * b, a * b + 1]))
     >>> source = emit_function(f, cse_pass([f]), "scalar")
-    >>> print(source[source.index("    try:"):])
+    >>> print(source[source.index("    if isinstance"):])
+        if isinstance(y, np.ndarray):
+            y = y.tolist()  # Python floats: ``math`` on them is fastest
         try:
-            a, b = y.tolist()
-        except AttributeError:
-            a, b = _unpack('y', y, ('a', 'b'))
-        except ValueError:
+            a, b = y
+        except (TypeError, ValueError):
             raise _wrong_length('y', y, ('a', 'b')) from None
         x0 = a*b
         return [x0, x0 + 1]
@@ -549,25 +557,30 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
             names = ", ".join(a.names)
             trailing = "," if len(a.names) == 1 else ""
             body += [
+                f"if isinstance({a.name}, np.ndarray):",
+                f"    {a.name} = {a.name}.tolist()  # Python floats: ``math`` on them is fastest",
                 "try:",
-                f"    {names}{trailing} = {a.name}.tolist()",
-                "except AttributeError:",
-                f"    {names}{trailing} = _unpack({a.name!r}, {a.name}, {a.names!r})",
-                "except ValueError:",
+                f"    {names}{trailing} = {a.name}",
+                "except (TypeError, ValueError):",
                 f"    raise _wrong_length({a.name!r}, {a.name}, {a.names!r}) from None",
             ]
         # Scalar arguments whose symbol name differs from the argument name.
         for a in f.arguments:
             if not a.vector and a.names[0] != a.name:
                 body.append(f"{a.names[0]} = {a.name}")
-        for sym, expr in needed:
-            body.append(f"{printer.doprint(sym)} = {printer.doprint(expr)}")
+        compute = [f"{printer.doprint(sym)} = {printer.doprint(expr)}" for sym, expr in needed]
         if len(f.out_shape) == 1:
-            body.append("return [" + ", ".join(_constant(printer, e) for e in reduced) + "]")
+            compute.append("return [" + ", ".join(_constant(printer, e) for e in reduced) + "]")
         else:
             rows = ["[" + ", ".join(_constant(printer, e) for e in reduced.row(i)) + "]"
                     for i in range(reduced.rows)]
-            body.append("return [" + ", ".join(rows) + "]")
+            compute.append("return [" + ", ".join(rows) + "]")
+        if singular:
+            name, condition, expected = singular
+            compute = (["try:"] + ["    " + line for line in compute]
+                       + ["except ZeroDivisionError:", f"    if {condition}:",
+                          f"        raise _singular({name!r}, {name}, {expected!r}) from None", "    raise"])
+        body += compute
     else:
         head = f"def {f.name}_batched({args}, *extra, out=None):"
         doc = [_Q + f"{f.name}_batched({args}, out=None) -> ndarray of shape "
@@ -587,7 +600,13 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
             else:
                 shapes.append(f"np.shape({a.name})")
         inputs = ", ".join(a.name for a in f.arguments)
+        vectors = tuple(a.vector for a in f.arguments)
         body.append(f"out = _prepare_out(out, {f.out_shape!r}, ({', '.join(shapes)},), ({inputs},))")
+        body.append(f"return _blocked(_{f.name}_block, out, {len(f.out_shape)}, ({inputs},), {vectors!r})")
+        wrapper = "\n".join([head] + ["    " + doc[0]] + doc[1:] + ["    " + line for line in body])
+        head = f"def _{f.name}_block({args}, out):"
+        doc = [_Q + f"``{f.name}_batched`` on one block of the batch (checked by the caller), into ``out``." + _Q]
+        body = []
         for a in f.arguments:
             if a.vector:
                 trailing = "," if len(a.names) == 1 else ""
@@ -605,7 +624,47 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str) -> str:
         body.append("return out")
     lines = [head] + ["    " + doc[0]] + doc[1:] + ["    " + line for line in body]
     text = "\n".join(lines)
+    if flavour == "batched":
+        text = wrapper + "\n\n\n" + text
     return "\n".join(line.rstrip() for line in text.split("\n"))
+
+
+def emit_loop(f: FunctionSpec) -> str:
+    """Source of ``f.name + "_loop"``: the batched function as a plain loop over the columns of 1-d batches,
+    calling ``f.name + "_flat"`` per column; the source numba compiles (:func:`eulersym.numerics._fast.batched`).
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> a, b, k = sp.symbols("a b k")
+    >>> f = FunctionSpec("f", (Argument("y", (a, b), vector=True), Argument("k", (k,))), sp.Matrix([k * a * b]))
+    >>> print(emit_loop(f).split(_Q)[-1])
+    <BLANKLINE>
+        for _column in range(out.shape[-1]):
+            _values = f_flat(y[0, _column], y[1, _column], k)
+            out[0, _column] = _values[0]
+        return out
+    """
+    args = _signature(f)
+    call = []
+    for a in f.arguments:
+        if a.vector:
+            call += [f"{a.name}[{i}, _column]" for i in range(len(a.symbols))]
+        else:
+            call.append(a.name)
+    vectors = ", ".join(f"``{a.name}`` ({len(a.symbols)}, n)" for a in f.arguments if a.vector) or "none"
+    body = [f"for _column in range(out.shape[-1]):",
+            f"    _values = {f.name}_flat({', '.join(call)})"]
+    for index in _indices(f.out_shape):
+        value = "".join(f"[{i}]" for i in index)
+        body.append(f"    out[{', '.join(map(str, index))}, _column] = _values{value}")
+    body.append("return out")
+    doc = [_Q + f"{f.name}_loop({args}, out) -> out", "",
+           f"    ``{f.name}_batched`` as a plain loop over the columns of a 1-d batch, calling ``{f.name}_flat``: vectors",
+           f"    {vectors}, every other argument a float, ``out`` of shape {f.out_shape!r} + (n,). No checks and",
+           "    slow as Python: it is the source numba compiles (``eulersym.numerics._fast.batched``). " + _Q]
+    lines = [f"def {f.name}_loop({args}, out):"] + ["    " + doc[0]] + doc[1:] + ["    " + line for line in body]
+    return "\n".join(line.rstrip() for line in lines)
 
 
 def _emit_into(expr, target: str, printer, arrays: set) -> list[str]:
@@ -692,6 +751,8 @@ def input_hash(spec: ModuleSpec) -> str:
     """
     h = hashlib.sha256()
     h.update(f"emitter {EMITTER_VERSION}\nmodule {spec.name}\nsource {spec.source}\n".encode())
+    if spec.singular:
+        h.update(f"singular {spec.singular!r}\n".encode())
     for f in spec.functions:
         h.update(f"function {f.name}({_signature(f)})\n".encode())
         for a in f.arguments:
@@ -726,8 +787,7 @@ def check_module(spec: ModuleSpec) -> None:
         check_expressions(list(f.expressions), symbols, what=f"{spec.name}.{f.name}")
 
 
-_RUNTIME_IMPORT = ("from eulersym.generated._runtime import _as_vector, _prepare_out, _too_many, _unpack, "
-                   "_wrong_length")
+_RUNTIME_IMPORT = "from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _too_many, _wrong_length"
 
 
 def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_import: str | None = None) -> str:
@@ -757,9 +817,10 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
 
         versions = {"eulersym": __version__, "sympy": sp.__version__}
     cse = cse_pass(spec.functions)
-    scalar = [emit_function(f, cse, "scalar") for f in spec.functions]
+    scalar = [emit_function(f, cse, "scalar", spec.singular) for f in spec.functions]
     flat = [emit_function(f, cse, "flat") for f in spec.functions]
     batched = [emit_function(f, cse, "batched") for f in spec.functions]
+    loops = [emit_loop(f) for f in spec.functions]
     used = set()
     for f in spec.functions:
         p = make_printer("scalar")
@@ -780,7 +841,8 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
             f"; {a.name} = ({', '.join(a.names)})" for a in f.arguments if a.vector))
     description = textwrap.fill(spec.description.strip(), width=100, break_on_hyphens=False).split("\n")
     doc = ['"""' + description[0], *description[1:], "",
-           "Functions (each also as ``<name>_batched(..., out=None)`` and ``<name>_flat(...)``):", ""]
+           "Functions (each also as ``<name>_batched(..., out=None)``, ``<name>_flat(...)`` and ``<name>_loop(..., out)``):",
+           ""]
     shared = len({_signature(f) for f in spec.functions}) == 1 and any(a.vector for a in spec.functions[0].arguments)
     for f in spec.functions:
         doc.append(f"- ``{f.name}({_signature(f)})`` → {_outputs_doc(f)}" + (f": {f.doc}" if f.doc else ""))
@@ -789,24 +851,29 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
     if shared:
         doc += ["", "Arguments, in order (the same for every function):", ""]
         doc += ["  " + line.strip() for line in _order_doc(spec.functions[0])]
-    doc += ["", "Scalar flavour: Python floats and ``math``; returns a new list on every call (safe with",
-            "``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.",
+    doc += ["", "Scalar flavour: Python floats and ``math``; a vector may be a list, a tuple or an ndarray (same",
+            "speed: an ndarray is turned into floats with one ``tolist()``); returns a new list on every call (safe",
+            "with ``solve_ivp``); it stays lean: a vector of the wrong length raises, the rest is not checked.",
             "Batched flavour: NumPy, vectors of shape ``(n, *batch)``, scalars broadcast; shapes are checked once",
             "per call, and the result is a new array unless ``out=`` is given (written in place, so it may not",
-            "overlap the inputs).",
+            "overlap the inputs). A long 1-d batch is computed in blocks whose temporaries stay in cache.",
             "Flat flavour: ``<name>_flat`` takes every symbol as its own float argument (vectors unpacked, in",
-            "order) and returns a tuple: plain ``math`` on floats, no checks, so ``numba.njit`` compiles it."]
+            "order) and returns a tuple: plain ``math`` on floats, no checks, so ``numba.njit`` compiles it.",
+            "Loop flavour: ``<name>_loop(..., out)`` loops ``<name>_flat`` over the columns of a 1-d batch (float",
+            "parameters); ``eulersym.numerics._fast.batched(module, name)`` compiles it with numba (cached on disk),",
+            "the module itself never imports numba."]
     for note in spec.notes:
         doc += ["", *textwrap.fill(note, width=100, break_on_hyphens=False).split("\n")]
     doc.append('"""')
     imports = ["", "import numpy as np"]
     if used:
         imports.append(f"from math import {', '.join(sorted(used))}")
-    runtime_import = _RUNTIME_IMPORT if runtime_import is None else runtime_import
+    if runtime_import is None:
+        runtime_import = _RUNTIME_IMPORT + (", _singular" if spec.singular else "")
     if runtime_import:
         imports += ["", runtime_import]
-    all_names = [f.name + suffix for suffix in ("", "_flat", "_batched") for f in spec.functions]
+    all_names = [f.name + suffix for suffix in ("", "_flat", "_batched", "_loop") for f in spec.functions]
     parts = header + doc + imports + ["", f"__all__ = {all_names!r}", ""]
-    for src in scalar + flat + batched:
+    for src in scalar + flat + batched + loops:
         parts += ["", src, ""]
     return "\n".join(parts).rstrip("\n") + "\n"

@@ -29,6 +29,8 @@ from __future__ import annotations
 
 import argparse
 import functools
+import os
+import shutil
 import sys
 import time
 from dataclasses import dataclass, field
@@ -99,12 +101,26 @@ def _source(name: str) -> str:
 def generate(directory=None, names=None, *, verbose: bool = False) -> list[Path]:
     """Write the kernels (and ``_runtime.py``) to ``directory``; return the paths written.
 
+    The set of files is replaced as a whole: when anything changes, the new folder is built beside the target
+    (``.<name>.eulersym-new-<pid>``, holding the new files and links to the others: ``__init__.py``, kernels not
+    rewritten) and
+    swapped in with one rename (an atomic exchange on Linux), so a run killed at any moment leaves the old set or
+    the new one, never a mix. A later run removes what a killed run left beside the folder (and puts the old
+    folder back if the kill fell between the two renames of the portable fallback).
+
     Parameters
     ----------
     directory : path, optional
-        Default: :func:`default_directory`. Created if missing.
+        Default: :func:`default_directory`. Created if missing; it must be a folder (or not exist yet) whose
+        parents are folders, holding nothing but generated kernels and ``__init__.py`` (it is replaced whole).
     names : list of str, optional
         Catalogue entries (default: all). Unavailable ones are skipped with a message on stderr.
+
+    Raises
+    ------
+    InvalidInput
+        ``directory`` is a file, lies under a file, holds other things, or cannot be written (the operating
+        system's reason).
 
     Examples
     --------
@@ -113,20 +129,147 @@ def generate(directory=None, names=None, *, verbose: bool = False) -> list[Path]
     ...     sorted(p.name for p in generate(d, names=["kinematics"]))
     ['_runtime.py', 'kinematics.py']
     """
-    directory = Path(default_directory() if directory is None else directory)
-    directory.mkdir(parents=True, exist_ok=True)
+    directory = _target_directory(default_directory() if directory is None else directory, "directory")
     files, skipped = render(names)
     for name, why in skipped.items():
         sys.stderr.write(f"eulersym generate: skipped {name}: {why}\n")
-    written = []
-    for file, text in files.items():
-        path = directory / file
-        if not path.exists() or path.read_bytes() != text.encode():
-            path.write_bytes(text.encode())
-        written.append(path)
-        if verbose:
+    _recover(directory)
+    unchanged = directory.is_dir() and all(
+        (directory / file).is_file() and (directory / file).read_bytes() == text.encode()
+        for file, text in files.items())
+    if not unchanged:
+        _only_kernels(directory, files)
+        try:
+            _replace_folder(directory, {file: text.encode() for file, text in files.items()})
+        except OSError as exc:
+            raise InvalidInput("directory", str(directory), "a folder that can be written, with a writable parent "
+                                                             f"folder ({exc.strerror or exc})") from None
+    written = [directory / file for file in files]
+    if verbose:
+        for path in written:
             print(f"wrote {path}")
     return written
+
+
+_NEW, _OLD = "eulersym-new", "eulersym-old"
+
+
+def _target_directory(directory, argument: str) -> Path:
+    """``directory`` as a Path if it is a folder or can become one; InvalidInput naming the file in the way."""
+    if isinstance(directory, bytes) or not isinstance(directory, (str, Path)) or str(directory).strip() == "":
+        raise InvalidInput(argument, directory, "a folder path")
+    path = Path(directory)
+    if path.exists() and not path.is_dir():
+        raise InvalidInput(argument, str(directory), "a folder (or a path that does not exist yet); this is a file")
+    for parent in path.absolute().parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise InvalidInput(argument, str(directory), f"a folder path whose parents are folders; {parent} is "
+                                                             "a file")
+            break
+    return path
+
+
+def _only_kernels(directory: Path, files: dict) -> None:
+    """Refuse a folder that holds anything but generated kernels: the whole folder is replaced."""
+    if not directory.is_dir():
+        return
+    allowed = set(files) | _KEEP | {"__pycache__"} | {name + ".py" for name in CATALOGUE}
+    foreign = sorted(entry.name for entry in directory.iterdir()
+                     if entry.name not in allowed or (entry.is_dir() and entry.name != "__pycache__"))
+    if foreign:
+        shown = ", ".join(foreign[:5]) + (f" and {len(foreign) - 5} more" if len(foreign) > 5 else "")
+        raise InvalidInput("directory", str(directory), "a new or empty folder, or a folder of generated kernels "
+                                                        f"(it is replaced as a whole; this one also holds {shown})")
+
+
+def _sibling(directory: Path, kind: str, pid: int) -> Path:
+    return directory.parent / f".{directory.name}.{kind}-{pid}"
+
+
+def _alive(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # exists, but not ours
+        return True
+    return True
+
+
+def _recover(directory: Path) -> None:
+    """Clean what a killed run left beside ``directory``: an old folder is put back if the target is missing (the
+    kill fell between the two renames), other leftovers of dead runs are removed."""
+    parent = directory.parent
+    if not parent.is_dir():
+        return
+    prefix = f".{directory.name}."
+    for entry in sorted(parent.iterdir()):
+        name = entry.name
+        if not name.startswith(prefix):
+            continue
+        kind, _, pid = name[len(prefix):].rpartition("-")
+        if kind not in (_NEW, _OLD) or not pid.isdigit() or _alive(int(pid)):
+            continue
+        if kind == _OLD and not directory.exists():
+            os.rename(entry, directory)
+        else:
+            shutil.rmtree(entry, ignore_errors=True)
+
+
+def _replace_folder(directory: Path, files: dict[str, bytes]) -> None:
+    """Build the new folder beside ``directory`` and swap it in (see :func:`generate`)."""
+    directory.parent.mkdir(parents=True, exist_ok=True)
+    new = _sibling(directory, _NEW, os.getpid())
+    shutil.rmtree(new, ignore_errors=True)
+    new.mkdir()
+    try:
+        if directory.is_dir():  # only kernels, __init__.py and __pycache__ (checked): keep the files not rewritten
+            for entry in directory.iterdir():
+                if entry.name in files or not entry.is_file():
+                    continue
+                try:
+                    os.link(entry, new / entry.name)
+                except OSError:
+                    shutil.copy2(entry, new / entry.name)
+        for file, data in files.items():
+            with open(new / file, "wb") as handle:
+                handle.write(data)
+                handle.flush()
+                os.fsync(handle.fileno())
+        if not directory.exists():
+            os.rename(new, directory)
+            return
+        if _exchange(new, directory):
+            shutil.rmtree(new, ignore_errors=True)  # now the old folder
+            return
+        old = _sibling(directory, _OLD, os.getpid())
+        os.rename(directory, old)
+        os.rename(new, directory)
+        shutil.rmtree(old, ignore_errors=True)
+    finally:
+        if new.exists():
+            shutil.rmtree(new, ignore_errors=True)
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap two paths atomically (Linux ``renameat2(RENAME_EXCHANGE)``); False where that is not available."""
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        renameat2 = libc.renameat2
+    except (OSError, AttributeError):
+        return False
+    renameat2.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    at_fdcwd, rename_exchange = -100, 2
+    if renameat2(at_fdcwd, os.fsencode(a), at_fdcwd, os.fsencode(b), rename_exchange) == 0:
+        return True
+    return False  # e.g. a filesystem without RENAME_EXCHANGE: the two-rename fallback
 
 
 @dataclass
@@ -187,7 +330,7 @@ def check(directory=None, names=None) -> CheckReport:
     ...     check(d, names=["kinematics"]).problems
     ['_runtime.py is missing; run `eulersym generate`', 'kinematics.py is missing; run `eulersym generate`']
     """
-    directory = Path(default_directory() if directory is None else directory)
+    directory = _target_directory(default_directory() if directory is None else directory, "directory")
     report = CheckReport()
     files, skipped = render(names)
     for name, why in skipped.items():
@@ -231,6 +374,8 @@ def cli(argv: list[str]) -> int:
     except SystemExit as exc:
         return int(exc.code or 0)
     names = args.names or None
+    if args.dir is not None:
+        _target_directory(args.dir, "--dir")
     start = time.perf_counter()
     if args.check:
         report = check(args.dir, names)
@@ -241,6 +386,11 @@ def cli(argv: list[str]) -> int:
         count = len(render(names)[0])
         print(f"check passed: {count} files match a fresh generation ({time.perf_counter() - start:.1f} s)")
         return 0
-    written = generate(args.dir, names)
+    try:
+        written = generate(args.dir, names)
+    except InvalidInput as exc:
+        if exc.argument != "directory":
+            raise
+        raise InvalidInput("--dir", exc.value, exc.expected) from None
     print(f"generated {len(written)} files in {Path(written[0]).parent} ({time.perf_counter() - start:.1f} s)")
     return 0

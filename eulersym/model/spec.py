@@ -13,7 +13,8 @@ A model is the physics part of a scene (a scene file is a model file plus ``[ini
     # [[body.parts]]                        # each: a shape with mass and dimensions, or moments/tensor + mass,
     # shape = "cylinder"  mass = 1.0  R = 0.1  h = 0.02
     # position = [0, 0, 0.1]                # where the part's origin sits (from the pivot, for a pivoted body)
-    # orientation = {euler = [0, 1.5708, 0], convention = "zxz"}   # or {quaternion = [...]}, {axis, angle}
+    # orientation = {euler = [0, 1.5708, 0], convention = "zxz"}   # or {quaternion = [...]}, {axis, angle};
+    #                                       # or on the part: euler = [...] (+ convention), quaternion = [...]
     mass = 0.5
     [pivot]                       # a fixed point; without it the body is free
     centre_of_mass = [0, 0, 0.04] # body frame, from the pivot (or l = 0.04 for [0, 0, l]); g = 9.81 by default
@@ -34,7 +35,8 @@ Shapes and their dimensions (:mod:`eulersym.inertia`): ``cube`` (a), ``cuboid`` 
 shape's *origin* (``center``; cube/cuboid ``corner``; cylinder ``base``; cone ``apex`` (the default); rod
 ``end``) is the pivot for a pivoted shape, and the point placed at ``position`` for a part.
 
-Orientation of a part: its axes are turned relative to the model frame as a body's axes relative to space by the
+Orientation of a part (``orientation = {...}``, or the same keys written on the part; a 4-list is a quaternion, a
+3-list zxz Euler angles): its axes are turned relative to the model frame as a body's axes relative to space by the
 same attitude — ``v_model = R v_part`` with ``R = R(q)`` for ``quaternion = [q0, q1, q2, q3]`` (scalar first),
 ``R = Aᵀ`` with ``A = euler_matrix(φ, θ, ψ, convention)`` for ``euler = [φ, θ, ψ]`` (radians), and the turn by
 ``angle`` about ``axis`` for ``{axis, angle}``; the part's tensor becomes ``R I Rᵀ``.
@@ -109,12 +111,23 @@ MAX_FILE_BYTES = 1 << 20
 
 _BODY_KINDS = ("moments", "tensor", "shape", "parts")
 _ORIENTATIONS = ("quaternion", "euler", "axis")
+_ORIENTATION_KEYS = ("quaternion", "euler", "convention", "axis", "angle")
 
 
 def _did_you_mean(key: str, valid) -> str:
     valid = sorted(valid)
     close = difflib.get_close_matches(str(key), valid, n=1, cutoff=0.5)
     return "one of " + ", ".join(repr(v) for v in valid) + (f" (did you mean {close[0]!r}?)" if close else "")
+
+
+def _sequence(value: Any) -> list | None:
+    """``value`` as a list when it is a list, tuple or array (not a string or a table), else None."""
+    if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__len__") or not hasattr(value, "__iter__"):
+        return None
+    try:
+        return list(value)
+    except TypeError:
+        return None
 
 
 def _table(key: str, value: Any, valid) -> dict:
@@ -179,7 +192,7 @@ class _Checker:
         if isinstance(value, str):
             return self.text(key, value, context)
         if isinstance(value, bool) or not isinstance(value, numbers.Real):
-            if isinstance(value, (list, tuple)):
+            if _sequence(value) is not None:
                 raise InvalidInput(key, value, "a number or an expression string, not a list (a vector where "
                                    "a scalar belongs)")
             raise InvalidInput(key, value, "a number or an expression string of the parameters")
@@ -203,13 +216,14 @@ class _Checker:
                 return self.text(key, value, context)
             raise InvalidInput(key, value, f"{n} components [x, y, z] (numbers or expression strings), not one "
                                "string" if n == 3 else f"{n} components")
-        if not isinstance(value, (list, tuple)):
+        items = _sequence(value)
+        if items is None:
             raise InvalidInput(key, value, f"a list of {n} components" + (" (a scalar where a vector belongs)"
                                                                           if isinstance(value, numbers.Real)
                                                                           else ""))
-        if len(value) != n:
-            raise InvalidInput(key, value, f"a list of {n} components, not {len(value)}")
-        return [self.number(f"{key}[{i}]", v, context=context, sign=sign) for i, v in enumerate(value)]
+        if len(items) != n:
+            raise InvalidInput(key, value, f"a list of {n} components, not {len(items)}")
+        return [self.number(f"{key}[{i}]", v, context=context, sign=sign) for i, v in enumerate(items)]
 
 
 # ------------------------------------------------------------------------------------------------------------
@@ -287,7 +301,14 @@ def _shape_keys(key: str, table: dict, shape_key: str = "shape") -> dict:
 def _orientation(key: str, value: Any, check: _Checker):
     if value is None:
         return None
-    if isinstance(value, (list, tuple)):
+    if _sequence(value) is not None:
+        value = _sequence(value)
+        if len(value) == 3:
+            return {"euler": check.vector(key, value), "convention": "zxz"}
+        if len(value) != 4:
+            raise InvalidInput(key, value, "a quaternion [q0, q1, q2, q3] (scalar first), Euler angles "
+                               "[phi, theta, psi] (zxz, radians), or a table {euler, convention}, {quaternion}, "
+                               "{axis, angle}")
         return {"quaternion": _quaternion(key, value, check)}
     table = _table(key, value, ("quaternion", "euler", "convention", "axis", "angle"))
     given = [k for k in _ORIENTATIONS if k in table]
@@ -332,9 +353,10 @@ def _moments(key: str, value: Any, check: _Checker) -> list:
 
 
 def _tensor(key: str, value: Any, check: _Checker) -> list:
-    if not isinstance(value, (list, tuple)) or len(value) != 3:
+    rows = _sequence(value)
+    if rows is None or len(rows) != 3:
         raise InvalidInput(key, value, "a 3×3 symmetric inertia tensor [[I11, I12, I13], [I21, ...], [...]]")
-    rows = [check.vector(f"{key}[{i}]", row) for i, row in enumerate(value)]
+    rows = [check.vector(f"{key}[{i}]", row) for i, row in enumerate(rows)]
     for i in range(3):
         for j in range(i + 1, 3):
             a, b = rows[i][j], rows[j][i]
@@ -342,8 +364,7 @@ def _tensor(key: str, value: Any, check: _Checker) -> list:
                     abs(a - b) > 1e-12 * max(abs(a), abs(b)):
                 raise InvalidInput(key, value, f"a symmetric tensor: {key}[{i}][{j}] = {a:g} but "
                                    f"{key}[{j}][{i}] = {b:g}")
-            if isinstance(a, str) and isinstance(b, str) and a != b:
-                pass  # compared exactly when the mechanics is built
+    # expressions are compared exactly when the mechanics is built
     if all(isinstance(x, float) for row in rows for x in row):
         _check_tensor(key, value, rows)
     return rows
@@ -407,15 +428,21 @@ def _body(value: Any, check: _Checker, pivoted: bool) -> dict:
 
 
 def _parts(value: Any, check: _Checker) -> list:
-    if not isinstance(value, (list, tuple)) or not value:
+    if _sequence(value) is None or not _sequence(value):
         raise InvalidInput("body.parts", value, "a non-empty list of parts ([[body.parts]] tables)")
     if len(value) > MAX_PARTS:
         raise InvalidInput("body.parts", f"{len(value)} parts", f"at most {MAX_PARTS} parts")
     parts = []
-    for i, part in enumerate(value):
+    for i, part in enumerate(_sequence(value)):
         key = f"body.parts[{i}]"
         table = _table(key, part, ("shape", "moments", "tensor", "mass", "origin", "dimensions", "a", "b", "c",
-                                   "R", "h", "L", "position", "orientation"))
+                                   "R", "h", "L", "position", "orientation", *_ORIENTATION_KEYS))
+        inline = {k: table.pop(k) for k in _ORIENTATION_KEYS if k in table}
+        if inline:  # quaternion = [...], euler = [...] + convention, axis + angle written on the part itself
+            if "orientation" in table:
+                k = next(iter(inline))
+                raise InvalidInput(f"{key}.{k}", inline[k], f"one orientation: {key}.orientation is given too")
+            table["orientation"] = inline
         given = [k for k in ("moments", "tensor", "shape") if k in table]
         if len(given) != 1:
             raise InvalidInput(key, part, "one of shape (with mass and dimensions), moments or tensor (with mass)"
@@ -642,7 +669,13 @@ class Model:
     # ---- plain facts (SymPy-free) --------------------------------------------------------------------------
     @property
     def name(self) -> str:
-        """The model's name."""
+        """The model's name.
+
+        Examples
+        --------
+        >>> Model(name="spinner", body={"moments": [1, 2, 3]}).name
+        'spinner'
+        """
         return self._data["name"]
 
     @property
@@ -658,7 +691,13 @@ class Model:
 
     @property
     def pivoted(self) -> bool:
-        """Whether the body turns about a fixed pivot."""
+        """Whether the body turns about a fixed pivot.
+
+        Examples
+        --------
+        >>> Model(body={"moments": [1, 1, 2], "mass": 1}, pivot={"l": 0.1}).pivoted
+        True
+        """
         return self._data["pivot"] is not None
 
     def to_dict(self) -> dict:
@@ -704,7 +743,10 @@ class Model:
         >>> a.digest == Model(body={"moments": [1.0, 2.0, 3.0]}).digest, len(a.digest)
         (True, 64)
         """
-        payload = {"model": self._data, "eulersym": _distribution_version("eulersym"),
+        data = json.loads(json.dumps(self._data))
+        if data["pivot"] is not None:
+            del data["pivot"]["l"]  # l = 0.1 is centre_of_mass = [0, 0, 0.1]; the flag only names the key
+        payload = {"model": data, "eulersym": _distribution_version("eulersym"),
                    "sympy": _distribution_version("sympy")}
         text = json.dumps(payload, sort_keys=True, separators=(",", ":"), ensure_ascii=True)
         return hashlib.sha256(text.encode("ascii")).hexdigest()
@@ -739,66 +781,144 @@ class Model:
 
     @property
     def mass(self):
-        """The total mass (SymPy), derived for a shape or parts; None for a free body given without one."""
+        """The total mass (SymPy), derived for a shape or parts; None for a free body given without one.
+
+        Examples
+        --------
+        >>> Model(body={"parts": [{"shape": "sphere", "mass": 1, "R": 1},
+        ...                       {"shape": "point", "mass": 0.5, "position": [2, 0, 0]}]}).mass
+        3/2
+        """
         return self._assembly.mass
 
     @property
     def centre_of_mass(self):
         """The centre of mass (3×1, SymPy): from the pivot for a pivoted body; for a free body, where the shape
-        (from its origin) or the parts put it in the model frame (zero for moments or a tensor)."""
+        (from its origin) or the parts put it in the model frame (zero for moments or a tensor).
+
+        Examples
+        --------
+        A cone on its apex: 3h/4 up the axis, derived from the region.
+
+        >>> Model(body={"shape": "cone", "mass": 1, "R": 0.05, "h": 0.2}, pivot={}).centre_of_mass.T
+        Matrix([[0, 0, 3/20]])
+        """
         return self._assembly.centre_of_mass
 
     @property
     def inertia(self):
         """The inertia tensor (3×3, SymPy) in the model frame: about the pivot, or the centre of mass of a free
-        body (never silently in principal axes)."""
+        body (never silently in principal axes).
+
+        Examples
+        --------
+        Two point masses on the x axis and a small sphere, about their centre of mass:
+
+        >>> Model(body={"parts": [{"shape": "point", "mass": 1, "position": [1, 0, 0]},
+        ...                       {"shape": "point", "mass": 1, "position": [-1, 0, 0]},
+        ...                       {"shape": "sphere", "mass": 5, "R": 0.1}]}).inertia.diagonal()
+        Matrix([[1/50, 101/50, 101/50]])
+        """
         return self.mechanics.inertia
 
     # ---- derivations (eulersym.model.derive / integrals / kernels) --------------------------------------------
     def equations(self):
-        """The equations of motion, Newton–Euler route (:func:`eulersym.model.derive.equations`)."""
+        """The equations of motion, Newton–Euler route (:func:`eulersym.model.derive.equations`).
+
+        Examples
+        --------
+        >>> eqs = Model(body={"moments": [1, 1, 2]}, torque={"body": "[0, 0, 0.5]"}).equations()
+        >>> eqs.omega_dot[2]
+        1/4
+        """
         from eulersym.model import derive
 
         return derive.equations(self.mechanics)
 
     def lagrangian(self, convention: str = "zxz"):
-        """The Lagrangian in Euler angles of ``convention`` (:func:`eulersym.model.derive.lagrangian`)."""
+        """The Lagrangian in Euler angles of ``convention`` (:func:`eulersym.model.derive.lagrangian`).
+
+        Examples
+        --------
+        >>> from eulersym.symbols import phi, psi
+        >>> L = Model(body={"moments": [1, 1, 2]}).lagrangian()
+        >>> L.diff(phi), L.diff(psi)  # a free symmetric body: precession and spin angles are cyclic
+        (0, 0)
+        """
         from eulersym.model import derive
 
         return derive.lagrangian(self.mechanics, convention)
 
     def check(self):
-        """The two routes proven identical (:func:`eulersym.model.derive.check`)."""
+        """The two routes proven identical (:func:`eulersym.model.derive.check`).
+
+        Examples
+        --------
+        >>> Model(body={"moments": [1, 1, 2], "mass": 1}, pivot={"l": 0.1}).check().ok
+        True
+        """
         from eulersym.model import derive
 
         return derive.check(self.mechanics)
 
     def invariants(self):
         """The integrals of motion the structure implies, each with a proven verdict
-        (:func:`eulersym.model.integrals.invariants`)."""
+        (:func:`eulersym.model.integrals.invariants`).
+
+        Examples
+        --------
+        >>> verdicts = Model(body={"moments": [1, 2, 3]}).invariants()
+        >>> all(v.conserved for v in verdicts.values())
+        True
+        """
         from eulersym.model import integrals
 
         return integrals.invariants(self.mechanics)
 
     def prove(self, candidate: str):
         """Whether ``candidate`` (a string in the model's names) is conserved
-        (:func:`eulersym.model.integrals.prove`)."""
+        (:func:`eulersym.model.integrals.prove`).
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> damped = Model(parameters={"c": 0.1}, body={"moments": [1, 2, 3]}, torque={"body": "-c*omega"})
+        >>> verdict = damped.prove("dot(omega, inertia*omega)/2")
+        >>> verdict.conserved, sp.expand(verdict.rate)
+        (False, -c*omega1**2 - c*omega2**2 - c*omega3**2)
+        """
+        if not isinstance(candidate, str):
+            raise InvalidInput("candidate", candidate, "a string: an expression in the model's names")
         from eulersym.model import integrals
         from eulersym.model.expressions import parse
 
-        if not isinstance(candidate, str):
-            raise InvalidInput("candidate", candidate, "a string: an expression in the model's names")
         mech = self.mechanics
         return integrals.prove(mech, parse(candidate, mech, argument="candidate", shape="scalar"))
 
     def generate(self, directory):
-        """Write the model's kernel module into ``directory`` (:func:`eulersym.model.kernels.generate`)."""
+        """Write the model's kernel module into ``directory`` (:func:`eulersym.model.kernels.generate`).
+
+        Examples
+        --------
+        >>> import tempfile, pathlib
+        >>> with tempfile.TemporaryDirectory() as d:
+        ...     path = Model(name="spinner", body={"moments": [1, 2, 3]}).generate(d)
+        ...     pathlib.Path(path).suffix
+        '.py'
+        """
         from eulersym.model import kernels
 
         return kernels.generate(self.mechanics, directory, digest=self.digest)
 
     def compile(self):
-        """The model's kernel functions in memory (:func:`eulersym.model.kernels.compile`)."""
+        """The model's kernel functions in memory (:func:`eulersym.model.kernels.compile`).
+
+        Examples
+        --------
+        >>> kernel = Model(body={"moments": [1, 2, 3]}).compile()
+        >>> kernel.STATE[:3], [float(x) for x in kernel.rhs(0.0, [0, 0, 1, 1, 0, 0, 0])[:3]]
+        (('omega1', 'omega2', 'omega3'), [0.0, 0.0, 0.0])
+        """
         from eulersym.model import kernels
 
         return kernels.compile(self.mechanics)

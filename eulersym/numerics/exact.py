@@ -18,14 +18,18 @@ remaining one. In that (a, b, c) frame (a signed permutation of the body axes th
     λ² = (Ic − Ib) Da / (Ia Ib Ic),
     m  = (Ib − Ia)(−Dc) / ((Ic − Ib) Da),   m_c = 1 − m = (Ic − Ia) Db / ((Ic − Ib) Da).
 
-Every D and every ratio is computed in exact rational arithmetic from the binary floats given, then rounded
-once, so ``m_c`` has full relative accuracy however close the start is to the separatrix (``m_c`` is never formed
-as ``1 − m``). The phase ``u = λ t + u0`` is reduced modulo the period 4K in double-double arithmetic, with λ, u0
-and 4K from mpmath at 40 digits (K = π / (2 AGM(1, √m_c))), so the error does not grow with the number of
-periods. ``sn, cn, dn`` are evaluated by :func:`jacobi_sncndn`, which takes ``m_c`` as its input, and uses
-Bulirsch's descending Landen (AGM) recurrence on [0, K/2] and the exact quarter-period reflection
-(``sn(K − y) = cd y`` …) on [K/2, K]. The phase ``u0`` comes from Carlson's ``R_F``. On the separatrix (m_c = 0) the closed forms ``sn = tanh``, ``cn = dn = sech`` are used; a
-symmetric body (two equal moments) and a spherical one use trigonometric / constant forms.
+Every D and every ratio is computed exactly in integer arithmetic (the binary floats given, over power-of-two
+denominators), then rounded once, so ``m_c`` has full relative accuracy however close the start is to the
+separatrix (``m_c`` is never formed as ``1 − m``). The phase ``u = λ t + u0`` is reduced modulo the period 4K in
+double-double arithmetic, with λ and 4K = 2π / AGM(1, √m_c) as double-doubles (:mod:`._doubledouble`), so the
+error does not grow with the number of periods; no mpmath, no ``Fraction``. ``sn, cn, dn`` are evaluated by
+:func:`jacobi_sncndn`, which takes ``m_c`` as its input, and uses Bulirsch's descending Landen (AGM) recurrence on
+[0, K/2] and the exact quarter-period reflection (``sn(K − y) = cd y`` …) on [K/2, K], in blocks of a few
+thousand points (flat cost per point). The phase ``u0`` comes from Carlson's ``R_F`` in double precision: directly
+(``u0 = sn0 · R_F(cn0², dn0², 1)``) below K/2, and as ``K − y``, ``y = cn0 · R_F(m_c sn0², m_c, dn0²) = O(1)``,
+above it, so a start near the separatrix (u0 ≈ K ≫ 1) keeps an absolute accuracy of ~ulp(1). On the separatrix
+(m_c = 0) the closed forms ``sn = tanh``, ``cn = dn = sech`` are used; a symmetric body (two equal moments)
+and a spherical one use trigonometric / constant forms.
 
 Attitude: Euler angles (φ, θ, ψ) of the (a, b, c) frame relative to the invariable frame whose ẑ is L give
 ``(sin θ sin ψ, sin θ cos ψ, cos θ) = (Ia ωa, Ib ωb, Ic ωc) / |L|`` and::
@@ -43,12 +47,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from fractions import Fraction
 
 import numpy as np
-from scipy.special import elliprf, elliprj
 
 from eulersym import quaternion as _quaternion
+from eulersym.numerics import _doubledouble as _dd
 from eulersym.errors import InvalidInput
 from eulersym.validation import finite_array, moments
 
@@ -171,7 +174,14 @@ def jacobi_sncndn(u, mc, *, rootmc=None):
     rootmc = math.sqrt(mc) if rootmc is None else float(rootmc)
     if rootmc == 0.0:
         return np.tanh(u), 1.0 / np.cosh(u), 1.0 / np.cosh(u)
-    avals, bvals, agm = _agm_landen(rootmc)
+    shape = u.shape
+    sn, cn, dn = _sncndn(u.ravel(), rootmc, _agm_landen(rootmc))
+    return sn.reshape(shape), cn.reshape(shape), dn.reshape(shape)
+
+
+def _sncndn(u: np.ndarray, rootmc: float, landen):
+    """sn, cn, dn of a 1-d float array (checked by the caller), ``0 < √m_c ≤ 1``, Landen sequence given."""
+    avals, bvals, agm = landen
     K = math.pi / (2.0 * agm)
     r = np.mod(np.abs(u), 4.0 * K)  # sn is odd, cn and dn even: reduce |u| so small arguments stay exact
     upper = r >= 2.0 * K
@@ -188,8 +198,43 @@ def jacobi_sncndn(u, mc, *, rootmc=None):
     sn = np.where(near, cz / dz, sz)
     cn = np.where(near, rootmc * sz / dz, cz)
     dn = np.where(near, rootmc / dz, dz)
-    shape = u.shape
-    return (sign_sn * sn).reshape(shape), (sign_cn * cn).reshape(shape), np.asarray(dn).reshape(shape)
+    return sign_sn * sn, sign_cn * cn, dn
+
+
+def _sncndn_scalar(u: float, rootmc: float, landen):
+    """:func:`_sncndn` for one float, in ``math`` (the same steps; for a handful of points NumPy's per-call
+    overhead would dominate)."""
+    avals, bvals, agm = landen
+    K = math.pi / (2.0 * agm)
+    r = math.fmod(abs(u), 4.0 * K)
+    sign = 1.0
+    if r >= 2.0 * K:
+        r -= 2.0 * K
+        sign = -1.0
+    sign_sn = -sign if u < 0 else sign
+    sign_cn = sign
+    if r > K:
+        r = 2.0 * K - r
+        sign_cn = -sign
+    near = r > 0.5 * K
+    z = max(K - r, 0.0) if near else r
+    v = z * agm
+    if v < 1e-150:
+        sz, cz, dz = z, 1.0, 1.0
+    else:
+        a = math.cos(v) / math.sin(v)
+        c = agm * a
+        dz = 1.0
+        for ai, bi in zip(reversed(avals), reversed(bvals)):
+            a = a * c
+            c = c * dz
+            dz = (bi + a) / (ai + a)
+            a = c / ai
+        sz = 1.0 / math.sqrt(c * c + 1.0)
+        cz = c * sz
+    if near:
+        return sign_sn * cz / dz, sign_cn * rootmc * sz / dz, rootmc / dz
+    return sign_sn * sz, sign_cn * cz, dz
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -239,7 +284,7 @@ class _Elliptic:
     amp: tuple[float, float, float]  # signed (A, B, C)
     lam: float
     u0: float
-    lam_lo: float  # λ = lam + lam_lo and u0 = u0 + u0_lo and 4K = period + period_lo (double-double, from mpmath)
+    lam_lo: float  # λ = lam + lam_lo and u0 = u0 + u0_lo and 4K = period + period_lo (double-double)
     u0_lo: float
     period: float
     period_lo: float
@@ -248,6 +293,7 @@ class _Elliptic:
     K: float  # inf on the separatrix
     L: float
     n: float  # characteristic of the φ integral
+    landen: tuple = ()  # (a's, b's, AGM) of the descending Landen sequence on √m_c (empty on the separatrix)
 
 
 @dataclass(frozen=True)
@@ -262,127 +308,127 @@ class _Constant:
     pass
 
 
-def _fr(x: float) -> Fraction:
-    return Fraction(float(x))
+def _carlson_rf(x: float, y: float, z: float) -> float:
+    """Carlson's symmetric ``R_F(x, y, z)`` of non-negative doubles (at most one zero), to a few ulp.
+
+    Duplication ``x ← (x + λ)/4`` with ``λ = √x√y + √y√z + √z√x`` until the spread is below 10⁻³, then the
+    fifth-order series (Carlson 1995; DLMF 19.36.1): relative truncation error below 10⁻¹⁸.
+    """
+    for _ in range(200):
+        mu = (x + y + z) / 3.0
+        dx, dy, dz = 1.0 - x / mu, 1.0 - y / mu, 1.0 - z / mu
+        if max(abs(dx), abs(dy), abs(dz)) < 1e-3:
+            break
+        sx, sy, sz = math.sqrt(x), math.sqrt(y), math.sqrt(z)
+        lam = sx * (sy + sz) + sy * sz
+        x, y, z = 0.25 * (x + lam), 0.25 * (y + lam), 0.25 * (z + lam)
+    e2 = dx * dy - dz * dz
+    e3 = dx * dy * dz
+    return (1.0 + (e2 / 24.0 - 0.1 - 3.0 * e3 / 44.0) * e2 + e3 / 14.0) / math.sqrt(mu)
 
 
-def _sqrt_fraction(x: Fraction) -> float:
-    """√x as a double, also when x itself is below the double range (its square root is not)."""
-    if x == 0:
-        return 0.0
-    f = float(x)
-    if f > 1e-300:
-        return math.sqrt(f)
-    return math.exp(0.5 * (math.log(x.numerator) - math.log(x.denominator)))
+def _integers(values) -> tuple[list[int], int]:
+    """Doubles as integers over one common power-of-two denominator: ``values[k] = ints[k] / den`` exactly."""
+    ratios = [float(v).as_integer_ratio() for v in values]
+    den = max(q for _, q in ratios)
+    return [p * (den // q) for p, q in ratios], den
 
 
 def _setup(I: tuple[float, float, float], w: np.ndarray):
-    """Classify the motion and compute its constants (exactly, then rounded once)."""
+    """Classify the motion and compute its constants: exact integer arithmetic, each constant rounded once.
+
+    The moments and ω are written as integers over power-of-two denominators, so every discriminant
+    ``D_k = Σ Iᵢ(Iᵢ − I_k)ωᵢ²``, every ratio (m_c, A², λ², ...) and the initial phase's arguments are exact
+    rationals rounded once (Python's ``int / int`` rounds correctly): no cancellation near the separatrix.
+    λ, √m_c and the period 4K = 2π / AGM(1, √m_c) are double-doubles (:mod:`._doubledouble`); the initial phase
+    u0 is K minus a phase of order one near the separatrix, so it too keeps ~ulp(1) absolute accuracy.
+    """
     if I[0] == I[1] == I[2]:
         return _Symmetric(0, 0.0, I[0])
     for k in range(3):
         i, j = (k + 1) % 3, (k + 2) % 3
         if I[i] == I[j]:
             return _Symmetric(k, (I[k] - I[i]) / I[i] * w[k], I[i])
-    nonzero = np.count_nonzero(w)
-    if nonzero <= 1:
+    wl = [float(x) for x in w]
+    if sum(x != 0.0 for x in wl) <= 1:
         return _Constant()
-    If = [_fr(x) for x in I]
-    wf = [_fr(x) for x in w]
-    w2 = [x * x for x in wf]
-    lsq = sum(If[i] * If[i] * w2[i] for i in range(3))
-    order = sorted(range(3), key=lambda k: I[k])
-    lo, mid, hi = order
+    # I_k = nI[k] / qI and ω_k = nw[k] / qw exactly; D_k = disc(k) / (qI² qw²).
+    nI, qI = _integers(I)
+    nw, qw = _integers(wl)
+    w2 = [x * x for x in nw]
 
-    def disc(k):  # L² − 2E I_k, cancellation-free
-        return sum(If[i] * (If[i] - If[k]) * w2[i] for i in range(3))
+    def disc(k):  # L² − 2E I_k (times qI² qw²), exactly
+        return sum(nI[i] * (nI[i] - nI[k]) * w2[i] for i in range(3) if i != k)
 
-    d_mid = disc(mid)
-    idx = (lo, mid, hi) if d_mid >= 0 else (hi, mid, lo)
+    lo, mid, hi = sorted(range(3), key=lambda k: I[k])
+    idx = (lo, mid, hi) if disc(mid) >= 0 else (hi, mid, lo)
     a, b, c = idx
-    Ia, Ib, Ic = If[a], If[b], If[c]
+    na, nb, nc = nI[a], nI[b], nI[c]
     Da, Db, Dc = disc(a), disc(b), disc(c)
     if Dc == 0 or Da == 0:  # steady rotation about a principal axis
         return _Constant()
     even = (idx[1] - idx[0]) % 3 == 1
     signs = (1.0, 1.0, 1.0) if even else (1.0, -1.0, 1.0)
-    wa, wb, wc = (signs[k] * float(w[idx[k]]) for k in range(3))
-    A2 = -Dc / (Ia * (Ic - Ia))
-    B2 = -Dc / (Ib * (Ic - Ib))
-    C2 = Da / (Ic * (Ic - Ia))
-    lam2 = (Ic - Ib) * Da / (Ia * Ib * Ic)
-    mc = (Ic - Ia) * Db / ((Ic - Ib) * Da)
-    lam = math.sqrt(lam2)
+    wa, wb, wc = (signs[k] * wl[idx[k]] for k in range(3))
+    qw2 = qw * qw
+    A2 = -Dc / (na * (nc - na) * qw2)
+    B2 = -Dc / (nb * (nc - nb) * qw2)
+    C2 = Da / (nc * (nc - na) * qw2)
+    mc_num, mc_den = (nc - na) * Db, (nc - nb) * Da  # m_c = mc_num / mc_den
+    if mc_den < 0:
+        mc_num, mc_den = -mc_num, -mc_den
     sep = Db == 0
     sa = -1.0 if (sep and wa < 0) else 1.0
     A = sa * math.sqrt(A2)
     C = math.copysign(math.sqrt(C2), wc)
-    B = math.copysign(math.sqrt(B2), float(Ic - Ia) * C * A)
-    # initial phase: cn(u0) = ωa/A, sn(u0) = ωb/B, from exact squares
-    xa = Ia * (Ic - Ia) * _fr(wa) ** 2
-    xb = Ib * (Ic - Ib) * _fr(wb) ** 2
+    B = math.copysign(math.sqrt(B2), (1.0 if nc > na else -1.0) * C * A)
+    # initial phase: cn0² = xa / tot, sn0² = xb / tot, dn0² = cn0² + m_c sn0² (exact integers)
+    xa = na * (nc - na) * nw[a] * nw[a]
+    xb = nb * (nc - nb) * nw[b] * nw[b]
     tot = xa + xb
     cn0 = math.copysign(math.sqrt(xa / tot), wa * sa)
     sn0 = math.copysign(math.sqrt(xb / tot), wb * B)
-    delta2 = (xa + mc * xb) / tot  # cn0² + m_c sn0² = dn0², exactly
-    if sn0 == 0:
-        F = 0.0
-    elif float(delta2) > 1e-300:
-        F = sn0 * float(elliprf(cn0 * cn0, float(delta2), 1.0))
-    else:  # cn0 and m_c below double range: R_F(x, y, 1) = ln(4 / (√x + √y)) + O(x ln x)
-        F = sn0 * math.log(4.0 / (abs(cn0) + _sqrt_fraction(delta2)))
-    mcf = float(mc)
-    rootmc = _sqrt_fraction(mc)
-    if sep:
+    s = -1.0 if sn0 < 0 else 1.0
+    lam_dd = _dd.sqrt_ratio((nc - nb) * Da, na * nb * nc * qw2)
+    rootmc = _dd.sqrt_ratio(mc_num, mc_den)
+    n = nc * (nb - na) / (na * (nc - nb))
+    L = math.sqrt(sum(nI[i] * nI[i] * w2[i] for i in range(3)) / (qI * qI * qw2))
+    if sep:  # x = artanh|sn0| = ln((1 + |sn0|)/|cn0|), accurate in absolute terms
+        u0_dd = (s * math.log((1.0 + abs(sn0)) / abs(cn0)), 0.0)
+        period_dd = (math.inf, 0.0)
         K = math.inf
-        u0 = F
     else:
-        K = math.pi / (2.0 * _agm_landen(rootmc)[2])
-        u0 = F if cn0 >= 0 else (math.copysign(2.0 * K, sn0 if sn0 != 0 else 1.0) - F)
-    n = float(Ic * (Ib - Ia) / (Ia * (Ic - Ib)))
-    lam_dd, u0_dd, period_dd = _phase_constants(lam2, mc, tot, xa, xb, cn0, sn0, sep)
+        period_dd = _dd.div(_dd.PI, _dd.mul((0.5, 0.0), _dd.agm((1.0, 0.0), rootmc)))  # 4K = 2π / AGM
+        K = 0.25 * period_dd[0]
+        K_dd = (0.25 * period_dd[0], 0.25 * period_dd[1])
+        dn_num = xa * mc_den + mc_num * xb  # dn0² = dn_num / (tot · mc_den)
+        if (xb / tot) * (1.0 + rootmc[0]) >= 1.0:
+            # x ≥ K/2: x = K − y, y = cn0 · R_F(m_c sn0², m_c, dn0²) = O(1) however close to the separatrix
+            y = math.sqrt(xa * mc_den / dn_num) * _carlson_rf(mc_num * xb / dn_num, mc_num * tot / dn_num, 1.0)
+            x = _dd.add(K_dd, (-y, 0.0))
+        else:  # x ≤ K/2: x = sn0 · R_F(cn0², dn0², 1)
+            x = (abs(sn0) * _carlson_rf(xa / tot, dn_num / (tot * mc_den), 1.0), 0.0)
+        if cn0 < 0:  # the amplitude lies in (π/2, π): u = 2K − x
+            x = _dd.add((2.0 * K_dd[0], 2.0 * K_dd[1]), (-x[0], -x[1]))
+        u0_dd = (s * x[0], s * x[1])
     return _Elliptic(
+        idx=idx,
+        signs=signs,
+        moments=(float(I[a]), float(I[b]), float(I[c])),
+        amp=(A, B, C),
+        lam=lam_dd[0],
         lam_lo=lam_dd[1],
+        u0=u0_dd[0],
         u0_lo=u0_dd[1],
         period=period_dd[0],
         period_lo=period_dd[1],
-        idx=idx,
-        signs=signs,
-        moments=(float(Ia), float(Ib), float(Ic)),
-        amp=(A, B, C),
-        lam=lam_dd[0],
-        u0=u0_dd[0],
-        mc=mcf,
-        rootmc=rootmc,
+        mc=mc_num / mc_den,
+        rootmc=rootmc[0],
         K=K,
-        L=math.sqrt(float(lsq)),
+        L=L,
         n=n,
+        landen=() if sep else _agm_landen(rootmc[0]),
     )
-
-
-def _phase_constants(lam2, mc, tot, xa, xb, cn0, sn0, sep):
-    """λ, u0 and the period 4K as double-double pairs (hi, lo), computed with mpmath at 40 digits from the exact
-    rationals, so that the phase λ t + u0 reduced modulo 4K stays accurate over many periods."""
-    import mpmath as mp
-
-    def frac(x):
-        return mp.mpf(x.numerator) / mp.mpf(x.denominator)
-
-    def split(x):
-        hi = float(x)
-        return hi, float(x - mp.mpf(hi))
-
-    with mp.workdps(40):
-        lam = mp.sqrt(frac(lam2))
-        c2, s2 = frac(xa / tot), frac(xb / tot)
-        d2 = frac((xa + mc * xb) / tot)
-        F = mp.sqrt(s2) * mp.elliprf(c2, d2, 1) if s2 else mp.mpf(0)
-        F = F if sn0 >= 0 else -F
-        if sep:
-            return split(lam), split(F), (math.inf, 0.0)
-        K = mp.pi / (2 * mp.agm(1, mp.sqrt(frac(mc))))
-        u0 = F if cn0 >= 0 else (2 * K if sn0 >= 0 else -2 * K) - F
-        return split(lam), split(u0), split(4 * K)
 
 
 def _two_prod(a, b):
@@ -415,6 +461,17 @@ def _phase(sol, t):
     return r, j
 
 
+def _phase_scalar(sol, t: float) -> float:
+    """:func:`_phase`'s reduced phase r for one float t (finite period)."""
+    p_hi, p_lo = _two_prod(sol.lam, t)
+    p_lo = p_lo + sol.lam_lo * t
+    u_hi = p_hi + sol.u0
+    u_lo = ((sol.u0 - (u_hi - p_hi)) + (p_hi - (u_hi - (u_hi - p_hi)))) + p_lo + sol.u0_lo
+    j = float(round((u_hi + u_lo) / sol.period))
+    e_hi, e_lo = _two_prod(j, sol.period)
+    return ((u_hi - e_hi) - e_lo) + (u_lo - j * sol.period_lo)
+
+
 def _rescale(w, tt):
     """Map a huge or tiny ω0 to order one: Euler's equations are homogeneous, ω(t) = s·ω̂(s t) with ω̂(0) = ω0/s.
 
@@ -442,6 +499,12 @@ def _validate(I, omega0, t, check_body):
     return I, w, tt
 
 
+#: Points per block when evaluating ω: the temporaries of a block stay in cache, so the cost per point is flat.
+_BLOCK = 4096
+#: Up to this many points ω is evaluated point by point with ``math`` (NumPy's per-call overhead dominates).
+_SMALL = 8
+
+
 def _omega(sol, w, t):
     if isinstance(sol, _Constant):
         return np.broadcast_to(w, (t.size, 3)).copy()
@@ -455,12 +518,26 @@ def _omega(sol, w, t):
         out[:, i] = c * w[i] - s * w[j]
         out[:, j] = s * w[i] + c * w[j]
         return out
-    r, _ = _phase(sol, t)
-    sn, cn, dn = jacobi_sncndn(r, sol.mc, rootmc=sol.rootmc)
     A, B, C = sol.amp
+    a, b, c = sol.idx
+    sa, sb, sc = sol.signs[0] * A, sol.signs[1] * B, sol.signs[2] * C
     out = np.empty((t.size, 3))
-    for k, val in enumerate((A * cn, B * sn, C * dn)):
-        out[:, sol.idx[k]] = sol.signs[k] * val
+    if t.size <= _SMALL and sol.landen:
+        for k, tk in enumerate(t.tolist()):
+            sn, cn, dn = _sncndn_scalar(_phase_scalar(sol, tk), sol.rootmc, sol.landen)
+            out[k, a], out[k, b], out[k, c] = sa * cn, sb * sn, sc * dn
+        return out
+    for start in range(0, t.size, _BLOCK):
+        block = slice(start, start + _BLOCK)
+        r, _ = _phase(sol, t[block])
+        if sol.landen:
+            sn, cn, dn = _sncndn(r, sol.rootmc, sol.landen)
+        else:  # the separatrix
+            sn, cn = np.tanh(r), 1.0 / np.cosh(r)
+            dn = cn
+        np.multiply(cn, sa, out=out[block, a])
+        np.multiply(sn, sb, out=out[block, b])
+        np.multiply(dn, sc, out=out[block, c])
     return out
 
 
@@ -554,6 +631,8 @@ def _phi_integral(sol, r, j):
     k = np.round(r / (2.0 * K))
     r = r - 2.0 * K * k  # [-K, K]
     j = 2.0 * j + k  # half periods
+    from scipy.special import elliprf, elliprj  # the attitude only (ω needs no SciPy)
+
     if mc < 1e-280:  # m_c below double range: the m = 1 limit over each half period, error O(√m_c)
         return 2.0 * j * hyperbolic(K) + hyperbolic(r)
     s, c, _ = jacobi_sncndn(np.abs(r), mc)

@@ -188,13 +188,56 @@ def integrate_heavy_top(I, M, g, l, omega0, q0, t, *, h=None, method="strang", f
     )
 
 
-def sleeping_top_threshold_numeric(I1, I3, M, g, l, *, theta0=1e-6, periods=60.0, rtol=1e-3):
-    """Locate the sleeping-top stability threshold on ω3² numerically, by bisection on integrations.
+def _euler_poisson_field(x, inertia, mgl):
+    """The Euler–Poisson vector field in (m, Γ): ṁ = m × ω + M g l Γ × e3, Γ̇ = Γ × ω, ω = m / I."""
+    m, G = x[:3], x[3:]
+    w = m / inertia
+    return np.concatenate([np.cross(m, w) + mgl * np.array([G[1], -G[0], 0.0]), np.cross(G, w)])
 
-    A top started at θ = ``theta0`` with spin ω3 about its axis and no other rates is called *asleep* when θ stays
-    below ``100·theta0`` for ``periods`` pendulum times √(I1/(M g l)); otherwise it wakes (θ grows exponentially).
-    The returned ω3² brackets the transition to relative width ``rtol``. (Linear theory predicts the threshold
-    ω3² = 4 M g l I1 / I3²; this function does not use it.)
+
+def _upright_growth(I1, I3, mgl, w3):
+    """Largest growth rate Re λ of the linearised motion about the upright top spinning at w3, and |λ|max.
+
+    The Jacobian of the Euler–Poisson field at (m, Γ) = (I3 w3 e3, e3) by central differences (exact up to
+    rounding: the field is quadratic), and its eigenvalues.
+    """
+    inertia = np.array([I1, I1, I3])
+    x0 = np.array([0.0, 0.0, I3 * w3, 0.0, 0.0, 1.0])
+    scale = np.array([max(abs(I3 * w3), math.sqrt(I1 * mgl))] * 3 + [1.0] * 3)
+    J = np.empty((6, 6))
+    for k in range(6):
+        h = 1e-3 * scale[k]
+        e = np.zeros(6)
+        e[k] = h
+        J[:, k] = (_euler_poisson_field(x0 + e, inertia, mgl) - _euler_poisson_field(x0 - e, inertia, mgl)) / (2 * h)
+    lam = np.linalg.eigvals(J)
+    return float(np.max(lam.real)), float(np.max(np.abs(lam)))
+
+
+def sleeping_top_threshold_numeric(I1, I3, M, g, l, *, theta0=1e-6, periods=60.0, rtol=1e-3, method="linear"):
+    """Locate the sleeping-top stability threshold on ω3² numerically, by bisection on a stability test.
+
+    The returned ω3² brackets the transition to relative width ``rtol`` (and is within ``rtol`` of the exact
+    threshold). Linear theory predicts ω3² = 4 M g l I1 / I3²; this function does not use it. Two tests of "asleep":
+
+    * ``method="linear"`` (default): the Jacobian of the Euler–Poisson vector field at the upright top, by central
+      differences (exact up to rounding: the field is quadratic), has no eigenvalue with a growing real part
+      (``Re λ ≤ 1e-6 |λ|max``). Just under the threshold ω3² = ω_c²(1 − δ) the growth rate is ~√δ/τ with
+      ``τ = √(I1/(M g l))``, so the test resolves δ down to ~1e-11: every ``rtol ≥ 1e-10`` is honoured.
+    * ``method="integrate"``: a top started at θ = ``theta0`` with spin ω3 and no other rates is asleep when θ
+      stays below ``100·theta0`` over the horizon; the horizon is ``periods`` pendulum times τ, extended to
+      ``3 ln(100) τ/√(rtol/2)`` — three e-foldings past the 100× growth of a top just ``rtol/2`` under the
+      threshold, whose growth rate is ~√δ/τ — so the slow growth there is seen (slow for small rtol).
+
+    Parameters
+    ----------
+    I1, I3, M, g, l : float
+        Moments about the pivot, mass, gravity, distance to the centre of mass (all positive).
+    theta0, periods : float, optional
+        The start tilt and minimum horizon of ``method="integrate"``.
+    rtol : float, optional
+        Relative width of the final bracket on ω3², ``1e-10 <= rtol <= 0.5``.
+    method : {"linear", "integrate"}
 
     Returns
     -------
@@ -203,23 +246,38 @@ def sleeping_top_threshold_numeric(I1, I3, M, g, l, *, theta0=1e-6, periods=60.0
 
     Examples
     --------
-    >>> w2 = sleeping_top_threshold_numeric(1.0, 2.0, 1.0, 1.0, 1.0, rtol=0.02)
-    >>> 0.9 < w2 < 1.1
+    >>> w2 = sleeping_top_threshold_numeric(1.0, 2.0, 1.0, 1.0, 1.0, rtol=1e-6)
+    >>> abs(w2 - 1.0) < 1e-6
+    True
+    >>> w2 = sleeping_top_threshold_numeric(1.0, 2.0, 1.0, 1.0, 1.0, rtol=0.05, method="integrate")
+    >>> abs(w2 - 1.0) < 0.05
     True
     """
     I = (float(I1), float(I1), float(I3))
-    mgl = float(M) * float(g) * float(l)
+    moments("I", I)
+    M, g, l = (float(positive(name, v)) for name, v in (("M", M), ("g", g), ("l", l)))
+    method = choice("method", method, ("linear", "integrate"))
+    rtol = float(positive("rtol", rtol))
+    if not 1e-10 <= rtol <= 0.5:
+        raise InvalidInput("rtol", rtol, "a relative width 1e-10 <= rtol <= 0.5")
+    mgl = M * g * l
     tau = math.sqrt(I[0] / mgl)
-    T = periods * tau
-    half = 0.5 * float(theta0)
-    qtilt = (math.cos(half), math.sin(half), 0.0, 0.0)
 
-    def asleep(w3):
-        ts = np.linspace(0.0, T, 201)
-        tr = integrate_heavy_top(I, M, g, l, (0.0, 0.0, w3), qtilt, ts, h=min(tau, 2 * math.pi / w3) / 40)
-        return bool(np.all(tr.gamma[:, 2] > math.cos(100 * theta0)))
+    if method == "linear":
+        def asleep(w3):
+            growth, size = _upright_growth(I[0], I[2], mgl, w3)
+            return growth <= 1e-6 * size
+    else:
+        T = max(float(periods), 3 * math.log(100.0) / math.sqrt(0.5 * rtol)) * tau
+        half = 0.5 * float(theta0)
+        qtilt = (math.cos(half), math.sin(half), 0.0, 0.0)
 
-    hi = 1.0
+        def asleep(w3):
+            ts = np.linspace(0.0, T, 201)
+            tr = integrate_heavy_top(I, M, g, l, (0.0, 0.0, w3), qtilt, ts, h=min(tau, 2 * math.pi / w3) / 40)
+            return bool(np.all(tr.gamma[:, 2] > math.cos(100 * theta0)))
+
+    hi = 1.0 / tau
     while not asleep(hi):
         hi *= 2.0
     lo = hi / 2.0

@@ -1,4 +1,4 @@
-"""The command ``eulersym simulate SCENE [--explain] [-o out.npz|out.csv] [--plot out.png] [--list]``."""
+"""The command ``eulersym simulate SCENE [--explain] [-o out.npz|out.csv] [--plot out.png] [--list] [--template]``."""
 
 from __future__ import annotations
 
@@ -9,7 +9,61 @@ from eulersym.errors import InvalidInput
 from eulersym.scene.catalog import bundled
 from eulersym.scene.io import OUTPUT_SUFFIXES, PLOT_SUFFIXES, check_target, plot, report, require_matplotlib, save
 from eulersym.scene.run import simulate
-from eulersym.scene.spec import Scene, load
+from eulersym.scene.spec import Scene, load, rate_bound
+
+#: A one-member run that the estimate (:mod:`eulersym.sweeps.cost`) puts beyond this many kernel evaluations is
+#: refused with the estimate: about an hour of scalar kernel calls. A sweep has the sweeps' own budget.
+WORK_LIMIT = 1e9
+
+#: ``eulersym simulate --template``: every key of a scene file, annotated (SI units in the comments; any consistent
+#: system works). It loads as it is (a test runs it).
+TEMPLATE = """\
+# An eulersym scene: a rigid body, where it starts, how long it runs, what to report.
+# Units: any consistent system; the comments say SI. Every key is optional unless marked "required".
+# A number may be a list [a, b, c] or a range {start = a, stop = b, num = n}: a sweep (one run per value,
+# the outer product of all swept numbers, run in one vectorised pass).
+name = "my-top"
+description = "a heavy symmetric top released at 30 degrees"
+
+[body]                      # required: exactly one of moments, tensor, shape
+moments = [1.2e-3, 1.2e-3, 4.0e-4]   # principal moments I1, I2, I3 (kg m²); about the pivot for a pivoted body
+# tensor = [[1.2e-3, 0, 0], [0, 1.2e-3, 0], [0, 0, 4.0e-4]]   # a full inertia tensor in the body frame (kg m²)
+# shape = "cone"            # cube, cuboid, sphere, cylinder, cone, ellipsoid (uniform; tensor derived)
+# R = 0.03                  # the shape's dimensions (m): R (sphere), R and h (cylinder, cone),
+# h = 0.08                  #   a (cube), a, b and c (cuboid, ellipsoid)
+# a = 0.1
+# b = 0.05
+# c = 0.02
+# origin = "apex"           # cube/cuboid: "center" | "corner"; cone: "apex" | "center"
+mass = 0.5                  # M (kg): required for a shape and for a pivoted body
+
+[pivot]                     # a fixed pivot (the heavy top); leave the table out for a free body
+l = 0.04                    # pivot to centre of mass along body axis e3 (m); a shape on a pivot takes l from
+                            #   its own centre of mass (omit l), the pivot being the shape's origin
+g = 9.81                    # gravity (m/s²), along -z in space
+
+# [torque]                  # a constant torque (N m), not with a pivot
+# body = [0.0, 0.0, 0.01]   # body-fixed components; or space = [...] for a space-fixed torque
+
+[initial]                   # required
+euler = [0.0, 0.5236, 0.0]  # Euler angles phi, theta, psi (rad) of the sequence below; or
+# quaternion = [1, 0, 0, 0] #   a unit quaternion, scalar first (v_space = R(q) v_body); or
+# axis = [0, 1, 0]          #   an axis and
+# angle = 0.5236            #   an angle (rad)
+convention = "zxz"          # one of the 12: zxz xyx yzy zyz xzx yxy xyz yzx zxy xzy zyx yxz (passive, body-fixed)
+omega = [0.0, 0.0, 150.0]   # required (or one of the two below): body components of ω (rad/s)
+# omega_space = [0, 0, 150] # ω in space components (rad/s)
+# euler_rates = [0.0, 0.0, 150.0]   # phidot, thetadot, psidot (rad/s), with euler = [...]: converted to ω
+
+[time]                      # required
+end = 1.0                   # required: end time (s), > 0
+points = 1001               # output times from 0 to end, 2 to 10**7
+
+[output]
+want = ["omega", "euler_angles", "invariants"]   # any of omega, attitude, euler_angles, invariants, polhode
+accuracy = 1e-8             # relative accuracy wanted, 1e-13 to 1e-1
+method = "auto"             # auto, closed-form, splitting, DOP853, RK45, Radau, LSODA
+"""
 
 __all__ = ["cli"]
 
@@ -25,44 +79,106 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--explain", action="store_true", help="print the plan (what is derived, integrated, skipped, and why) and stop")
     p.add_argument("-o", "--output", metavar="OUT", help="write the result to OUT.npz or OUT.csv")
     p.add_argument("--plot", metavar="PNG", help="plot to PNG (needs the plot extra: matplotlib)")
-    p.add_argument("--list", action="store_true", help="list the bundled scenes")
+    p.add_argument("--list", action="store_true", help="list the bundled scenes and where their TOML files are")
+    p.add_argument("--template", action="store_true", help="print an annotated scene file to start from")
     return p
 
 
 def cli(argv: list) -> int:
-    """``eulersym simulate SCENE [--explain] [-o out.npz|out.csv] [--plot out.png] [--list]``.
+    """``eulersym simulate SCENE [--explain] [-o out.npz|out.csv] [--plot out.png] [--list] [--template]``.
+
+    ``--explain`` prints the plan and writes nothing (it says so when ``-o``/``--plot`` are given too); an
+    integration whose work estimate passes :data:`WORK_LIMIT` is refused with the estimate.
 
     Examples
     --------
     >>> cli(["--list"])  # doctest: +ELLIPSIS
-    bundled scenes (eulersym simulate NAME; copy the TOML to start your own):
+    bundled scenes (eulersym simulate NAME; copy the TOML to start your own, or --template):
     ...
     0
     """
     args = _parser().parse_args(list(argv))
+    if args.template:
+        print(TEMPLATE, end="")
+        return 0
     if args.list:
-        print("bundled scenes (eulersym simulate NAME; copy the TOML to start your own):")
+        print("bundled scenes (eulersym simulate NAME; copy the TOML to start your own, or --template):")
         for name, path in bundled().items():
             print(f"  {name:<22} {Scene.from_toml(path).description}")
+            print(f"  {'':<22} {path}")
         return 0
     if args.scene is None:
-        raise InvalidInput("SCENE", None, "a TOML file or a bundled scene name (eulersym simulate --list)")
+        raise InvalidInput("SCENE", None, "a TOML file or a bundled scene name (eulersym simulate --list), or "
+                                          "--template")
     scene = load(args.scene)
     if args.explain:
         print(scene.plan())
+        unwritten = [p for p in (args.output, args.plot) if p]
+        if unwritten:
+            print(f"--explain: nothing was run, so nothing was written to {' or '.join(unwritten)} (run without "
+                  "--explain to write them)")
         return 0
     if args.output:
         check_target("-o", args.output, OUTPUT_SUFFIXES)
     if args.plot:
         check_target("--plot", args.plot, PLOT_SUFFIXES)
         require_matplotlib(args.plot)
-    result = simulate(scene, progress=sys.stderr.isatty())
+    _refuse_endless(scene)
+    try:
+        result = simulate(scene, progress=sys.stderr.isatty())
+    except MemoryError:
+        raise InvalidInput("SCENE", args.scene, f"a scene that fits in memory: {scene.batch} member(s) × "
+                                                f"{scene.points} output times did not (fewer points or members)") from None
     print(f"scene {scene.name!r}" + (f" — {scene.description}" if scene.description else ""))
     print(report(result))
     if args.output:
-        save(result, args.output)
-        print(f"wrote {args.output}")
+        print("wrote " + " and ".join(save(result, args.output)))
     if args.plot:
         plot(result, args.plot)
         print(f"wrote {args.plot}")
     return 0
+
+
+def _engine_of(plan) -> str:
+    """The cost model's name (:data:`eulersym.sweeps.cost.ENGINES`) for the way a plan gets the motion."""
+    if not plan.engine.startswith("integrate"):
+        return "closed-form"
+    return "yoshida4" if "splitting" in plan.engine else "dop853"
+
+
+def work_estimate(scene, plan=None):
+    """The cost of running ``scene`` (bytes and kernel evaluations), from :func:`eulersym.sweeps.cost.estimate`:
+    the engine the plan chose, the body's fastest rate (:func:`eulersym.scene.spec.rate_bound`), every member.
+
+    Examples
+    --------
+    >>> e = work_estimate(load("tennis-racket"))
+    >>> e.engine, e.members
+    ('closed-form', 1)
+    """
+    from eulersym.sweeps import cost
+
+    plan = scene.plan() if plan is None else plan
+    heavy = scene.regime == "heavy top"
+    outputs = scene.outputs
+    values = 3 + 4 * ("attitude" in outputs or "euler_angles" in outputs) + 3 * ("euler_angles" in outputs)
+    values += 3 * heavy + 5 * ("invariants" in outputs) + 3 * ("polhode" in outputs)
+    return cost.estimate(members=scene.batch, points=scene.points, state=10 if heavy else 7, output_values=values,
+                         engine=_engine_of(plan), rate=rate_bound(scene), t_end=scene.t_end,
+                         accuracy=scene.accuracy)
+
+
+def _refuse_endless(scene) -> None:
+    """No silent endless run: refuse a scene whose estimate passes the memory budget or the work budget
+    (:data:`WORK_LIMIT` kernel evaluations for one member, integrated by scalar kernels; the sweeps' budget for a
+    sweep), with the estimate (:func:`eulersym.sweeps.cost.check`)."""
+    from eulersym.sweeps import cost
+
+    estimate = work_estimate(scene)
+    work = WORK_LIMIT if scene.batch == 1 else cost.DEFAULT_WORK_BUDGET
+    try:
+        cost.check(estimate, work=work)
+    except InvalidInput as exc:
+        radians = rate_bound(scene) * scene.t_end
+        raise InvalidInput("SCENE", f"{scene.name}: {exc.value}", f"{exc.expected} (the body turns ≈ {radians:.3g} "
+                                                                   f"rad by t_end = {scene.t_end:g})") from None

@@ -10,32 +10,94 @@ from __future__ import annotations
 
 import importlib.util
 import os
-import tempfile
+import re
 
 import numpy as np
 
 from eulersym.errors import InvalidInput
 from eulersym.scene.result import report
 
-__all__ = ["report", "save", "plot", "check_target", "require_matplotlib", "OUTPUT_SUFFIXES", "PLOT_SUFFIXES"]
+__all__ = ["report", "save", "plot", "figure", "summary", "summary_path", "quantity_label", "clean_leftovers", "check_target",
+           "require_matplotlib", "OUTPUT_SUFFIXES", "PLOT_SUFFIXES"]
 
 OUTPUT_SUFFIXES = (".npz", ".csv")
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
 
 
-def _atomic(path: str, writer) -> None:
-    """Write through ``writer(tmp_path)`` into a temporary file beside ``path``, then rename it over ``path``."""
+#: Temporary files are named ``.<target>.eulersym-tmp-<pid><suffix>`` beside the target: a run killed while writing
+#: leaves one behind, and the next write into that folder removes every such file whose process is gone.
+_TMP_MARK = ".eulersym-tmp-"
+_TMP_NAME = re.compile(r"^\..+\.eulersym-tmp-(\d+)(\.[A-Za-z0-9]+)?$")
+
+
+def _temporary(path: str) -> str:
+    folder, name = os.path.split(os.path.abspath(path))
+    return os.path.join(folder, f".{name}{_TMP_MARK}{os.getpid()}{os.path.splitext(path)[1]}")
+
+
+def _alive(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        return True
+    return True
+
+
+def clean_leftovers(folder: str) -> list:
+    """Remove the temporary files that killed eulersym runs left in ``folder``; return their names.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> clean_leftovers(tempfile.mkdtemp())
+    []
+    """
+    removed = []
+    try:
+        entries = os.listdir(folder)
+    except OSError:
+        return removed
+    for name in entries:
+        m = _TMP_NAME.match(name)
+        if m and not _alive(int(m.group(1))):
+            try:
+                os.unlink(os.path.join(folder, name))
+                removed.append(name)
+            except OSError:
+                pass
+    return removed
+
+
+def _atomic(path: str, writer, argument: str = "-o") -> None:
+    """Write through ``writer(tmp_path)`` into a temporary file beside ``path``, then rename it over ``path``.
+
+    An error removes the temporary; a kill -9 leaves it under a name the next write into the folder removes. An
+    operating-system error (a read-only or special folder, a full disk) is an InvalidInput naming ``argument``.
+    """
     folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".eulersym-", suffix=os.path.splitext(path)[1])
-    os.close(fd)
+    clean_leftovers(folder)
+    tmp = _temporary(path)
     try:
         writer(tmp)
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; give the file the usual permissions
+        os.chmod(tmp, 0o666 & ~_umask())  # give the file the usual permissions
         os.replace(tmp, path)
+    except OSError as exc:
+        _remove(tmp)
+        raise InvalidInput(argument, path, f"a file eulersym can write ({exc.strerror or exc})") from None
     except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+        _remove(tmp)
         raise
+
+
+def _remove(path: str) -> None:
+    try:
+        os.unlink(path)
+    except OSError:
+        pass
 
 
 def _umask() -> int:
@@ -44,8 +106,39 @@ def _umask() -> int:
     return mask
 
 
+#: How a scene's numbers read on an axis or in a column head: key → (name, SI unit); a scene may use any consistent
+#: system of units, the labels say SI (the examples' system).
+_QUANTITIES = {
+    "omega": ("ω{k}", "rad/s"), "euler": ("{angle}0", "rad"), "moments": ("I{k}", "kg m²"), "mass": ("M", "kg"),
+    "l": ("l", "m"), "g": ("g", "m/s²"), "torque": ("N{k}", "N m"), "angle": ("α0", "rad"),
+    "dimensions": ("{sub}", "m"), "quaternion": ("q{k0}", "1"), "axis": ("n{k}", "1"),
+}
+_ANGLE_NAMES = ("φ", "θ", "ψ")
+_STYLES = ("-", "--", ":")  # equal components stay visible on top of each other
+
+
+def quantity_label(key: str, *, unit: bool = True) -> str:
+    """The readable name of a scene key (a sweep's label): ``"euler[1]"`` → ``"θ0 (rad)"``, ``"omega[2]"`` →
+    ``"ω3 (rad/s)"``.
+
+    Examples
+    --------
+    >>> quantity_label("euler[1]"), quantity_label("omega[2]"), quantity_label("mass", unit=False)
+    ('θ0 (rad)', 'ω3 (rad/s)', 'M')
+    """
+    m = re.fullmatch(r"(\w+)(?:\[(\d+)\]|\.(\w+))?", key)
+    if not m or m.group(1) not in _QUANTITIES:
+        return key
+    base, index, sub = m.group(1), m.group(2), m.group(3)
+    k = int(index) if index is not None else 0
+    name, si = _QUANTITIES[base]
+    name = name.format(k=k + 1, k0=k, angle=_ANGLE_NAMES[k] if k < 3 else "?", sub=sub or "")
+    return f"{name} ({si})" if unit else name
+
+
 def _columns(result):
-    """(names, 2-D arrays (batch, n, k)) of everything a result holds over time."""
+    """(names, array (batch, n, k)) of everything a result holds over time, the vertical Γ of a heavy top
+    included."""
     single = result.plan.batch == 1
     lift = (lambda a: a[None]) if single else (lambda a: a)
     names, blocks = ["omega1", "omega2", "omega3"], [lift(result.omega)]
@@ -55,6 +148,9 @@ def _columns(result):
     if result.euler_angles is not None:
         names += ["phi", "theta", "psi"]  # the scene's convention, in the order of its sequence
         blocks.append(lift(result.euler_angles))
+    if result.gamma is not None:
+        names += ["gamma1", "gamma2", "gamma3"]  # the upward vertical in body components; gamma3 = cos(theta)
+        blocks.append(lift(result.gamma))
     if result.polhode is not None:
         names += ["polhode1", "polhode2", "polhode3"]
         blocks.append(lift(result.polhode))
@@ -64,8 +160,58 @@ def _columns(result):
     return names, np.concatenate(blocks, axis=-1)
 
 
-def save(result, path: str) -> None:
-    """Write a Result to ``.npz`` (arrays by name) or ``.csv`` (one row per time, and per member for a sweep).
+def summary_path(path: str) -> str:
+    """Where a sweep's per-member summary goes beside the long table: ``out.csv`` → ``out.summary.csv``.
+
+    Examples
+    --------
+    >>> summary_path("runs/map.csv")
+    'runs/map.summary.csv'
+    """
+    stem, suffix = os.path.splitext(path)
+    return f"{stem}.summary{suffix}"
+
+
+def summary(result) -> tuple:
+    """(column names, array (batch, k)): one row per sweep member — its swept values, ω at the end, the largest
+    |ω_i|, the heavy top's largest tilt θ (degrees), and each invariant's relative drift.
+
+    Examples
+    --------
+    >>> from eulersym.scene import Scene, simulate
+    >>> names, rows = summary(simulate(Scene(moments=(1, 2, 3), omega=(0.1, [1, 2], 0), t_end=1, points=3)))
+    >>> names[:3], rows.shape
+    (['member', 'omega[1]', 'omega1_end'], (2, 10))
+    """
+    batch = result.plan.batch
+    omega = result.omega if batch > 1 else result.omega[None]
+    names, cols = ["member"], [np.arange(batch, dtype=float)]
+    for key, values in result.sweep.items():
+        names.append(key)
+        cols.append(np.asarray(values, dtype=float))
+    names += ["omega1_end", "omega2_end", "omega3_end"]
+    cols += [omega[:, -1, j] for j in range(3)]
+    names += ["omega1_max_abs", "omega2_max_abs", "omega3_max_abs"]
+    cols += [np.abs(omega[..., j]).max(axis=1) for j in range(3)]
+    if result.gamma is not None and result.plan.regime == "heavy top":
+        gamma = result.gamma if batch > 1 else result.gamma[None]
+        names.append("theta_max_deg")
+        cols.append(np.degrees(np.arccos(np.clip(gamma[..., 2], -1.0, 1.0))).max(axis=1))
+    for key, values in result.invariants.items():
+        v = np.atleast_2d(values)
+        ref = v[:, :1]
+        names.append(f"drift_{key}")
+        cols.append(np.max(np.abs(v - ref) / np.where(np.abs(ref) > 0, np.abs(ref), 1.0), axis=1))
+    return names, np.stack(cols, axis=1)
+
+
+def save(result, path: str) -> list:
+    """Write a Result to ``.npz`` (arrays by name) or ``.csv`` (one row per time, and per member for a sweep);
+    return the paths written.
+
+    A sweep's ``.csv`` gets a per-member summary beside the long table (:func:`summary`, in
+    :func:`summary_path`); its ``.npz`` holds the same as ``summary_<column>`` arrays. The vertical Γ of a heavy
+    top is kept (``gamma`` / columns ``gamma1..3``).
 
     Examples
     --------
@@ -73,10 +219,11 @@ def save(result, path: str) -> None:
     >>> from eulersym.scene import Scene, simulate
     >>> r = simulate(Scene(moments=(1, 2, 3), omega=(0.1, 1, 0), t_end=1, points=3))
     >>> path = os.path.join(tempfile.mkdtemp(), "out.csv")
-    >>> save(r, path); open(path).readline().strip()
+    >>> _ = save(r, path); open(path).readline().strip()
     't,omega1,omega2,omega3,energy,L2'
     """
     suffix = os.path.splitext(path)[1].lower()
+    sweep = list(result.sweep)
     if suffix == ".npz":
         arrays = {"t": result.t, "omega": result.omega, "moments": result.moments, "axes": result.axes,
                   "plan": np.array(str(result.plan))}
@@ -86,27 +233,41 @@ def save(result, path: str) -> None:
         arrays.update({f"invariant_{k}": v for k, v in result.invariants.items()})
         arrays.update({f"drift_{k}": np.array(v) for k, v in result.drift.items()})
         arrays.update({f"sweep_{k}": v for k, v in result.sweep.items()})
-        _atomic(path, lambda tmp: np.savez(tmp, **arrays))
-    elif suffix == ".csv":
-        names, data = _columns(result)
-        batch, n, _ = data.shape
-        sweep = list(result.sweep)
-        t = np.tile(result.t, batch)[:, None]
-        cols = [t, data.reshape(batch * n, -1)]
-        head = ["t", *names]
         if sweep:
-            cols = [np.repeat(np.arange(batch), n)[:, None]] + [np.repeat(result.sweep[k], n)[:, None] for k in sweep] + cols
-            head = ["member", *sweep, *head]
-        table = np.concatenate(cols, axis=1)
-        _atomic(path, lambda tmp: np.savetxt(tmp, table, delimiter=",", header=",".join(head), comments="", fmt="%.17g"))
-    else:
+            names, rows = summary(result)
+            arrays.update({f"summary_{name}": rows[:, j] for j, name in enumerate(names)})
+        _atomic(path, lambda tmp: np.savez(tmp, **arrays))
+        return [path]
+    if suffix != ".csv":
         raise InvalidInput("-o", path, "a file ending in .npz or .csv")
+    names, data = _columns(result)
+    batch, n, _ = data.shape
+    t = np.tile(result.t, batch)[:, None]
+    cols = [t, data.reshape(batch * n, -1)]
+    head = ["t", *names]
+    if sweep:
+        cols = [np.repeat(np.arange(batch), n)[:, None]] + [np.repeat(result.sweep[k], n)[:, None] for k in sweep] + cols
+        head = ["member", *sweep, *head]
+    table = np.concatenate(cols, axis=1)
+    _atomic(path, lambda tmp: np.savetxt(tmp, table, delimiter=",", header=",".join(head), comments="", fmt="%.17g"))
+    if not sweep:
+        return [path]
+    names, rows = summary(result)
+    side = summary_path(path)
+    _atomic(side, lambda tmp: np.savetxt(tmp, rows, delimiter=",", header=",".join(names), comments="",
+                                         fmt="%.17g"))
+    return [path, side]
 
 
 def plot(result, path: str) -> None:
-    """Plot what the scene's outputs make meaningful: ω components; θ(t) between the turning points (heavy top);
-    the polhode on the energy ellipsoid; for a two-parameter heavy-top sweep, the map of the largest tilt.
-    Needs the optional ``plot`` extra (matplotlib).
+    """Plot every output the scene asked for, each axis labelled with its quantity and unit (SI):
+
+    ω(t) (always); the Euler angles (degrees); the attitude quaternion; the invariants' relative drift; for a
+    heavy top the vertical Γ(t) and θ(t) between the derived turning points; the polhode on the energy ellipsoid
+    (3-D, ω1, ω2, ω3 labelled). A sweep draws its first member over time and a panel over the swept quantity
+    (named θ0, ω3, ..., not by its key): a map of the largest tilt for a two-parameter heavy-top sweep, otherwise
+    the per-member summary against the first swept quantity. No offset notation hides a constant line. Needs the
+    optional ``plot`` extra (matplotlib).
 
     Examples
     --------
@@ -123,60 +284,174 @@ def plot(result, path: str) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    fig = figure(result)
+    _atomic(path, lambda tmp: fig.savefig(tmp, format=os.path.splitext(path)[1][1:], dpi=110), argument="--plot")
+    plt.close(fig)
+
+
+def figure(result):
+    """The matplotlib figure :func:`plot` saves (one panel per output; see there).
+
+    Examples
+    --------
+    >>> from eulersym.scene import Scene, simulate
+    >>> fig = figure(simulate(Scene(moments=(1, 2, 3), omega=(0.1, 1, 0), t_end=1, points=11)))
+    >>> [ax.get_ylabel() for ax in fig.axes]
+    ['ω, body components (rad/s)', 'relative drift (I(t) − I(0)) / |I(0)|']
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
+
     plan = result.plan
     single = plan.batch == 1
+    first = (lambda a: a) if single else (lambda a: a[0])
+    heavy = plan.regime == "heavy top" and result.gamma is not None
     panels = ["omega"]
-    if plan.regime == "heavy top" and result.gamma is not None:
-        panels.append("theta" if single or len(result.sweep) != 2 else "map")
-    if result.polhode is not None and single:
+    if result.euler_angles is not None:
+        panels.append("euler")
+    if result.attitude is not None:
+        panels.append("attitude")
+    if heavy:
+        panels += ["vertical", "theta"]
+    if result.invariants:
+        panels.append("invariants")
+    if result.polhode is not None:
         panels.append("polhode")
-    fig = plt.figure(figsize=(5 * len(panels), 4))
+    if not single:
+        panels.append("map" if heavy and len(result.sweep) == 2 else "members")
+    columns = min(3, len(panels))
+    rows = -(-len(panels) // columns)
+    fig = plt.figure(figsize=(5.2 * columns, 4.0 * rows))
+    member = "" if single else " — member 0 (" + ", ".join(
+        f"{quantity_label(k, unit=False)} = {v[0]:.4g}" for k, v in result.sweep.items()) + ")"
+    t = result.t
+
+    def time_axis(ax, ylabel, title):
+        _readable_limits(ax)
+        ax.set_xlabel("t (s)")
+        ax.set_ylabel(ylabel)
+        ax.set_title(title + member, fontsize=10)
+        ax.ticklabel_format(axis="both", useOffset=False)
+        ax.grid(alpha=0.3)
+
     for k, panel in enumerate(panels, start=1):
         if panel == "polhode":
-            ax = fig.add_subplot(1, len(panels), k, projection="3d")
-            w = result.polhode
-            I = np.asarray(result.moments)
+            ax = fig.add_subplot(rows, columns, k, projection="3d")
+            w = first(result.polhode)
+            I = np.asarray(first(result.moments) if result.moments.ndim > 1 else result.moments, dtype=float)
             energy2 = float(np.sum(I * w[0] ** 2))
             u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 40), np.linspace(0, np.pi, 20))
             a = np.sqrt(energy2 / I)
-            ax.plot_wireframe(a[0] * np.cos(u) * np.sin(v), a[1] * np.sin(u) * np.sin(v), a[2] * np.cos(v), color="0.8", linewidth=0.4)
-            ax.plot(w[:, 0], w[:, 1], w[:, 2], color="C3")
-            ax.set_title("polhode on the energy ellipsoid")
+            ax.plot_wireframe(a[0] * np.cos(u) * np.sin(v), a[1] * np.sin(u) * np.sin(v), a[2] * np.cos(v),
+                              color="0.8", linewidth=0.4)
+            ax.plot(w[:, 0], w[:, 1], w[:, 2], color="C3", label="polhode ω(t)")
+            for axis, name in ((ax.xaxis, "ω1"), (ax.yaxis, "ω2"), (ax.zaxis, "ω3")):
+                axis.set_major_locator(MaxNLocator(4))
+                axis.get_major_formatter().set_useOffset(False)
+                axis.set_label_text(f"{name} (rad/s)")
+            ax.tick_params(labelsize=7)
+            ax.set_title("polhode on the energy ellipsoid ω·Iω = 2E" + member, fontsize=10)
+            ax.legend(loc="upper left", fontsize=8)
             continue
-        ax = fig.add_subplot(1, len(panels), k)
+        ax = fig.add_subplot(rows, columns, k)
         if panel == "omega":
-            w = result.omega if single else result.omega[0]
+            w = first(result.omega)
             for j in range(3):
-                ax.plot(result.t, w[:, j], label=f"ω{j + 1}")
-            ax.set_xlabel("t")
-            ax.set_title("ω (body)" + ("" if single else ", first member"))
-            ax.legend()
+                ax.plot(t, w[:, j], _STYLES[j], label=f"ω{j + 1}")
+            time_axis(ax, "ω, body components (rad/s)", "angular velocity")
+            ax.legend(fontsize=8)
+        elif panel == "euler":
+            angles = np.degrees(first(result.euler_angles))
+            for j, name in enumerate(_ANGLE_NAMES):
+                ax.plot(t, angles[:, j], _STYLES[j], label=name)
+            time_axis(ax, "Euler angle (degrees)", f"attitude as Euler angles ({_convention(plan)})")
+            ax.legend(fontsize=8)
+        elif panel == "attitude":
+            q = first(result.attitude)
+            for j in range(4):
+                ax.plot(t, q[:, j], label=f"q{j}")
+            time_axis(ax, "quaternion component (dimensionless)", "attitude quaternion (scalar first)")
+            ax.legend(fontsize=8)
+        elif panel == "vertical":
+            gamma = first(result.gamma)
+            for j in range(3):
+                ax.plot(t, gamma[:, j], _STYLES[j], label=f"Γ{j + 1}")
+            time_axis(ax, "Γ, body components (unit vector)", "the vertical Γ (Γ3 = cos θ)")
+            ax.legend(fontsize=8)
         elif panel == "theta":
-            gamma = result.gamma if single else result.gamma[0]
+            gamma = first(result.gamma)
             theta = np.degrees(np.arccos(np.clip(gamma[:, 2], -1, 1)))
-            ax.plot(result.t, theta)
+            ax.plot(t, theta, label="θ(t)")
             if single and result.turning_points is not None:
-                for k, value in enumerate(np.degrees(result.turning_points)):
-                    ax.axhline(value, ls="--", color="0.5", label="θ1, θ2 derived" if k == 0 else None)
-                ax.legend()
-            else:
-                ax.axhline(theta.min(), ls="--", color="0.5")
-                ax.axhline(theta.max(), ls="--", color="0.5")
-            ax.set_xlabel("t")
-            ax.set_ylabel("θ (degrees)")
-            ax.set_title("nutation between θ1 and θ2")
-        else:
+                for j, value in enumerate(np.degrees(result.turning_points)):
+                    ax.axhline(value, ls="--", color="0.5", label="θ1, θ2 derived" if j == 0 else None)
+            time_axis(ax, "θ, tilt of the axis e3 (degrees)", "nutation")
+            ax.legend(fontsize=8)
+        elif panel == "invariants":
+            for key, values in result.invariants.items():
+                v = first(np.asarray(values)) if not single else np.asarray(values)
+                ref = v[0] if v[0] != 0 else 1.0
+                ax.plot(t, (v - v[0]) / abs(ref), label=key)
+            time_axis(ax, "relative drift (I(t) − I(0)) / |I(0)|", "invariants")
+            ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3), useOffset=False)
+            ax.legend(fontsize=8)
+        elif panel == "map":
             (lx, vx), (ly, vy) = list(result.sweep.items())
             ux, uy = np.unique(vx), np.unique(vy)
             tilt = np.degrees(np.arccos(np.clip(result.gamma[..., 2], -1, 1))).max(axis=1).reshape(len(ux), len(uy))
             mesh = ax.pcolormesh(uy, ux, tilt, shading="auto")
-            fig.colorbar(mesh, ax=ax, label="largest θ (degrees)")
-            ax.set_xlabel(ly)
-            ax.set_ylabel(lx)
-            ax.set_title("stability map")
+            fig.colorbar(mesh, ax=ax, label="largest θ over the run (degrees)")
+            ax.set_xlabel(quantity_label(ly))
+            ax.set_ylabel(quantity_label(lx))
+            ax.set_title("stability map: largest tilt", fontsize=10)
+            ax.ticklabel_format(axis="both", useOffset=False)
+        else:  # members: the per-member summary against the first swept quantity
+            names, table = summary(result)
+            key = next(iter(result.sweep))
+            x = np.asarray(result.sweep[key], dtype=float)
+            order = np.argsort(x, kind="stable")
+            if "theta_max_deg" in names:
+                ax.plot(x[order], table[order, names.index("theta_max_deg")], "o-", label="largest θ")
+                ax.set_ylabel("largest θ over the run (degrees)")
+            else:
+                for j in range(3):
+                    ax.plot(x[order], table[order, names.index(f"omega{j + 1}_max_abs")], "o-",
+                            label=f"max |ω{j + 1}|")
+                ax.set_ylabel("largest |ω_i| over the run (rad/s)")
+            ax.set_xlabel(quantity_label(key))
+            ax.set_title(f"{plan.batch} members", fontsize=10)
+            ax.ticklabel_format(axis="both", useOffset=False)
+            ax.grid(alpha=0.3)
+            ax.legend(fontsize=8)
+    fig.suptitle(f"{plan.scene}: {plan.engine}", fontsize=11)
     fig.tight_layout()
-    _atomic(path, lambda tmp: fig.savefig(tmp, format=os.path.splitext(path)[1][1:], dpi=110))
-    plt.close(fig)
+    return fig
+
+
+def _readable_limits(ax) -> None:
+    """A line that is constant to many digits gets a y range of ±5 % of its size (not one in its 13th digit)."""
+    values = [line.get_ydata() for line in ax.get_lines()]
+    if not values:
+        return
+    data = np.concatenate([np.asarray(v, dtype=float).ravel() for v in values])
+    data = data[np.isfinite(data)]
+    if data.size == 0:
+        return
+    low, high = float(data.min()), float(data.max())
+    scale = max(abs(low), abs(high))
+    if high - low <= 1e-9 * scale:
+        pad = 0.05 * scale if scale > 0 else 1.0
+        ax.set_ylim(low - pad, high + pad)
+
+
+def _convention(plan) -> str:
+    for step in plan.steps:
+        if step.what.startswith("Euler angles ("):
+            return step.what[len("Euler angles ("):-1]
+    return "zxz"
 
 
 def require_matplotlib(path):
@@ -186,7 +461,8 @@ def require_matplotlib(path):
 
 
 def check_target(flag: str, path: str, suffixes) -> None:
-    """Refuse an output path with the wrong suffix, in a missing folder, or naming a folder, before any work."""
+    """Refuse an output path with the wrong suffix, in a missing folder, naming a folder, or where no file can be
+    created (a probe file is made and removed), before any work."""
     if os.path.splitext(path)[1].lower() not in suffixes:
         raise InvalidInput(flag, path, "a file ending in " + " or ".join(suffixes))
     folder = os.path.dirname(os.path.abspath(path))
@@ -194,3 +470,12 @@ def check_target(flag: str, path: str, suffixes) -> None:
         raise InvalidInput(flag, path, f"a path in an existing folder ({folder} does not exist)")
     if os.path.isdir(path):
         raise InvalidInput(flag, path, "a file name, not a folder")
+    clean_leftovers(folder)
+    probe = _temporary(path)
+    try:
+        os.close(os.open(probe, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o600))
+    except FileExistsError:
+        pass
+    except OSError as exc:
+        raise InvalidInput(flag, path, f"a path in a folder eulersym can write ({exc.strerror or exc})") from None
+    _remove(probe)

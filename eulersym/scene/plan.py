@@ -289,33 +289,51 @@ def make_plan(scene, moments=None, model=None) -> Plan:
             skipped.append(Step("skip", "attitude propagation", "no output needs the attitude; Euler's equations with N = 0 close on ω alone"))
     elif regime == "heavy top":
         propagate = ("omega", "gamma", "attitude")
-        kernels.append("heavy_top_euler_poisson")
         symmetric = body in ("symmetric", "spherical") and known is not None and _axis3_symmetric(known)
-        if is_model and method == "splitting" and not symmetric:
-            raise InvalidInput("method", method, "the splitting needs a symmetric top (I1 = I2 about the pivot–centre-of-mass line); use 'auto'")
-        skipped.append(Step("skip", "closed form", "none for the heavy top's ω(t) and attitude (θ(t) alone reduces to a quadrature)"))
-        skipped.append(Step("skip", "Euler-angle kernel heavy_top_euler_angles", "singular at θ = 0 (the sleeping top); the Euler–Poisson form (ω, Γ, q) is not"))
-        if batch > 1:
-            engine = "integrate: batched DOP853 on heavy_top_euler_poisson"
-            steps.append(Step("integrate", f"{batch} members in one vectorised pass", f"adaptive DOP853 on the batched kernel, rtol = {ivp_tolerances(scene.accuracy)[0]:g}, one step size per chunk of members"))
-            options["call"] = "batched"
-        elif method == "splitting" or (method == "auto" and symmetric and scene.accuracy >= SPLITTING_ACCURACY):
-            engine = "integrate: splitting (Yoshida 4th order, Euler–Poisson form)"
-            why = "asked for" if method == "splitting" else (
-                f"accuracy {scene.accuracy:g} ≥ {SPLITTING_ACCURACY:g}: the geometric splitting, step (30·accuracy)^¼/Ω, Ω the fastest "
-                "of the nutation, pendulum and transverse rates")
-            steps.append(Step("integrate", "eulersym.numerics.integrate_heavy_top", why + "; |Γ| and L·Γ conserved, never singular at θ = 0"))
-            options["call"] = "integrate_heavy_top"
+        no_closed_form = (_no_heavy_top_closed_form(scene, known, symmetric) if not is_model else
+                          "a model scene integrates its own kernel (the closed form serves the chapter's keys: moments, l)")
+        if no_closed_form is None:
+            engine = "closed form: elliptic (Lagrange top)"
+            steps.append(Step("closed form", "ω(t), Γ(t) and q(t) by eulersym.numerics.heavy_top_exact",
+                              "a heavy symmetric top (I1 = I2 about the pivot, centre of mass on the axis, no other torque) "
+                              "is integrable: u = cos θ = u1 + (u2 − u1) sn²(λt + τ0), φ ± ψ from elliptic integrals of the "
+                              "third kind; exact to round-off, beyond any accuracy asked"))
+            skipped.append(Step("skip", "integration", "a closed form exists for the heavy symmetric top"))
+            if batch > 1:
+                steps.append(Step("compute", f"{batch} sweep members", "the closed form for all members in one call, vectorised over the output times"))
+            options["call"] = "heavy_top_exact"
         else:
-            m = "DOP853" if method == "auto" else method
-            engine = f"integrate: {m} on heavy_top_euler_poisson"
-            why = "asked for" if method != "auto" else (
-                f"accuracy {scene.accuracy:g} < {SPLITTING_ACCURACY:g}: an 8th-order adaptive method, its step following the motion" if symmetric
-                else "an asymmetric (or not yet derived) body: the symmetric-top splitting does not apply")
-            steps.append(Step("integrate", f"solve_ivp {m} on heavy_top_euler_poisson (ω, Γ, q)", f"{why}; rtol = {ivp_tolerances(scene.accuracy)[0]:g}"))
-            options["call"] = "integrate_ivp"
-            options["ivp_method"] = m
-        steps.append(Step("compute", "attitude", "propagated: the gravity torque M g l Γ × e3 depends on the vertical Γ"))
+            if is_model and method == "splitting" and not symmetric:
+                raise InvalidInput("method", method, "the splitting needs a symmetric top (I1 = I2 about the pivot–centre-of-mass line); use 'auto'")
+            if method == "closed-form":
+                raise InvalidInput("method", method, f"an integrator ('auto', 'DOP853', 'splitting', ...): {no_closed_form}")
+            kernels.append("heavy_top_euler_poisson")
+            skipped.append(Step("skip", "closed form", no_closed_form))
+            skipped.append(Step("skip", "Euler-angle kernel heavy_top_euler_angles", "singular at θ = 0 (the sleeping top); the Euler–Poisson form (ω, Γ, q) is not"))
+            if batch > 1:
+                engine = "integrate: batched DOP853 on heavy_top_euler_poisson"
+                steps.append(Step("integrate", f"{batch} members in one vectorised pass", f"adaptive DOP853 on the batched kernel, rtol = {ivp_tolerances(scene.accuracy)[0]:g}, one step size per chunk of members"))
+                options["call"] = "batched"
+            elif method == "splitting" or (method == "auto" and symmetric and scene.accuracy >= SPLITTING_ACCURACY):
+                engine = "integrate: splitting (Yoshida 4th order, Euler–Poisson form)"
+                why = "asked for" if method == "splitting" else (
+                    f"accuracy {scene.accuracy:g} ≥ {SPLITTING_ACCURACY:g}: the geometric splitting, step (30·accuracy)^¼/Ω, Ω the fastest "
+                    "of the nutation, pendulum and transverse rates")
+                steps.append(Step("integrate", "eulersym.numerics.integrate_heavy_top", why + "; |Γ| and L·Γ conserved, never singular at θ = 0"))
+                options["call"] = "integrate_heavy_top"
+            else:
+                m = "DOP853" if method == "auto" else method
+                engine = f"integrate: {m} on heavy_top_euler_poisson"
+                why = "asked for" if method != "auto" else (
+                    f"accuracy {scene.accuracy:g} < {SPLITTING_ACCURACY:g}: an 8th-order adaptive method, its step following the motion" if symmetric
+                    else "an asymmetric (or not yet derived) body: the symmetric-top splitting does not apply")
+                steps.append(Step("integrate", f"solve_ivp {m} on heavy_top_euler_poisson (ω, Γ, q)", f"{why}; rtol = {ivp_tolerances(scene.accuracy)[0]:g}"))
+                options["call"] = "integrate_ivp"
+                options["ivp_method"] = m
+        if no_closed_form is None:
+            steps.append(Step("compute", "attitude", "q(t) and the vertical Γ(t) from the same closed form (θ, φ ± ψ)"))
+        else:
+            steps.append(Step("compute", "attitude", "propagated: the gravity torque M g l Γ × e3 depends on the vertical Γ"))
         if is_model:
             skipped.append(Step("skip", "eulersym.top derivations (turning points, sleeping-top threshold)", "a model scene reports what it integrated; those derivations need SymPy"))
         elif batch == 1 and symmetric and "euler_angles" in outputs:
@@ -391,12 +409,29 @@ def make_plan(scene, moments=None, model=None) -> Plan:
     )
 
 
+def _no_heavy_top_closed_form(scene, known, symmetric) -> str | None:
+    """Why the heavy top's closed form does not apply to ``scene`` (None when it does)."""
+    if scene.method not in ("auto", "closed-form"):
+        return f"method {scene.method!r} asked for (the closed form applies: method 'auto' or 'closed-form')"
+    if known is None:
+        return "the principal moments are derived first"
+    if not symmetric:
+        return ("I1 ≠ I2 about the pivot: the asymmetric heavy top has no closed form in general "
+                "(Lagrange's top needs I1 = I2 with the centre of mass on the axis)")
+    if scene.torque is not None and any(np.any(_values(c) != 0) for c in scene.torque):
+        return "a torque besides gravity: only the heavy top under gravity alone is integrable"
+    if scene.mass is None or np.any(_values(scene.mass) <= 0):
+        return "the closed form needs a positive mass"
+    return None
+
+
 #: The old runner names (``plan.method``) → the engine module of :mod:`eulersym.scene.engines` that runs them.
 ENGINE_OF_CALL = {
     "free_rigid_body_exact": "free_body_exact",
     "free_rigid_body_attitude_exact": "free_body_exact",
     "integrate_free_body": "free_body_splitting",
     "integrate_heavy_top": "heavy_top_splitting",
+    "heavy_top_exact": "heavy_top_exact",
     "integrate_ivp": "ivp",
     "ivp_combined": "ivp",
     "batched": "batched_dop853",

@@ -46,7 +46,8 @@ from eulersym.scene.plan import SYMMETRY_RTOL, Plan, make_plan
 from eulersym.scene.values import Sweep, did_you_mean as _did_you_mean, number as _number, scalar as _scalar
 from eulersym.scene.values import values_of as _values, vector as _vector
 
-__all__ = ["Scene", "load", "OUTPUTS", "METHODS", "SHAPES", "SHAPE_ORIGINS", "CONVENTIONS", "ACCURACY_RANGE"]
+__all__ = ["Scene", "load", "OUTPUTS", "METHODS", "SHAPES", "SHAPE_ORIGINS", "CONVENTIONS", "ACCURACY_RANGE",
+           "MAGNITUDE_LIMIT", "PHASE_LIMIT", "rate_bound"]
 
 #: The outputs a scene may ask for.
 OUTPUTS = ("omega", "attitude", "euler_angles", "invariants", "polhode")
@@ -88,6 +89,7 @@ _DEFAULTS = {
     "angle": None,
     "omega": None,
     "omega_frame": "body",
+    "euler_rates": None,
     "t_end": None,
     "points": 1001,
     "outputs": ("omega", "invariants"),
@@ -121,6 +123,7 @@ _TOML_LAYOUT: dict[str, dict[str, Any]] = {
     "initial": {
         "omega": "omega",
         "omega_space": ("omega", "space"),
+        "euler_rates": "euler_rates",
         "euler": "euler",
         "convention": "convention",
         "quaternion": "quaternion",
@@ -170,6 +173,11 @@ class Scene:
         Initial attitude as a unit quaternion (normalised here). Or ``axis`` and ``angle`` (radians).
     omega : 3 numbers
         Initial angular velocity, body components (``omega_frame='space'`` for space components).
+    euler_rates : 3 numbers, optional
+        Instead of ``omega``: the initial Euler-angle rates (φ̇, θ̇, ψ̇) in the scene's ``convention``, with the
+        angles ``euler``; converted to body ω by the derived kinematics (the committed kernel
+        ``eulersym.generated.kinematics`` for 'zxz', the same composition of elementary rotations for the other
+        sequences), numerically, without SymPy.
     t_end : number
         End time (> 0); outputs at ``points`` evenly spaced times from 0 to t_end (default 1001).
     outputs : sequence of str
@@ -212,6 +220,7 @@ class Scene:
     angle: Any
     omega: tuple
     omega_frame: str
+    euler_rates: tuple | None
     t_end: float
     points: int
     outputs: tuple
@@ -259,6 +268,11 @@ class Scene:
             raise InvalidInput("SCENE", path, f"valid TOML ({exc})") from None
         except (IsADirectoryError, PermissionError, UnicodeDecodeError) as exc:
             raise InvalidInput("SCENE", path, f"a readable TOML file ({exc.__class__.__name__})") from None
+        except RecursionError:
+            raise InvalidInput("SCENE", path, "TOML nested less deeply: arrays or tables nested beyond the reader's "
+                                              "recursion limit (about 1000 levels); a scene needs 3") from None
+        except OSError as exc:
+            raise InvalidInput("SCENE", path, f"a readable TOML file ({exc.strerror or exc})") from None
         return cls.from_dict(data)
 
     @classmethod
@@ -314,7 +328,13 @@ class Scene:
                     kwargs[target] = v
                     where[target] = f"{key}.{sub}"
             if key == "pivot" and kwargs.get("l") is None:
-                raise InvalidInput("pivot.l", None, "the pivot–centre-of-mass distance l (a [pivot] table needs l)")
+                body = data.get("body")
+                if isinstance(body, Mapping) and body.get("shape") is not None:
+                    kwargs["l"] = FROM_SHAPE  # the pivot sits at the shape's origin: l from its centre of mass
+                    where["l"] = "pivot.l"
+                    continue
+                raise InvalidInput("pivot.l", None, "the pivot–centre-of-mass distance l (a [pivot] table needs l, "
+                                                    "unless the body is a shape: then l comes from the shape)")
         return _construct(cls, kwargs, where)
 
     # ---- derived facts (pure) -----------------------------------------------------------------------------
@@ -521,6 +541,8 @@ def _construct(cls, kwargs: dict, where: dict):
         rest = exc.argument[len(base):]
         if exc.argument.startswith("dimensions.") and exc.argument in where:
             raise InvalidInput(where[exc.argument], exc.value, exc.expected) from None
+        if exc.argument.startswith("dimensions."):  # a dimension the file lacks: it goes in [body]
+            raise InvalidInput("body." + exc.argument[len("dimensions."):], exc.value, exc.expected) from None
         if base in where:
             raise InvalidInput(where[base] + rest, exc.value, exc.expected) from None
         if base in _TOML_PATHS:  # a key the file lacks: name where it would go
@@ -564,8 +586,13 @@ def _normalise(v: dict) -> dict:
     out["g"] = _scalar("g", v["g"])
     if np.any(_values(out["g"]) < 0):
         raise InvalidInput("g", v["g"], "gravity g >= 0 (it points down, along -z in space)")
-    if v["l"] is not None:
+    if v["l"] is not None and v["shape"] is not None:
+        out["l"] = _pivot_on_shape(v, out)
+    elif v["l"] is FROM_SHAPE:
+        raise InvalidInput("l", None, "a number: the pivot–centre-of-mass distance (only a shape gives its own)")
+    elif v["l"] is not None:
         out["l"] = _scalar("l", v["l"])
+    if v["l"] is not None:
         if np.any(_values(out["l"]) < 0):
             raise InvalidInput("l", v["l"], "a distance l >= 0 from the pivot to the centre of mass (along +e3)")
         if out["mass"] is None:
@@ -594,10 +621,14 @@ def _normalise(v: dict) -> dict:
             raise InvalidInput("axis", v["axis"], "a non-zero rotation axis")
         out["axis"] = axis
         out["angle"] = _scalar("angle", v["angle"])
-    if v["omega"] is None:
-        raise InvalidInput("omega", None, "the initial angular velocity (omega = [w1, w2, w3], body components)")
-    out["omega"] = _vector("omega", v["omega"], 3)
     out["omega_frame"] = validation.choice("omega_frame", v["omega_frame"], ("body", "space"))
+    if v["euler_rates"] is not None:
+        out["euler_rates"], out["omega"] = _omega_from_euler_rates(v, out)
+    elif v["omega"] is None:
+        raise InvalidInput("omega", None, "the initial angular velocity (omega = [w1, w2, w3], body components; or "
+                                          "euler_rates = [phidot, thetadot, psidot] with euler = [...])")
+    else:
+        out["omega"] = _vector("omega", v["omega"], 3)
     # ---- time, outputs, accuracy -------------------------------------------------------------------------------
     if v["t_end"] is None:
         raise InvalidInput("t_end", None, "the end time t_end > 0")
@@ -624,6 +655,7 @@ def _normalise(v: dict) -> dict:
     out["method"] = _choice("method", v["method"], METHODS)
     if v["model"] is None:
         _check_consistency(out)  # a model's plan checks what its kernel can give
+        _check_scales(out, v)
     return out
 
 
@@ -733,6 +765,156 @@ def _check_consistency(out: dict) -> None:
             i1, i2 = out["moments"][0], out["moments"][1]
             if abs(i1 - i2) > SYMMETRY_RTOL * max(i1, i2):
                 raise InvalidInput("method", "splitting", "the splitting needs a symmetric top (I1 = I2); use 'auto'")
+
+
+#: ``[pivot]`` without ``l`` on a shape: the pivot is the shape's origin and l comes from its centre of mass.
+FROM_SHAPE = type("FromShape", (), {"__repr__": lambda self: "<l from the shape>"})()
+
+
+def _pivot_on_shape(v, out) -> float:
+    """l for a shape on a pivot: the pivot is the shape's origin, and the centre of mass must lie on body axis 3
+    at distance l from it (derived by :func:`eulersym.inertia.center_of_mass`); a given l must agree."""
+    shape, dims, origin = out["shape"], dict(out["dimensions"]), out["origin"]
+    if isinstance(v["l"], (list, tuple, Mapping, Sweep)):
+        raise InvalidInput("l", v["l"], f"one number: the {shape}'s centre of mass fixes l (it cannot be swept)")
+    if origin in (None, "center"):
+        derived, where = 0.0, "at the origin: the shape's origin is its centre of mass"
+    else:
+        import sympy as sp  # a shape is derived with SymPy anyway (the plan's first step)
+
+        from eulersym.inertia import Region, center_of_mass
+
+        if shape == "cone":
+            region = Region.cone(sp.Float(dims["R"]), sp.Float(dims["h"]))
+        else:  # cube / cuboid about a corner
+            a, b, c = (dims.get(k, dims.get("a")) for k in ("a", "b", "c"))
+            region = Region.box((0, sp.Float(a)), (0, sp.Float(b)), (0, sp.Float(c)))
+        com = [float(x) for x in center_of_mass(1, region)]
+        if abs(com[0]) > 1e-12 * abs(com[2]) or abs(com[1]) > 1e-12 * abs(com[2]):
+            raise InvalidInput("l", None if v["l"] is FROM_SHAPE else v["l"],
+                               f"no pivot at the {origin} of a {shape}: its centre of mass "
+                               f"({', '.join(f'{x:g}' for x in com)}) is not on body axis 3, and the heavy top "
+                               "needs it there; give moments about the pivot instead")
+        derived, where = com[2], f"{com[2]:g} from the {origin} along e3, derived from the shape"
+    if v["l"] is FROM_SHAPE:
+        return derived
+    given = _scalar("l", v["l"], sweepable=False)
+    if abs(given - derived) > 1e-9 * max(abs(derived), max(dims.values())):
+        raise InvalidInput("l", v["l"], f"l = {derived:g} or no l: a {shape} pivoted at its {origin or 'center'} has "
+                                        f"its centre of mass {where}; a different l contradicts the shape (for "
+                                        "another body give moments about the pivot, and l)")
+    return derived
+
+
+def _omega_from_euler_rates(v, out) -> tuple:
+    """(euler_rates, body ω) from the initial angles and their rates, by the derived kinematics (no SymPy)."""
+    if v["omega"] is not None:
+        raise InvalidInput("euler_rates", v["euler_rates"], "one initial angular velocity: euler_rates or omega, "
+                                                            "not both")
+    if out["omega_frame"] != "body":
+        raise InvalidInput("euler_rates", v["euler_rates"], "one initial angular velocity: euler_rates or "
+                                                            "omega_space, not both")
+    if out.get("euler") is None:
+        raise InvalidInput("euler_rates", v["euler_rates"], "initial Euler angles too (euler = [phi, theta, psi]): "
+                                                            "the rates give ω only together with the angles")
+    rates = _vector("euler_rates", v["euler_rates"], 3, sweepable=False)
+    if any(isinstance(a, Sweep) for a in out["euler"]):
+        raise InvalidInput("euler_rates", v["euler_rates"], "single Euler angles (not swept) with euler_rates; "
+                                                            "sweep omega instead")
+    from eulersym.scene.rates import omega_body
+
+    omega = omega_body(out["euler"], rates, out["convention"])
+    return rates, tuple(float(w) for w in omega)
+
+
+#: Magnitudes beyond which double precision cannot carry a scene: the engines multiply two quantities of the size of
+#: |L|² or the energy, and the product must stay below the largest double (1.8e308).
+MAGNITUDE_LIMIT = 1e150
+#: Radians of rotation after which a double keeps no digit of the phase (2**52).
+PHASE_LIMIT = 2.0 ** 52
+
+
+def _largest(x) -> float:
+    if x is None:
+        return 0.0
+    if isinstance(x, tuple):
+        return max((_largest(c) for c in x), default=0.0)
+    return float(np.max(np.abs(_values(x))))
+
+
+def _inertia_range(out) -> tuple:
+    """(smallest, largest) moment, or for a shape its scale M·(largest dimension)²."""
+    if out["moments"] is not None:
+        values = np.concatenate([_values(m) for m in out["moments"]])
+        return float(values.min()), float(values.max())
+    if out["tensor"] is not None:
+        eig = np.linalg.eigvalsh(np.array(out["tensor"]))
+        return float(eig[0]), float(eig[-1])
+    scale = _largest(out["mass"]) * max(value for _, value in out["dimensions"]) ** 2
+    return scale / 12.0, scale
+
+
+def rate_bound(scene_or_values) -> float:
+    """An upper estimate of |ω| over the run (rad per unit time): the initial spin, what a constant torque adds by
+    t_end, and the heavy top's pendulum rate √(M g l / I_min).
+
+    Examples
+    --------
+    >>> rate_bound(Scene(moments=(1, 2, 3), omega=(0, 4, 3), t_end=1))
+    4.0
+    """
+    out = scene_or_values if isinstance(scene_or_values, dict) else {
+        f.name: getattr(scene_or_values, f.name) for f in dataclasses.fields(scene_or_values)}
+    i_min, _ = _inertia_range(out)
+    rate = _largest(out["omega"])
+    if out["torque"] is not None and i_min > 0:
+        rate += _largest(out["torque"]) * out["t_end"] / i_min
+    if out["l"] is not None and out["mass"] is not None and i_min > 0:
+        rate = max(rate, math.sqrt(_largest(out["mass"]) * _largest(out["g"]) * _largest(out["l"]) / i_min))
+    return rate
+
+
+def _size(x: float) -> str:
+    return f"≈ {x:.3g}" if math.isfinite(x) else "beyond the largest double"
+
+
+def _check_scales(out: dict, raw: dict) -> None:
+    """Refuse numbers whose motion double precision cannot carry, naming the real cause: an energy or |L|² beyond
+    :data:`MAGNITUDE_LIMIT`, a gravity or applied torque that large, or more than :data:`PHASE_LIMIT` radians of
+    rotation by t_end. (A scene in other units is the same motion: rescale time or inertia.)"""
+    i_min, i_max = _inertia_range(out)
+    spin = _largest(out["omega"])
+    why = ("double precision (largest 1.8e308) cannot carry the products the motion needs; the same motion in "
+           "other units (a larger unit of time, a smaller one of inertia) can")
+    if i_max * i_max > MAGNITUDE_LIMIT:
+        key = "moments" if out["moments"] is not None else ("tensor" if out["tensor"] is not None else "mass")
+        raise InvalidInput(key, raw[key], f"moments of inertia below {math.sqrt(MAGNITUDE_LIMIT):.0e} (here up to "
+                                          f"{i_max:.3g}): {why}")
+    worst = max((i_max * spin) * (i_max * spin), i_max * spin * spin)
+    if worst > MAGNITUDE_LIMIT:
+        key = "euler_rates" if out.get("euler_rates") is not None else "omega"
+        raise InvalidInput(key, raw[key], f"an angular velocity whose |L|² = (I ω)² and energy I ω² stay below "
+                                          f"{MAGNITUDE_LIMIT:.0e} (here {_size(worst)} with |ω| = {spin:.3g} and I up "
+                                          f"to {i_max:.3g}): {why}")
+    if out["l"] is not None and out["mass"] is not None:
+        weight = _largest(out["mass"]) * _largest(out["g"]) * _largest(out["l"])
+        if weight * i_max > MAGNITUDE_LIMIT:
+            raise InvalidInput("mass", raw["mass"], f"a gravity torque M g l below {MAGNITUDE_LIMIT / i_max:.3g} "
+                                                    f"(here M g l ≈ {weight:.3g}): {why}")
+    if out["torque"] is not None and _largest(out["torque"]) * max(i_max, 1.0) > MAGNITUDE_LIMIT:
+        raise InvalidInput("torque", raw["torque"], f"a torque below {MAGNITUDE_LIMIT / max(i_max, 1.0):.3g} (here "
+                                                    f"up to {_largest(out['torque']):.3g}): {why}")
+    rate = rate_bound(out)
+    if i_max * rate * rate > MAGNITUDE_LIMIT or (i_max * rate) * (i_max * rate) > MAGNITUDE_LIMIT:
+        key = "torque" if out["torque"] is not None else "mass"
+        raise InvalidInput(key, raw[key], f"a motion whose energy stays below {MAGNITUDE_LIMIT:.0e}: |ω| reaches "
+                                          f"≈ {rate:.3g} by t_end = {out['t_end']:g}, so I ω² is "
+                                          f"{_size(i_max * rate * rate)}: {why}")
+    turned = rate * out["t_end"]
+    if turned > PHASE_LIMIT:
+        raise InvalidInput("t_end", raw["t_end"], f"an end time by which the body turns less than 2**52 rad (here "
+                                                  f"|ω| ≈ {rate:.3g} × t_end = {out['t_end']:g} ≈ {turned:.3g} rad): "
+                                                  "past that a double keeps no digit of the phase")
 
 
 def load(scene) -> Scene:

@@ -33,6 +33,7 @@ ENGINES = {
     "free_body_exact": "closed-form torque-free motion (eulersym.numerics' exact oracle), per member",
     "free_body_splitting": "the free body's geometric splitting (Moser–Veselov, modified moments, order 4)",
     "heavy_top_splitting": "the symmetric heavy top's Yoshida splitting in the Euler–Poisson form",
+    "heavy_top_exact": "closed-form heavy symmetric top (Lagrange's top: elliptic functions), all members at once",
     "ivp": "scipy's solve_ivp on a committed kernel, one member",
     "batched_dop853": "Dormand–Prince 8(5,3) over all members at once on the batched kernels",
 }

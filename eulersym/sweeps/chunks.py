@@ -1,0 +1,125 @@
+"""Streaming a sweep in chunks: members run a chunk at a time and their results are written into preallocated
+outputs, so peak memory is the outputs plus one chunk's working set, whatever the number of members.
+
+A chunk is ``task(piece(lo, hi), **static)``: a plain, importable function of the members ``lo:hi`` (their arrays)
+and of what all members share, returning ``{name: ndarray}`` with ``hi − lo`` rows each. Rows land at ``lo:hi`` of
+the outputs, so the result is in member order however the chunks are scheduled; with a Dask ``client`` the chunks
+become tasks on its workers (:mod:`eulersym.sweeps.distributed`) and the result is the same, bit for bit.
+
+Examples
+--------
+>>> import numpy as np
+>>> def square(piece, *, power):
+...     return {"y": piece ** power}
+>>> x = np.arange(10.0)
+>>> out = run(square, lambda lo, hi: x[lo:hi], members=10, chunk=4, static={"power": 2})
+>>> out["y"].tolist() == (x ** 2).tolist()
+True
+"""
+
+from __future__ import annotations
+
+from typing import Callable, Mapping
+
+import numpy as np
+
+from eulersym.errors import InvalidInput
+
+__all__ = ["bounds", "allocate", "store", "run"]
+
+
+def bounds(members: int, chunk: int) -> tuple:
+    """``((lo, hi), ...)`` covering ``range(members)`` in chunks of ``chunk`` (the last may be shorter).
+
+    Examples
+    --------
+    >>> bounds(10, 4)
+    ((0, 4), (4, 8), (8, 10))
+    >>> bounds(0, 4)
+    ()
+    """
+    if isinstance(chunk, bool) or int(chunk) != chunk or chunk < 1:
+        raise InvalidInput("chunk", chunk, "a positive whole number of members per chunk")
+    members, chunk = int(members), int(chunk)
+    return tuple((lo, min(lo + chunk, members)) for lo in range(0, members, chunk))
+
+
+def allocate(first: Mapping, members: int) -> dict:
+    """Outputs for ``members`` rows shaped like a first chunk's results ``{name: ndarray (rows, ...)}``.
+
+    Examples
+    --------
+    >>> out = allocate({"y": np.zeros((2, 3))}, 5)
+    >>> out["y"].shape, out["y"].dtype.name
+    ((5, 3), 'float64')
+    """
+    return {name: np.empty((members, *np.shape(v)[1:]), dtype=np.asarray(v).dtype) for name, v in first.items()}
+
+
+def store(out: Mapping, part: Mapping, lo: int, hi: int) -> None:
+    """Copy a chunk's results into rows ``lo:hi`` of the outputs (the names must match).
+
+    Examples
+    --------
+    >>> out = {"y": np.zeros(4)}
+    >>> store(out, {"y": np.ones(2)}, 1, 3); out["y"].tolist()
+    [0.0, 1.0, 1.0, 0.0]
+    """
+    if set(part) != set(out):
+        raise InvalidInput("task", sorted(part), f"a chunk result with exactly the outputs {sorted(out)}")
+    for name, values in part.items():
+        out[name][lo:hi] = values
+
+
+def run(task: Callable, piece: Callable, *, members: int, chunk: int, static: Mapping | None = None,
+        out: Mapping | None = None, client=None, progress: Callable | None = None) -> dict:
+    """Run ``task`` over all members, a chunk at a time, into ``out`` (allocated from the first chunk if None).
+
+    Parameters
+    ----------
+    task : callable ``task(piece, **static) -> {name: ndarray (hi - lo, ...)}``
+        A module-level function (Dask ships it by reference), importing only kernels and numerics.
+    piece : callable ``piece(lo, hi)``
+        The members ``lo:hi``'s own inputs (arrays sliced from the sweep); with Dask they travel to a worker.
+    members, chunk : int
+        Number of members; members per chunk (from :func:`eulersym.sweeps.cost.estimate`).
+    static : mapping, optional
+        Keyword arguments every chunk shares (output times, tolerances); sent once to each Dask worker.
+    out : mapping name → ndarray (members, ...), optional
+        Preallocated outputs.
+    client : dask.distributed.Client, optional
+        Run the chunks as Dask tasks on its workers.
+    progress : callable(fraction) or None
+
+    Returns
+    -------
+    dict name → ndarray (members, ...), in member order.
+
+    Examples
+    --------
+    Chunked and unchunked give the same bits:
+
+    >>> x = np.linspace(0, 1, 7)
+    >>> def f(piece):
+    ...     return {"s": np.sin(piece) * np.exp(piece)}
+    >>> a = run(f, lambda lo, hi: x[lo:hi], members=7, chunk=7)["s"]
+    >>> b = run(f, lambda lo, hi: x[lo:hi], members=7, chunk=2)["s"]
+    >>> bool(np.array_equal(a, b))
+    True
+    """
+    static = dict(static or {})
+    spans = bounds(members, chunk)
+    if client is not None:
+        from eulersym.sweeps.distributed import map_chunks
+
+        return map_chunks(client, task, piece, spans, members=members, static=static, out=out, progress=progress)
+    result = None if out is None else dict(out)
+    for lo, hi in spans:
+        part = task(piece(lo, hi), **static)
+        if result is None:
+            result = allocate(part, members)
+        store(result, part, lo, hi)
+        del part  # one chunk's temporaries at a time
+        if progress is not None:
+            progress(hi / members)
+    return result if result is not None else {}
