@@ -462,13 +462,11 @@ def _needs_model(data: Mapping) -> bool:
     of mass off the legacy axis, a potential, or an expression (a string where the legacy keys take numbers)."""
     if any(key in data for key in _MODEL_ONLY[""]):
         return True
-    body, pivot = data.get("body"), data.get("pivot")
+    body = data.get("body")
     if isinstance(body, Mapping):
         shape, origin = body.get("shape"), body.get("origin")
         if isinstance(shape, str) and (shape not in SHAPES or (isinstance(origin, str) and origin not in SHAPE_ORIGINS.get(shape, ("center",)))):
             return shape in ("rod", "point", "cylinder")  # a model's shapes and origins (a rod, a cylinder on its base)
-        if isinstance(pivot, Mapping) and "l" not in pivot and ("shape" in body or "parts" in body):
-            return True  # a shape on a pivot: the model derives its centre of mass
     for section in ("body", "pivot", "torque"):
         table = data.get(section)
         if not isinstance(table, Mapping):
@@ -865,6 +863,8 @@ def rate_bound(scene_or_values) -> float:
     """
     out = scene_or_values if isinstance(scene_or_values, dict) else {
         f.name: getattr(scene_or_values, f.name) for f in dataclasses.fields(scene_or_values)}
+    if out.get("model") is not None:
+        return _model_rate_bound(scene_or_values, out)
     i_min, _ = _inertia_range(out)
     rate = _largest(out["omega"])
     if out["torque"] is not None and i_min > 0:
@@ -872,6 +872,21 @@ def rate_bound(scene_or_values) -> float:
     if out["l"] is not None and out["mass"] is not None and i_min > 0:
         rate = max(rate, math.sqrt(_largest(out["mass"]) * _largest(out["g"]) * _largest(out["l"]) / i_min))
     return rate
+
+
+def _model_rate_bound(scene, out) -> float:
+    """A model scene's rate: the initial spin, and where its kernel is cached (its body numbers known without
+    SymPy) the pendulum rate √(M g |c| / I_min) and the rotor's |h| / I_min; its other torques are the kernel's."""
+    rate = _largest(out["omega"])
+    facts = scene.cached_model_facts() if isinstance(scene, Scene) else None
+    if facts is None or not len(facts.params[0] if facts.params else [1]):
+        return rate
+    i_min = float(np.min(np.linalg.eigvalsh(facts.tensor)))
+    if i_min <= 0:
+        return rate
+    weight = float(np.max(np.abs(facts.body["M"] * facts.body["g"]) * np.linalg.norm(facts.centre_of_mass, axis=1)))
+    spin = float(np.max(np.linalg.norm(facts.rotor, axis=1)))
+    return max(rate, math.sqrt(weight / i_min)) + spin / i_min
 
 
 def _size(x: float) -> str:
