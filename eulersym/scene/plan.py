@@ -93,8 +93,8 @@ class Plan:
     --------
     >>> from eulersym.scene import Scene
     >>> plan = Scene(moments=(1, 1, 2), mass=1, l=0.1, omega=(0, 0, 50), euler=(0, 0.3, 0), t_end=1).plan()
-    >>> plan.regime, plan.kernels
-    ('heavy top', ('heavy_top_euler_poisson',))
+    >>> plan.regime, plan.engine, plan.kernels          # a symmetric heavy top: Lagrange's top in closed form
+    ('heavy top', 'closed form: elliptic (Lagrange top)', ())
     """
 
     scene: str
