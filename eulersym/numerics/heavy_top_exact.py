@@ -61,6 +61,19 @@ from eulersym.numerics import _decimal_elliptic as _de
 from eulersym.numerics.exact import _phase, _two_prod, jacobi_sncndn
 from eulersym.validation import finite_array, moments
 
+
+def elliprf(x, y, z):  # scipy.special on first use: importing this module (and eulersym.numerics) stays light
+    from scipy.special import elliprf as f
+
+    return f(x, y, z)
+
+
+def elliprj(x, y, z, p):
+    from scipy.special import elliprj as f
+
+    return f(x, y, z, p)
+
+
 __all__ = ["heavy_top_exact", "HeavyTopMotion", "euler_to_quaternion", "BATCH_PRECISE"]
 
 
