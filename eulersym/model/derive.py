@@ -269,7 +269,9 @@ def equations(mech: Mechanics) -> Equations:
         raise InvalidInput("mech", mech, "an eulersym.model.mechanics.Mechanics")
     I = sp.Matrix(mech.inertia)
     h = sp.Matrix(mech.rotor)
-    for name, value in (("rotor", h),):
+    constants = (("rotor", list(h)), ("inertia", list(I)), ("mass", [mech.mass]),
+                 ("centre_of_mass", list(mech.centre_of_mass)), ("gravity", [mech.gravity]))
+    for name, value in constants:
         if any(sp.sympify(e).has(*OMEGA, *GAMMA, *Q, t) for e in value):
             raise InvalidInput(name, [str(e) for e in value], "constant components (parameters and numbers only)")
     w = sp.Matrix(OMEGA)

@@ -18,9 +18,11 @@ The TOML layout (every key optional unless marked; ``eulersym simulate --list`` 
     end = 10.0                           # required, > 0
     points = 1001
     [output]
-    want = ["omega", "invariants"]       # omega, attitude, euler_angles, invariants, polhode
+    want = ["omega", "invariants"]       # omega, attitude, euler_angles, invariants, polhode; summary (per member)
     accuracy = 1e-8
     method = "auto"                      # auto, closed-form, splitting, DOP853, RK45, Radau, LSODA
+    memory = "2 GiB"                     # budgets: refused beyond them, with the estimate (eulersym.scene.cost)
+    work = 5e10                          # kernel evaluations summed over members
 
 Validation raises :class:`~eulersym.errors.InvalidInput` naming the keyword (or the TOML key), the value and what
 is valid. :meth:`Scene.plan` asks the pure :mod:`eulersym.scene.plan` what a run would do.
@@ -45,12 +47,13 @@ from eulersym.scene.catalog import bundled
 from eulersym.scene.plan import SYMMETRY_RTOL, Plan, make_plan
 from eulersym.scene.values import Sweep, did_you_mean as _did_you_mean, number as _number, scalar as _scalar
 from eulersym.scene.values import values_of as _values, vector as _vector
+from eulersym.sweeps import cost as _sweep_cost
 
 __all__ = ["Scene", "load", "OUTPUTS", "METHODS", "SHAPES", "SHAPE_ORIGINS", "CONVENTIONS", "ACCURACY_RANGE",
            "MAGNITUDE_LIMIT", "PHASE_LIMIT", "rate_bound"]
 
 #: The outputs a scene may ask for.
-OUTPUTS = ("omega", "attitude", "euler_angles", "invariants", "polhode")
+OUTPUTS = ("omega", "attitude", "euler_angles", "invariants", "polhode", "summary")
 #: ``method`` values: ``auto`` lets the plan choose.
 METHODS = ("auto", "closed-form", "splitting", "DOP853", "RK45", "Radau", "LSODA")
 #: Named shapes → their dimension names, in the order of the ``eulersym.inertia`` function's arguments.
@@ -97,6 +100,8 @@ _DEFAULTS = {
     "method": "auto",
     "model": None,
     "parameters": None,
+    "memory": None,
+    "work": None,
 }
 
 #: Scene keywords that describe the body the legacy way; a scene with a ``model`` takes none of them.
@@ -131,7 +136,7 @@ _TOML_LAYOUT: dict[str, dict[str, Any]] = {
         "angle": "angle",
     },
     "time": {"end": "t_end", "points": "points"},
-    "output": {"want": "outputs", "accuracy": "accuracy", "method": "method"},
+    "output": {"want": "outputs", "accuracy": "accuracy", "method": "method", "memory": "memory", "work": "work"},
 }
 
 
@@ -186,6 +191,10 @@ class Scene:
         Relative accuracy wanted (default 1e-8).
     method : str
         One of :data:`METHODS` (default 'auto': the plan chooses).
+    memory, work : optional
+        Budgets (:mod:`eulersym.scene.cost`): bytes (``"2 GiB"``; default the smaller of 2 GiB and half the memory
+        available) and kernel evaluations (default 5e10); a sweep beyond one is refused before anything is
+        allocated. With ``"summary"`` among the outputs, the others are kept as per-member summaries only.
     name, description : str
         For reports.
 
@@ -229,6 +238,8 @@ class Scene:
     model: Any = dataclasses.field(compare=False)
     parameters: tuple | None = None
     model_digest: str | None = dataclasses.field(init=False, default=None)
+    memory: int | None = None
+    work: float | None = None
 
     def __init__(self, **kwargs):
         for key in kwargs:
@@ -651,6 +662,8 @@ def _normalise(v: dict) -> dict:
         raise InvalidInput("accuracy", v["accuracy"], f"a relative accuracy between {ACCURACY_RANGE[0]:g} and {ACCURACY_RANGE[1]:g}")
     out["accuracy"] = accuracy
     out["method"] = _choice("method", v["method"], METHODS)
+    out["memory"] = None if v["memory"] is None else _sweep_cost.parse_size("memory", v["memory"])
+    out["work"] = None if v["work"] is None else _sweep_cost.parse_work("work", v["work"])
     if v["model"] is None:
         _check_consistency(out)  # a model's plan checks what its kernel can give
         _check_scales(out, v)
@@ -758,11 +771,6 @@ def _check_consistency(out: dict) -> None:
             raise InvalidInput("outputs", "invariants", "outputs a torqued body has: a constant torque conserves neither energy nor |L|")
         if out["method"] == "splitting":
             raise InvalidInput("method", "splitting", "an integrator for a torqued body: 'auto' or a solve_ivp method")
-    if heavy and out["method"] == "splitting":
-        if out["moments"] is not None and isinstance(out["moments"][0], float) and isinstance(out["moments"][1], float):
-            i1, i2 = out["moments"][0], out["moments"][1]
-            if abs(i1 - i2) > SYMMETRY_RTOL * max(i1, i2):
-                raise InvalidInput("method", "splitting", "the splitting needs a symmetric top (I1 = I2); use 'auto'")
 
 
 #: ``[pivot]`` without ``l`` on a shape: the pivot is the shape's origin and l comes from its centre of mass.
