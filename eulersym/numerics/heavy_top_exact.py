@@ -279,27 +279,31 @@ _CHEB_N = 64
 
 @functools.lru_cache(maxsize=256)
 def _W_chebyshev(n, one_minus_n, mc, rootmc, K):
-    """Chebyshev coefficients of W on [−K, K] (W is odd and analytic there), or None where 64 terms do not reach
-    round-off (a pole close to the real axis: the start passes near the vertical): then W is evaluated directly."""
+    """(slope, Chebyshev coefficients) of W on [−K, K]: ``W(x) = slope·x + Σ c_j T_j(x/K)``, the series fitted to
+    the periodic part only (exact Carlson values at 64 nodes). None where 64 terms do not reach round-off (a pole
+    close to the real axis: the start passes near the vertical): then W is evaluated directly."""
     k = np.arange(_CHEB_N)
     nodes = np.cos(np.pi * (k + 0.5) / _CHEB_N)
-    values = _W_direct(K * nodes, n, one_minus_n, mc, rootmc)
+    slope = float(_W_direct(np.array([K]), n, one_minus_n, mc, rootmc)[0]) / K
+    values = _W_direct(K * nodes, n, one_minus_n, mc, rootmc) - slope * K * nodes
     coefficients = (2.0 / _CHEB_N) * np.cos(np.pi * np.outer(k, k + 0.5) / _CHEB_N) @ values
     coefficients[0] *= 0.5
-    scale = max(float(np.max(np.abs(values))), 1e-300)
+    scale = max(float(np.max(np.abs(values))), slope * K, 1e-300)
     if float(np.max(np.abs(coefficients[-6:]))) > 32 * np.finfo(float).eps * scale:  # not yet at the noise floor
         return None
-    return coefficients
+    return slope, coefficients
 
 
 def _W(x, n, one_minus_n, mc, rootmc, K=None):
-    """W(x) = ∫₀ˣ dy/(1 − n sn² y) for |x| ≤ K: by its Chebyshev series on [−K, K] for many points (64 Carlson
-    evaluations per motion instead of one per point), directly otherwise."""
+    """W(x) = ∫₀ˣ dy/(1 − n sn² y) for |x| ≤ K: by its Chebyshev series on [−K, K] where it reaches round-off (64
+    Carlson evaluations per motion instead of one per time; the same values whatever the number of times), directly
+    otherwise."""
     x = np.asarray(x, dtype=np.float64)
-    if K is not None and x.size > 2 * _CHEB_N:
-        coefficients = _W_chebyshev(float(n), float(one_minus_n), float(mc), float(rootmc), float(K))
-        if coefficients is not None:
-            return np.polynomial.chebyshev.chebval(x / K, coefficients)
+    if K is not None:
+        fit = _W_chebyshev(float(n), float(one_minus_n), float(mc), float(rootmc), float(K))
+        if fit is not None:
+            slope, coefficients = fit
+            return slope * x + np.polynomial.chebyshev.chebval(x / K, coefficients)
     return _W_direct(x, n, one_minus_n, mc, rootmc)
 
 
