@@ -16,10 +16,12 @@ PACKAGE = Path(eulersym.scene.__file__).parent
 
 #: The modules of eulersym.scene in the order data flows; a module may import only modules listed before it.
 LAYERS = (
-    "values", "catalog", "model_kernel", "rates", "plan", "spec", "frames", "trajectory", "derive", "problem", "progress", "systems", "dop853",
+    "values", "cost", "catalog", "model_kernel", "rates", "plan", "spec", "frames", "trajectory", "derive", "problem",
+    "progress", "systems", "dop853",
     "engines", "engines.free_body_exact", "engines.free_body_splitting", "engines.heavy_top_splitting", "engines.ivp",
     "engines.heavy_top_exact",
-    "engines.batched_dop853", "result", "run", "io", "cli", "__init__",
+    "engines.batched_dop853", "engines.batched_splitting", "engines.compiled_dop853", "result", "chunked", "run", "io",
+    "cli", "__init__",
 )
 
 

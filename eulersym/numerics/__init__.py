@@ -11,7 +11,8 @@
 * :func:`integrate_ivp` — ``solve_ivp`` over a generated kernel module.
 * :class:`Trajectory` — what the integrators return; :mod:`eulersym.numerics.invariants` — conserved quantities.
 
-Nothing here imports SymPy; the generated kernels it uses are plain NumPy modules.
+Nothing here imports SymPy; the generated kernels it uses are plain NumPy modules. Each name loads its own module on
+first use (PEP 562), so ``free_rigid_body_exact`` costs neither SciPy nor the integrators' imports.
 
 Examples
 --------
@@ -23,51 +24,53 @@ array([[0., 0., 1.],
 
 from __future__ import annotations
 
-from eulersym.numerics import invariants
-from eulersym.numerics.exact import (
-    complete_elliptic_k,
-    free_rigid_body_attitude_exact,
-    free_rigid_body_exact,
-    jacobi_sncndn,
-    quaternion_multiply,
-)
-from eulersym.numerics.heavy_top import integrate_heavy_top, sleeping_top_threshold_numeric
-from eulersym.numerics.heavy_top_exact import HeavyTopMotion, euler_to_quaternion, heavy_top_exact
-from eulersym.numerics.ivp import integrate_ivp
-from eulersym.numerics.pivoted import PIVOTED_METHODS, integrate_pivoted  # splitting: pivoted bodies
-from eulersym.numerics.batched import (  # splitting: batched over members
-    BatchTrajectory,
-    integrate_free_bodies,
-    integrate_heavy_tops,
-    integrate_pivoted_batch,
-)
-from eulersym.numerics.lie_group import integrate_torqued  # splitting: any torque, |q| = 1
-from eulersym.numerics.splitting import FREE_BODY_METHODS, integrate_free_body, step_free_bodies
-from eulersym.numerics.trajectory import Trajectory
+import importlib
 
-__all__ = [
-    "free_rigid_body_exact",
-    "free_rigid_body_attitude_exact",
-    "integrate_free_body",
-    "integrate_heavy_top",
-    "integrate_ivp",
-    "Trajectory",
-    "invariants",
-    "step_free_bodies",
-    "sleeping_top_threshold_numeric",
-    "FREE_BODY_METHODS",
-    "jacobi_sncndn",
-    "complete_elliptic_k",
-    "quaternion_multiply",
-    "heavy_top_exact",
-    "HeavyTopMotion",
-    "euler_to_quaternion",
-    # splitting: pivoted bodies, batched members, any torque
-    "integrate_pivoted",
-    "PIVOTED_METHODS",
-    "integrate_pivoted_batch",
-    "integrate_free_bodies",
-    "integrate_heavy_tops",
-    "BatchTrajectory",
-    "integrate_torqued",
-]
+#: public name → the submodule of eulersym.numerics that defines it (loaded on first access).
+_WHERE = {
+    "invariants": None,
+    "free_rigid_body_exact": "exact",
+    "free_rigid_body_attitude_exact": "exact",
+    "jacobi_sncndn": "exact",
+    "complete_elliptic_k": "exact",
+    "quaternion_multiply": "exact",
+    "integrate_heavy_top": "heavy_top",
+    "sleeping_top_threshold_numeric": "heavy_top",
+    "heavy_top_exact": "heavy_top_exact",
+    "HeavyTopMotion": "heavy_top_exact",
+    "euler_to_quaternion": "heavy_top_exact",
+    "integrate_ivp": "ivp",
+    "integrate_pivoted": "pivoted",
+    "PIVOTED_METHODS": "pivoted",
+    "BatchTrajectory": "batched",
+    "integrate_free_bodies": "batched",
+    "integrate_heavy_tops": "batched",
+    "integrate_pivoted_batch": "batched",
+    "integrate_torqued": "lie_group",
+    "FREE_BODY_METHODS": "splitting",
+    "integrate_free_body": "splitting",
+    "step_free_bodies": "splitting",
+    "Trajectory": "trajectory",
+}
+
+__all__ = list(_WHERE)
+
+
+def __getattr__(name: str):
+    if name not in _WHERE:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    module = _WHERE[name]
+    if module is None:  # a submodule exported by its own name
+        return importlib.import_module(f"{__name__}.{name}")
+    value = getattr(importlib.import_module(f"{__name__}.{module}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(__all__)
+
+
+# ``heavy_top_exact`` names both a function and its module: bind the function now, or importing the submodule
+# (which sets the package attribute) would shadow it.
+from eulersym.numerics.heavy_top_exact import heavy_top_exact  # noqa: E402

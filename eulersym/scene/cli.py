@@ -1,4 +1,5 @@
-"""The command ``eulersym simulate SCENE [--explain] [-o out.npz|out.csv] [--plot out.png] [--list] [--template]``."""
+"""The command ``eulersym simulate SCENE [--explain] [-o out.npz|out.csv] [--plot out.png] [--list] [--template]
+[--memory-budget SIZE] [--work-budget N] [--workers N | --scheduler ADDRESS]``."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ import argparse
 import sys
 
 from eulersym.errors import InvalidInput
+from eulersym.scene import cost
 from eulersym.scene.catalog import bundled
 from eulersym.scene.io import OUTPUT_SUFFIXES, PLOT_SUFFIXES, check_target, plot, report, require_matplotlib, save
 from eulersym.scene.run import simulate
@@ -22,6 +24,8 @@ TEMPLATE = """\
 # Units: any consistent system; the comments say SI. Every key is optional unless marked "required".
 # A number may be a list [a, b, c] or a range {start = a, stop = b, num = n}: a sweep (one run per value,
 # the outer product of all swept numbers, run in one vectorised pass).
+# A user's own body: the model sections [parameters], [[body.parts]], [rotor] and torque expressions
+# (README "Scene files"; eulersym/models/*.toml are examples) take the place of [body], [pivot], [torque].
 name = "my-top"
 description = "a heavy symmetric top released at 30 degrees"
 
@@ -81,7 +85,23 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", metavar="PNG", help="plot to PNG (needs the plot extra: matplotlib)")
     p.add_argument("--list", action="store_true", help="list the bundled scenes and where their TOML files are")
     p.add_argument("--template", action="store_true", help="print an annotated scene file to start from")
+    p.add_argument("--memory-budget", metavar="SIZE", help='refuse beyond this memory, e.g. "4 GiB" (default: the '
+                   "scene's [output] memory, else the smaller of 2 GiB and half the memory available)")
+    p.add_argument("--work-budget", metavar="N", help="refuse beyond N kernel evaluations (default: [output] work, else 5e10)")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--workers", metavar="N", type=_count, help="run a sweep's chunks on a local Dask cluster of N processes (the dask extra)")
+    where.add_argument("--scheduler", metavar="ADDRESS", help="run a sweep's chunks on the Dask cluster at ADDRESS (tcp://host:8786)")
     return p
+
+
+def _count(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise InvalidInput("--workers", text, "a positive whole number of worker processes")
+    return value
 
 
 def cli(argv: list) -> int:
@@ -111,8 +131,11 @@ def cli(argv: list) -> int:
         raise InvalidInput("SCENE", None, "a TOML file or a bundled scene name (eulersym simulate --list), or "
                                           "--template")
     scene = load(args.scene)
+    memory, work = cost.budgets(scene, args.memory_budget, args.work_budget)
     if args.explain:
-        print(scene.plan())
+        plan = scene.plan()
+        print(plan)
+        print(cost.describe(cost.estimate(scene, plan, memory=memory), memory, work))
         unwritten = [p for p in (args.output, args.plot) if p]
         if unwritten:
             print(f"--explain: nothing was run, so nothing was written to {' or '.join(unwritten)} (run without "
@@ -125,7 +148,7 @@ def cli(argv: list) -> int:
         require_matplotlib(args.plot)
     _refuse_endless(scene)
     try:
-        result = simulate(scene, progress=sys.stderr.isatty())
+        result = _simulate(scene, args, memory, work)
     except MemoryError:
         raise InvalidInput("SCENE", args.scene, f"a scene that fits in memory: {scene.batch} member(s) × "
                                                 f"{scene.points} output times did not (fewer points or members)") from None
@@ -137,6 +160,19 @@ def cli(argv: list) -> int:
         plot(result, args.plot)
         print(f"wrote {args.plot}")
     return 0
+
+
+def _simulate(scene, args, memory, work):
+    """Run in-process, or on a local Dask cluster of ``--workers N`` processes / the one at ``--scheduler``."""
+    if not (args.workers or args.scheduler):
+        return simulate(scene, progress=sys.stderr.isatty(), memory=memory, work=work)
+    from eulersym.sweeps import distributed
+
+    client = distributed.local_client(args.workers) if args.workers else distributed.connect(args.scheduler)
+    try:
+        return simulate(scene, progress=sys.stderr.isatty(), client=client, memory=memory, work=work)
+    finally:
+        distributed.close(client)
 
 
 def _engine_of(plan) -> str:

@@ -174,7 +174,8 @@ def summary_path(path: str) -> str:
 
 def summary(result) -> tuple:
     """(column names, array (batch, k)): one row per sweep member — its swept values, ω at the end, the largest
-    |ω_i|, the heavy top's largest tilt θ (degrees), and each invariant's relative drift.
+    |ω_i|, the largest tilt θ of body axis 3 from the vertical (degrees; when Γ was propagated: a heavy top, a
+    model that needs it), and each invariant's relative drift.
 
     Examples
     --------
@@ -184,19 +185,32 @@ def summary(result) -> tuple:
     (['member', 'omega[1]', 'omega1_end'], (2, 10))
     """
     batch = result.plan.batch
-    omega = result.omega if batch > 1 else result.omega[None]
     names, cols = ["member"], [np.arange(batch, dtype=float)]
     for key, values in result.sweep.items():
         names.append(key)
         cols.append(np.asarray(values, dtype=float))
+    if result.omega is None:  # a summary scene: the same columns from the run's per-member summaries
+        s = result.summary
+        names += ["omega1_end", "omega2_end", "omega3_end"]
+        cols += [s[f"omega{j + 1}.final"] for j in range(3)]
+        names += ["omega1_max_abs", "omega2_max_abs", "omega3_max_abs"]
+        cols += [np.maximum(np.abs(s[f"omega{j + 1}.min"]), np.abs(s[f"omega{j + 1}.max"])) for j in range(3)]
+        if "tilt_max" in s:
+            names.append("theta_max_deg")
+            cols.append(np.degrees(s["tilt_max"]))
+        for key in (k[:-len(".drift")] for k in s if k.endswith(".drift")):
+            names.append(f"drift_{key}")
+            cols.append(s[f"{key}.drift"])
+        return names, np.stack(cols, axis=1)
+    omega = result.omega if batch > 1 else result.omega[None]
     names += ["omega1_end", "omega2_end", "omega3_end"]
     cols += [omega[:, -1, j] for j in range(3)]
     names += ["omega1_max_abs", "omega2_max_abs", "omega3_max_abs"]
     cols += [np.abs(omega[..., j]).max(axis=1) for j in range(3)]
-    if result.gamma is not None and result.plan.regime == "heavy top":
+    if result.gamma is not None:
         gamma = result.gamma if batch > 1 else result.gamma[None]
         names.append("theta_max_deg")
-        cols.append(np.degrees(np.arccos(np.clip(gamma[..., 2], -1.0, 1.0))).max(axis=1))
+        cols.append(_tilt(gamma).max(axis=1))
     for key, values in result.invariants.items():
         v = np.atleast_2d(values)
         ref = v[:, :1]
@@ -225,21 +239,28 @@ def save(result, path: str) -> list:
     suffix = os.path.splitext(path)[1].lower()
     sweep = list(result.sweep)
     if suffix == ".npz":
-        arrays = {"t": result.t, "omega": result.omega, "moments": result.moments, "axes": result.axes,
-                  "plan": np.array(str(result.plan))}
-        for key in ("attitude", "euler_angles", "polhode", "gamma"):
+        arrays = {"t": result.t, "moments": result.moments, "axes": result.axes, "plan": np.array(str(result.plan))}
+        for key in ("omega", "attitude", "euler_angles", "polhode", "gamma"):
             if getattr(result, key) is not None:
                 arrays[key] = getattr(result, key)
         arrays.update({f"invariant_{k}": v for k, v in result.invariants.items()})
         arrays.update({f"drift_{k}": np.array(v) for k, v in result.drift.items()})
         arrays.update({f"sweep_{k}": v for k, v in result.sweep.items()})
-        if sweep:
+        if sweep or result.summary:
             names, rows = summary(result)
             arrays.update({f"summary_{name}": rows[:, j] for j, name in enumerate(names)})
+        arrays.update({f"summary_{name}": v for name, v in result.summary.items()})  # want = ["summary"]: all kept
         _atomic(path, lambda tmp: np.savez(tmp, **arrays))
         return [path]
     if suffix != ".csv":
         raise InvalidInput("-o", path, "a file ending in .npz or .csv")
+    if result.omega is None:  # a summary scene (want = ["summary"]): one row per member, every summary kept
+        names, rows = summary(result)
+        names += list(result.summary)
+        rows = np.concatenate([rows, np.stack(list(result.summary.values()), axis=1)], axis=1)
+        _atomic(path, lambda tmp: np.savetxt(tmp, rows, delimiter=",", header=",".join(names), comments="",
+                                             fmt="%.17g"))
+        return [path]
     names, data = _columns(result)
     batch, n, _ = data.shape
     t = np.tile(result.t, batch)[:, None]
@@ -308,13 +329,13 @@ def figure(result):
     plan = result.plan
     single = plan.batch == 1
     first = (lambda a: a) if single else (lambda a: a[0])
-    heavy = plan.regime == "heavy top" and result.gamma is not None
-    panels = ["omega"]
+    heavy = result.gamma is not None or "tilt_max" in result.summary  # the vertical Γ: a heavy top, or a model that needs it
+    panels = ["omega"] if result.omega is not None else []
     if result.euler_angles is not None:
         panels.append("euler")
     if result.attitude is not None:
         panels.append("attitude")
-    if heavy:
+    if heavy and result.gamma is not None:
         panels += ["vertical", "theta"]
     if result.invariants:
         panels.append("invariants")
@@ -322,6 +343,8 @@ def figure(result):
         panels.append("polhode")
     if not single:
         panels.append("map" if heavy and len(result.sweep) == 2 else "members")
+    if not panels:
+        raise InvalidInput("--plot", plan.scene, "a sweep or outputs kept over time (one member's summary has no plot)")
     columns = min(3, len(panels))
     rows = -(-len(panels) // columns)
     fig = plt.figure(figsize=(5.2 * columns, 4.0 * rows))
@@ -329,8 +352,8 @@ def figure(result):
         f"{quantity_label(k, unit=False)} = {v[0]:.4g}" for k, v in result.sweep.items()) + ")"
     t = result.t
 
-    def time_axis(ax, ylabel, title):
-        _readable_limits(ax)
+    def time_axis(ax, ylabel, title, floor=0.0):
+        _readable_limits(ax, floor)
         ax.set_xlabel("t (s)")
         ax.set_ylabel(ylabel)
         ax.set_title(title + member, fontsize=10)
@@ -383,12 +406,12 @@ def figure(result):
             ax.legend(fontsize=8)
         elif panel == "theta":
             gamma = first(result.gamma)
-            theta = np.degrees(np.arccos(np.clip(gamma[:, 2], -1, 1)))
+            theta = _tilt(gamma)
             ax.plot(t, theta, label="θ(t)")
             if single and result.turning_points is not None:
                 for j, value in enumerate(np.degrees(result.turning_points)):
                     ax.axhline(value, ls="--", color="0.5", label="θ1, θ2 derived" if j == 0 else None)
-            time_axis(ax, "θ, tilt of the axis e3 (degrees)", "nutation")
+            time_axis(ax, "θ, tilt of the axis e3 (degrees)", "nutation", floor=1e-9)
             ax.legend(fontsize=8)
         elif panel == "invariants":
             for key, values in result.invariants.items():
@@ -401,7 +424,10 @@ def figure(result):
         elif panel == "map":
             (lx, vx), (ly, vy) = list(result.sweep.items())
             ux, uy = np.unique(vx), np.unique(vy)
-            tilt = np.degrees(np.arccos(np.clip(result.gamma[..., 2], -1, 1))).max(axis=1).reshape(len(ux), len(uy))
+            if "tilt_max" in result.summary:  # from the per-member summaries (want = ["summary"]: no trajectories)
+                tilt = np.degrees(result.summary["tilt_max"]).reshape(len(ux), len(uy))
+            else:
+                tilt = _tilt(result.gamma).max(axis=1).reshape(len(ux), len(uy))
             mesh = ax.pcolormesh(uy, ux, tilt, shading="auto")
             fig.colorbar(mesh, ax=ax, label="largest θ over the run (degrees)")
             ax.set_xlabel(quantity_label(ly))
@@ -431,8 +457,16 @@ def figure(result):
     return fig
 
 
-def _readable_limits(ax) -> None:
-    """A line that is constant to many digits gets a y range of ±5 % of its size (not one in its 13th digit)."""
+def _tilt(gamma) -> np.ndarray:
+    """θ (degrees), the tilt of body axis 3 from the upward vertical: atan2(|Γ × e3|, Γ3), accurate near 0 and π
+    (arccos Γ3 would turn round-off into micro-degrees there)."""
+    gamma = np.asarray(gamma, dtype=float)
+    return np.degrees(np.arctan2(np.hypot(gamma[..., 0], gamma[..., 1]), gamma[..., 2]))
+
+
+def _readable_limits(ax, floor: float = 0.0) -> None:
+    """A line that is constant to many digits gets a y range of ±5 % of its size (not one in its 13th digit);
+    variations below ``floor`` (in the axis' unit) count as constant."""
     values = [line.get_ydata() for line in ax.get_lines()]
     if not values:
         return
@@ -442,8 +476,8 @@ def _readable_limits(ax) -> None:
         return
     low, high = float(data.min()), float(data.max())
     scale = max(abs(low), abs(high))
-    if high - low <= 1e-9 * scale:
-        pad = 0.05 * scale if scale > 0 else 1.0
+    if high - low <= max(1e-9 * scale, floor):
+        pad = 0.05 * scale if scale > 10 * floor and scale > 0 else 1.0
         ax.set_ylim(low - pad, high + pad)
 
 

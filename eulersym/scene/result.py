@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import importlib
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Mapping
 
 import numpy as np
@@ -17,7 +17,7 @@ import numpy as np
 from eulersym.scene.frames import Rotation, quaternion_to_rotation, rotation_to_quaternion
 from eulersym.scene.plan import Plan
 
-__all__ = ["Result", "outputs", "report"]
+__all__ = ["Result", "outputs", "report", "report_notes"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -56,6 +56,9 @@ class Result:
         Facts for the report (turning points, the sleeping-top threshold, ...).
     gamma : ndarray (n, 3) or None
         The body-frame upward vertical Γ (heavy top), Γ3 = cos θ.
+    summary : mapping name → ndarray (batch,)
+        Per-member summaries when the scene asks for ``"summary"`` (``"omega1.min"``, ``"tilt_max"`` in radians,
+        ``"energy.drift"``, ...; :mod:`eulersym.sweeps.summary`); then the trajectories are not kept (None).
     turning_points : (θ1, θ2) or None
         Heavy top with Euler-angle output: the nutation's turning points (radians), derived by eulersym.top.
 
@@ -87,6 +90,7 @@ class Result:
     notes: tuple = ()
     gamma: np.ndarray | None = None
     turning_points: tuple | None = None
+    summary: Mapping = field(default_factory=dict)
 
     def report(self) -> str:
         """A short text report: the plan, the invariants' drift, the timings and notes.
@@ -115,7 +119,6 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     outputs = problem.outputs
     t, moments, P, batch = problem.t, problem.moments, problem.axes, problem.batch
     omega_pr, q_pr, gamma = traj.omega, traj.q, traj.gamma
-    notes = []
     identity = np.array_equal(P, np.eye(3))
     omega_body = omega_pr if identity else omega_pr @ P.T
     attitude = euler_angles = gamma_body = None
@@ -169,32 +172,15 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
         drift = {}
     polhode = omega_pr if "polhode" in outputs else None
     # ---- notes for the report ----------------------------------------------------------------------------------
+    theta_min = theta_max = flips = None
     if plan.regime == "heavy top":
         theta = np.degrees(np.arccos(np.clip(gamma[..., 2], -1.0, 1.0)))
-        if batch == 1:
-            notes.append(f"θ between θ1 = {theta.min():.4g}° and θ2 = {theta.max():.4g}° (from Γ3 = cos θ)")
-        if turning is not None:
-            notes.append("turning points derived from the effective potential: "
-                         f"θ1 = {np.degrees(turning[0]):.4g}°, θ2 = {np.degrees(turning[1]):.4g}°")
-        else:
-            notes.append(f"largest tilt per member: {theta.max(axis=1).min():.4g}° … {theta.max(axis=1).max():.4g}°")
-        if "top.sleeping_top_threshold" in plan.derive:
-            if bound is not None:
-                w3 = omega_pr[:, 0, 2]
-                ratio = w3**2 / bound
-                if batch == 1:
-                    side = "above: the sleeping top is stable" if ratio[0] >= 1 else "below: the sleeping top is unstable"
-                    notes.append(f"ω3² = {w3[0] ** 2:.6g}, 4MglI1/I3² = {bound[0]:.6g} (derived): ratio {ratio[0]:.4f}, {side}")
-                else:
-                    notes.append(f"ω3²/(4MglI1/I3²) from {ratio.min():.4g} to {ratio.max():.4g} over the members")
-            else:
-                notes.append("sleeping-top threshold not derived (eulersym.top is not available)")
+        theta_min, theta_max = theta.min(axis=1), theta.max(axis=1)
     elif plan.regime == "torque-free" and plan.body == "asymmetric" and batch == 1:
         k = int(np.argsort(moments[0])[1])
         flips = int(np.count_nonzero(np.diff(np.sign(omega_pr[0, :, k])) != 0))
-        notes.append(f"ω along the intermediate axis (I = {moments[0][k]:g}) changes sign {flips} times")
-    if tensor_given:
-        notes.append("principal moments " + ", ".join(f"{m:.6g}" for m in moments[0]) + "; axes (columns, body frame) " + np.array2string(P, precision=4, suppress_small=True).replace("\n", ""))
+    notes = report_notes(plan, moments, P, theta_min=theta_min, theta_max=theta_max,
+                         w3=omega_pr[:, 0, 2], bound=bound, turning=turning, flips=flips, tensor_given=tensor_given)
     return {
         "omega": omega_body,
         "attitude": attitude if ("attitude" in outputs or "euler_angles" in outputs) else None,
@@ -206,6 +192,40 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
         "turning_points": turning,
         "gamma": gamma_body,
     }
+
+
+def report_notes(plan, moments, P, *, theta_min=None, theta_max=None, w3=None, bound=None, turning=None,
+                 flips=None, tensor_given=False) -> list:
+    """The report's notes: for a heavy top the tilt range (``theta_min``/``theta_max`` per member, degrees), the
+    turning points and the start's ω3 (``w3`` per member) against the sleeping-top ``bound``; the intermediate
+    axis's sign ``flips``; the principal frame of a given tensor. Shared by whole and chunked runs (which pass
+    per-member ranges from summaries)."""
+    notes = []
+    batch = len(moments)
+    if plan.regime == "heavy top":
+        if batch == 1:
+            notes.append(f"θ between θ1 = {theta_min[0]:.4g}° and θ2 = {theta_max[0]:.4g}° (from Γ3 = cos θ)")
+        if turning is not None:
+            notes.append("turning points derived from the effective potential: "
+                         f"θ1 = {np.degrees(turning[0]):.4g}°, θ2 = {np.degrees(turning[1]):.4g}°")
+        else:
+            notes.append(f"largest tilt per member: {theta_max.min():.4g}° … {theta_max.max():.4g}°")
+        if "top.sleeping_top_threshold" in plan.derive:
+            if bound is not None:
+                ratio = w3**2 / bound
+                if batch == 1:
+                    side = "above: the sleeping top is stable" if ratio[0] >= 1 else "below: the sleeping top is unstable"
+                    notes.append(f"ω3² = {w3[0] ** 2:.6g}, 4MglI1/I3² = {bound[0]:.6g} (derived): ratio {ratio[0]:.4f}, {side}")
+                else:
+                    notes.append(f"ω3²/(4MglI1/I3²) from {ratio.min():.4g} to {ratio.max():.4g} over the members")
+            else:
+                notes.append("sleeping-top threshold not derived (eulersym.top is not available)")
+    elif flips is not None:
+        k = int(np.argsort(moments[0])[1])
+        notes.append(f"ω along the intermediate axis (I = {moments[0][k]:g}) changes sign {flips} times")
+    if tensor_given:
+        notes.append("principal moments " + ", ".join(f"{m:.6g}" for m in moments[0]) + "; axes (columns, body frame) " + np.array2string(P, precision=4, suppress_small=True).replace("\n", ""))
+    return notes
 
 
 def _model_invariants(model, t, omega, gamma, q) -> dict:

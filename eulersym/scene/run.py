@@ -11,7 +11,7 @@ import time
 import numpy as np
 
 from eulersym.errors import InvalidInput
-from eulersym.scene import derive, engines, model_kernel
+from eulersym.scene import chunked, cost, derive, engines, model_kernel
 from eulersym.scene.plan import make_plan
 from eulersym.scene.problem import member_moments, prepare
 from eulersym.scene.progress import Progress
@@ -21,7 +21,7 @@ from eulersym.scene.spec import Scene
 __all__ = ["simulate"]
 
 
-def simulate(scene: Scene, *, progress: bool = False) -> Result:
+def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, work=None) -> Result:
     """Run a scene's plan and return its :class:`Result`.
 
     Parameters
@@ -29,6 +29,12 @@ def simulate(scene: Scene, *, progress: bool = False) -> Result:
     scene : Scene
     progress : bool
         Draw a progress bar on standard error (the command line turns it on for a terminal only).
+    client : dask.distributed.Client, optional
+        Run a sweep's chunks on the client's workers (the ``dask`` extra); the result is the in-process one.
+    memory, work : optional
+        Budgets overriding the scene's (``"2 GiB"``; kernel evaluations). The cost is estimated before anything is
+        allocated (:mod:`eulersym.scene.cost`); beyond a budget the scene is refused with the estimate. Sweeps
+        larger than one chunk, summary scenes and Dask runs stream members in chunks sized to the memory budget.
 
     Examples
     --------
@@ -40,6 +46,9 @@ def simulate(scene: Scene, *, progress: bool = False) -> Result:
     """
     if not isinstance(scene, Scene):
         raise InvalidInput("scene", scene, "an eulersym.scene.Scene (Scene(...) or Scene.from_toml(path))")
+    mem, _ = cost.budgets(scene, memory, work)
+    if scene.model is None:  # refuse before allocating anything (a model scene: once its plan is known, below)
+        estimate = cost.check(scene, scene.plan(), memory=memory, work=work)
     bar = Progress(scene.name, enabled=progress)
     timings = {}
     clock = time.perf_counter()
@@ -51,6 +60,7 @@ def simulate(scene: Scene, *, progress: bool = False) -> Result:
         module, path, emitted = model_kernel.ensure(scene.model, record)
         facts = model_kernel.facts(scene.model, module, path, emitted, scene.parameter_values(), batch)
         plan = make_plan(scene, model=facts)
+        estimate = cost.check(scene, plan, memory=memory, work=work)
         moments, P = _model_numbers(plan.options["frame"], facts)
     else:
         derived, P = derive.principal_frame(scene, record)
@@ -64,20 +74,34 @@ def simulate(scene: Scene, *, progress: bool = False) -> Result:
     bar.stage("derived", 0.1)
 
     clock = time.perf_counter()
-    traj = engines.get(plan.options["engine"]).run(problem, progress=bar.fraction if bar.enabled else None)
+    streamed = scene.model is None and (client is not None or cost.wants_summary(scene)
+                                        or (batch > 1 and estimate.chunk < batch))
+    if streamed:  # chunks sized to the memory budget, in-process or on Dask workers (eulersym.scene.chunked)
+        chunk = cost.estimate(scene, plan, memory=mem).chunk
+        layout = cost.summary_layout(scene, plan.regime) if cost.wants_summary(scene) else None
+        traj = None
+    else:
+        traj = engines.get(plan.options["engine"]).run(problem, progress=bar.fraction if bar.enabled else None)
     timings["motion"] = time.perf_counter() - clock
     bar.stage("integrated", 0.9)
 
     turning = None
     if "top.turning_points" in plan.derive:  # needs the start's E, p_φ, p_ψ: derived once the state is known
         clock = time.perf_counter()
-        turning = derive.turning_points(moments[0], problem.mass[0], problem.g[0], problem.l[0], traj.omega[0, 0],
-                                        traj.gamma[0, 0], traj.q[0, 0], record)
+        start = (traj.omega[0, 0], traj.gamma[0, 0], traj.q[0, 0]) if traj is not None else (
+            problem.omega0[0], problem.gamma0[0], problem.q0[0])
+        turning = derive.turning_points(moments[0], problem.mass[0], problem.g[0], problem.l[0], *start, record)
         timings["derive"] += time.perf_counter() - clock
 
     clock = time.perf_counter()
-    out = outputs(problem, plan, traj, bound=bound, turning=turning,
-                  tensor_given=scene.tensor is not None or scene.shape is not None or not np.array_equal(P, np.eye(3)))
+    tensor_given = scene.tensor is not None or scene.shape is not None or not np.array_equal(P, np.eye(3))
+    if streamed:
+        out = chunked.run(problem, plan, chunk=chunk, layout=layout, bound=bound, turning=turning,
+                          tensor_given=tensor_given, client=client, progress=bar.fraction if bar.enabled else None)
+        timings["motion"] += time.perf_counter() - clock
+        clock = time.perf_counter()
+    else:
+        out = outputs(problem, plan, traj, bound=bound, turning=turning, tensor_given=tensor_given)
     timings["outputs"] = time.perf_counter() - clock
     timings["total"] = sum(timings.values())
     bar.done()
@@ -101,16 +125,19 @@ def simulate(scene: Scene, *, progress: bool = False) -> Result:
         sweep=members,
         moments=moments[0] if single else moments,
         axes=P if facts is None or plan.regime != "model" else _principal_axes(facts.tensor[0]),
-        n_rhs_calls=int(traj.n_calls),
+        n_rhs_calls=int(out["n_calls"] if streamed else traj.n_calls),
         notes=tuple(out["notes"]),
         turning_points=out["turning_points"],
         gamma=_gamma(scene, plan, traj, out, squeeze),
+        summary=out.get("summary", {}),
     )
 
 
 def _gamma(scene, plan, traj, out, squeeze):
     if scene.model is not None:  # the vertical in the model frame, always
         return squeeze(out["gamma"])
+    if traj is None:  # streamed in chunks (eulersym.scene.chunked): gathered there, None for summaries
+        return squeeze(out["gamma"]) if "invariants" in scene.outputs or plan.regime == "heavy top" else None
     return squeeze(traj.gamma) if "invariants" in scene.outputs or plan.regime == "heavy top" else None
 
 

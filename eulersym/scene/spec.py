@@ -18,9 +18,11 @@ The TOML layout (every key optional unless marked; ``eulersym simulate --list`` 
     end = 10.0                           # required, > 0
     points = 1001
     [output]
-    want = ["omega", "invariants"]       # omega, attitude, euler_angles, invariants, polhode
+    want = ["omega", "invariants"]       # omega, attitude, euler_angles, invariants, polhode; summary (per member)
     accuracy = 1e-8
     method = "auto"                      # auto, closed-form, splitting, DOP853, RK45, Radau, LSODA
+    memory = "2 GiB"                     # budgets: refused beyond them, with the estimate (eulersym.scene.cost)
+    work = 5e10                          # kernel evaluations summed over members
 
 Validation raises :class:`~eulersym.errors.InvalidInput` naming the keyword (or the TOML key), the value and what
 is valid. :meth:`Scene.plan` asks the pure :mod:`eulersym.scene.plan` what a run would do.
@@ -45,12 +47,13 @@ from eulersym.scene.catalog import bundled
 from eulersym.scene.plan import SYMMETRY_RTOL, Plan, make_plan
 from eulersym.scene.values import Sweep, did_you_mean as _did_you_mean, number as _number, scalar as _scalar
 from eulersym.scene.values import values_of as _values, vector as _vector
+from eulersym.sweeps import cost as _sweep_cost
 
 __all__ = ["Scene", "load", "OUTPUTS", "METHODS", "SHAPES", "SHAPE_ORIGINS", "CONVENTIONS", "ACCURACY_RANGE",
            "MAGNITUDE_LIMIT", "PHASE_LIMIT", "rate_bound"]
 
 #: The outputs a scene may ask for.
-OUTPUTS = ("omega", "attitude", "euler_angles", "invariants", "polhode")
+OUTPUTS = ("omega", "attitude", "euler_angles", "invariants", "polhode", "summary")
 #: ``method`` values: ``auto`` lets the plan choose.
 METHODS = ("auto", "closed-form", "splitting", "DOP853", "RK45", "Radau", "LSODA")
 #: Named shapes → their dimension names, in the order of the ``eulersym.inertia`` function's arguments.
@@ -97,6 +100,8 @@ _DEFAULTS = {
     "method": "auto",
     "model": None,
     "parameters": None,
+    "memory": None,
+    "work": None,
 }
 
 #: Scene keywords that describe the body the legacy way; a scene with a ``model`` takes none of them.
@@ -104,7 +109,7 @@ _BODY_KEYWORDS = ("moments", "tensor", "shape", "mass", "dimensions", "origin", 
 #: TOML sections of a scene that are not the model's (a scene file is a model file plus these).
 SCENE_SECTIONS = ("initial", "time", "output")
 #: Sections and keys only a model expresses: their presence makes Scene.from_dict build a Model.
-_MODEL_ONLY = {"": ("parameters", "rotor"), "body": ("parts", "centre_of_mass"), "pivot": ("centre_of_mass",),
+_MODEL_ONLY = {"": ("parameters", "rotor"), "body": ("parts", "dimensions", "L"), "pivot": ("centre_of_mass",),
                "torque": ("potential",)}
 
 # TOML layout: section → key → Scene keyword (a tuple names a keyword and a sub-key).
@@ -131,7 +136,7 @@ _TOML_LAYOUT: dict[str, dict[str, Any]] = {
         "angle": "angle",
     },
     "time": {"end": "t_end", "points": "points"},
-    "output": {"want": "outputs", "accuracy": "accuracy", "method": "method"},
+    "output": {"want": "outputs", "accuracy": "accuracy", "method": "method", "memory": "memory", "work": "work"},
 }
 
 
@@ -186,6 +191,10 @@ class Scene:
         Relative accuracy wanted (default 1e-8).
     method : str
         One of :data:`METHODS` (default 'auto': the plan chooses).
+    memory, work : optional
+        Budgets (:mod:`eulersym.scene.cost`): bytes (``"2 GiB"``; default the smaller of 2 GiB and half the memory
+        available) and kernel evaluations (default 5e10); a sweep beyond one is refused before anything is
+        allocated. With ``"summary"`` among the outputs, the others are kept as per-member summaries only.
     name, description : str
         For reports.
 
@@ -229,6 +238,8 @@ class Scene:
     model: Any = dataclasses.field(compare=False)
     parameters: tuple | None = None
     model_digest: str | None = dataclasses.field(init=False, default=None)
+    memory: int | None = None
+    work: float | None = None
 
     def __init__(self, **kwargs):
         for key in kwargs:
@@ -236,8 +247,9 @@ class Scene:
                 raise InvalidInput(key, kwargs[key], "a Scene keyword: " + _did_you_mean(key, _DEFAULTS))
         if kwargs.get("model") is not None:
             for key in _BODY_KEYWORDS:
-                if kwargs.get(key) is not None and not (key == "torque_frame" and kwargs[key] == "body"):
-                    raise InvalidInput(key, kwargs[key], "no body keyword beside a model (the model is the body: "
+                value = kwargs.get(key)
+                if value is not None and not (isinstance(value, (str, float, int)) and value == _DEFAULTS[key]):
+                    raise InvalidInput(key, value, "no body keyword beside a model (the model is the body: "
                                        "its mass, inertia, pivot, gravity and torques)")
         values = {**_DEFAULTS, **kwargs}
         for key, value in _normalise(values).items():
@@ -461,6 +473,11 @@ def _needs_model(data: Mapping) -> bool:
     of mass off the legacy axis, a potential, or an expression (a string where the legacy keys take numbers)."""
     if any(key in data for key in _MODEL_ONLY[""]):
         return True
+    body = data.get("body")
+    if isinstance(body, Mapping):
+        shape, origin = body.get("shape"), body.get("origin")
+        if isinstance(shape, str) and (shape not in SHAPES or (isinstance(origin, str) and origin not in SHAPE_ORIGINS.get(shape, ("center",)))):
+            return shape in ("rod", "point", "cylinder")  # a model's shapes and origins (a rod, a cylinder on its base)
     for section in ("body", "pivot", "torque"):
         table = data.get(section)
         if not isinstance(table, Mapping):
@@ -645,6 +662,8 @@ def _normalise(v: dict) -> dict:
         raise InvalidInput("accuracy", v["accuracy"], f"a relative accuracy between {ACCURACY_RANGE[0]:g} and {ACCURACY_RANGE[1]:g}")
     out["accuracy"] = accuracy
     out["method"] = _choice("method", v["method"], METHODS)
+    out["memory"] = None if v["memory"] is None else _sweep_cost.parse_size("memory", v["memory"])
+    out["work"] = None if v["work"] is None else _sweep_cost.parse_work("work", v["work"])
     if v["model"] is None:
         _check_consistency(out)  # a model's plan checks what its kernel can give
         _check_scales(out, v)
@@ -657,6 +676,8 @@ def _parameters(model, raw):
         return None
     if model is None:
         raise InvalidInput("parameters", raw, "parameters only with a model (Scene(model=Model(...), parameters=...))")
+    if isinstance(raw, tuple) and all(isinstance(p, tuple) and len(p) == 2 for p in raw):
+        raw = dict(raw)  # the normalised form, as dataclasses.replace passes it back
     if not isinstance(raw, Mapping):
         raise InvalidInput("parameters", raw, "a mapping of parameter names to values (numbers, lists or ranges to sweep)")
     known = tuple(getattr(model, "parameters", {}) or {})
@@ -750,11 +771,6 @@ def _check_consistency(out: dict) -> None:
             raise InvalidInput("outputs", "invariants", "outputs a torqued body has: a constant torque conserves neither energy nor |L|")
         if out["method"] == "splitting":
             raise InvalidInput("method", "splitting", "an integrator for a torqued body: 'auto' or a solve_ivp method")
-    if heavy and out["method"] == "splitting":
-        if out["moments"] is not None and isinstance(out["moments"][0], float) and isinstance(out["moments"][1], float):
-            i1, i2 = out["moments"][0], out["moments"][1]
-            if abs(i1 - i2) > SYMMETRY_RTOL * max(i1, i2):
-                raise InvalidInput("method", "splitting", "the splitting needs a symmetric top (I1 = I2); use 'auto'")
 
 
 #: ``[pivot]`` without ``l`` on a shape: the pivot is the shape's origin and l comes from its centre of mass.
@@ -855,6 +871,8 @@ def rate_bound(scene_or_values) -> float:
     """
     out = scene_or_values if isinstance(scene_or_values, dict) else {
         f.name: getattr(scene_or_values, f.name) for f in dataclasses.fields(scene_or_values)}
+    if out.get("model") is not None:
+        return _model_rate_bound(scene_or_values, out)
     i_min, _ = _inertia_range(out)
     rate = _largest(out["omega"])
     if out["torque"] is not None and i_min > 0:
@@ -862,6 +880,21 @@ def rate_bound(scene_or_values) -> float:
     if out["l"] is not None and out["mass"] is not None and i_min > 0:
         rate = max(rate, math.sqrt(_largest(out["mass"]) * _largest(out["g"]) * _largest(out["l"]) / i_min))
     return rate
+
+
+def _model_rate_bound(scene, out) -> float:
+    """A model scene's rate: the initial spin, and where its kernel is cached (its body numbers known without
+    SymPy) the pendulum rate √(M g |c| / I_min) and the rotor's |h| / I_min; its other torques are the kernel's."""
+    rate = _largest(out["omega"])
+    facts = scene.cached_model_facts() if isinstance(scene, Scene) else None
+    if facts is None or not len(facts.params[0] if facts.params else [1]):
+        return rate
+    i_min = float(np.min(np.linalg.eigvalsh(facts.tensor)))
+    if i_min <= 0:
+        return rate
+    weight = float(np.max(np.abs(facts.body["M"] * facts.body["g"]) * np.linalg.norm(facts.centre_of_mass, axis=1)))
+    spin = float(np.max(np.linalg.norm(facts.rotor, axis=1)))
+    return max(rate, math.sqrt(weight / i_min)) + spin / i_min
 
 
 def _size(x: float) -> str:

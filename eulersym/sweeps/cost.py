@@ -97,6 +97,8 @@ class Engine:
 #: Engines the cost model knows; a plan names one of them.
 ENGINES = {
     "dop853": Engine("dop853", order=8, stages=12, constant=0.12, working=22, grain=4096, seconds_per_evaluation=8e-9),
+    "dop853-members": Engine("dop853-members", order=8, stages=12, constant=0.16, working=6, grain=1,
+                             seconds_per_evaluation=7e-9),
     "yoshida4": Engine("yoshida4", order=4, stages=3, constant=0.6, working=8, grain=1, seconds_per_evaluation=6e-9),
     "strang": Engine("strang", order=2, stages=1, constant=1.0, working=6, grain=1, seconds_per_evaluation=6e-9),
     "closed-form": Engine("closed-form", order=0, stages=1, constant=1.0, working=8, grain=1, seconds_per_evaluation=2e-8),

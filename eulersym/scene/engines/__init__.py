@@ -14,8 +14,8 @@ choose it.
 
 Examples
 --------
->>> sorted(ENGINES)[:2]
-['batched_dop853', 'free_body_exact']
+>>> "free_body_exact" in ENGINES and "compiled_dop853" in ENGINES
+True
 >>> callable(get("free_body_exact").run)
 True
 """
@@ -36,6 +36,8 @@ ENGINES = {
     "heavy_top_exact": "closed-form heavy symmetric top (Lagrange's top: elliptic functions), all members at once",
     "ivp": "scipy's solve_ivp on a committed kernel, one member",
     "batched_dop853": "Dormand–Prince 8(5,3) over all members at once on the batched kernels",
+    "batched_splitting": "a pivoted body's exact-flow splitting (Yoshida 4) over all members, a step per member",
+    "compiled_dop853": "Dormand–Prince 8(5,3) compiled by numba, a heavy top's members in parallel, a step each",
 }
 
 

@@ -1,0 +1,146 @@
+"""A sweep a chunk of members at a time: bounded memory in-process, or the chunks as Dask tasks.
+
+The prepared :class:`~eulersym.scene.problem.Problem` is cut into chunks of members (:func:`take`); each chunk runs
+the plan's engine and turns its trajectory into the scene's outputs (:func:`run_chunk`) — trajectories, or
+per-member summaries when the scene asks for ``"summary"`` — and :mod:`eulersym.sweeps.chunks` writes them into
+preallocated outputs in member order. Peak memory: the outputs plus one chunk's working set, which
+:mod:`eulersym.scene.cost` sized to the budget. With a ``dask.distributed.Client`` the same chunks run on its
+workers (:mod:`eulersym.sweeps.distributed`): a chunk is a problem of a few arrays per member, the task imports
+the engine and the generated kernels (no SymPy), and the result is the same bits.
+
+Engines whose members step together (the batched DOP853 shares a step size in groups of 4096) get chunks that are
+multiples of that group, so a chunked run is bitwise the single pass.
+
+Examples
+--------
+>>> from eulersym.scene.spec import Scene
+>>> from eulersym.scene.problem import member_moments, prepare
+>>> scene = Scene(moments=(1, 1, 2), omega=(0.1, 0, [1.0, 2.0, 3.0]), t_end=1, points=3, outputs=("summary",))
+>>> problem = prepare(scene, scene.plan(), member_moments(scene), np.eye(3))
+>>> from eulersym.scene.cost import summary_layout
+>>> out = run(problem, scene.plan(), chunk=2, layout=summary_layout(scene, "torque-free"))
+>>> out["summary"]["omega3.final"].tolist()
+[1.0, 2.0, 3.0]
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from eulersym.scene import engines
+from eulersym.scene.result import outputs, report_notes
+from eulersym.sweeps import chunks
+from eulersym.sweeps.summary import drift, summarize
+
+__all__ = ["take", "run_chunk", "run"]
+
+#: Per-member fields of a Problem (batch-first arrays, or None).
+_MEMBER_FIELDS = ("moments", "omega0", "q0", "gamma0", "mass", "g", "l", "torque")
+_TRAJECTORIES = ("omega", "attitude", "euler_angles", "polhode")
+#: Invariants reported as their largest value rather than a drift (they start at zero by definition).
+_MAXIMA = ("L_space_deviation",)
+
+
+def take(problem, lo: int, hi: int):
+    """The members ``lo:hi`` of ``problem`` as a problem of their own (arrays sliced; times and settings shared).
+
+    Examples
+    --------
+    >>> from eulersym.scene.spec import Scene
+    >>> from eulersym.scene.problem import member_moments, prepare
+    >>> s = Scene(moments=(1, 1, 2), omega=(0, 0, [1.0, 2.0, 3.0]), t_end=1, points=3)
+    >>> take(prepare(s, s.plan(), member_moments(s), np.eye(3)), 1, 3).omega0[:, 2].tolist()
+    [2.0, 3.0]
+    """
+    sliced = {name: (None if getattr(problem, name) is None else getattr(problem, name)[lo:hi]) for name in _MEMBER_FIELDS}
+    members = {label: values[lo:hi] for label, values in problem.members.items()}
+    extras = {k: (v[lo:hi] if isinstance(v, np.ndarray) and v.shape[:1] == (problem.batch,) else v)
+              for k, v in problem.extras.items()}
+    return dataclasses.replace(problem, batch=hi - lo, members=members, extras=extras, **sliced)
+
+
+def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
+    """One chunk: the plan's engine on ``problem``, its outputs in the scene's frame, as ``{name: (members, ...)}``
+    arrays — trajectories, or the summaries of ``layout`` = ``(quantities, invariants, tilt)``. A plain function
+    of a problem's arrays: it runs on a Dask worker as well (imports the engine and kernels, never SymPy).
+
+    Examples
+    --------
+    >>> from eulersym.scene.spec import Scene
+    >>> from eulersym.scene.problem import member_moments, prepare
+    >>> s = Scene(moments=(1, 2, 3), omega=(0.1, [1.0, 2.0], 0.1), t_end=1, points=5)
+    >>> sorted(run_chunk(prepare(s, s.plan(), member_moments(s), np.eye(3)), plan=s.plan()))
+    ['_calls', 'invariant:L2', 'invariant:energy', 'omega']
+    """
+    traj = engines.get(plan.options["engine"]).run(problem)
+    out = outputs(problem, plan, traj)
+    if layout is None:
+        arrays = {name: out[name] for name in _TRAJECTORIES if out[name] is not None}
+        if keep_gamma and traj.gamma is not None:
+            arrays["gamma"] = traj.gamma
+        arrays.update({f"invariant:{k}": v for k, v in out["invariants"].items()})
+    else:
+        quantities, invariants, tilt = layout
+        values = {name: (traj.gamma if name == "gamma" else out[name]) for name in quantities}
+        arrays = summarize(values, invariants={k: v for k, v in out["invariants"].items() if k in invariants},
+                           gamma=traj.gamma if tilt else None)
+    calls = np.zeros(problem.batch)
+    calls[:1] = traj.n_calls  # the chunk's kernel evaluations, summed over chunks at the end
+    arrays["_calls"] = calls
+    return arrays
+
+
+def _grain(plan) -> int:
+    from eulersym.scene.cost import ENGINE_COST
+    from eulersym.sweeps.cost import ENGINES
+
+    return ENGINES[ENGINE_COST.get(plan.options.get("engine", ""), "dop853")].grain
+
+
+def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, tensor_given=False, client=None,
+        progress=None) -> dict:
+    """Run ``problem`` in chunks of ``chunk`` members (in-process, or on ``client``'s Dask workers) and return the
+    fields :func:`eulersym.scene.result.outputs` returns, plus ``"summary"`` (per member), ``"gamma"`` and
+    ``"n_calls"``. Trajectories are kept unless ``layout`` (a summary scene) is given."""
+    grain = _grain(plan)
+    if problem.batch > chunk and chunk % grain:
+        chunk = max(chunk // grain, 1) * grain  # whole groups of members that step together: the same bits
+    keep_gamma = plan.regime == "heavy top" or "invariants" in problem.outputs
+    gathered = chunks.run(run_chunk, lambda lo, hi: take(problem, lo, hi), members=problem.batch, chunk=chunk,
+                          static={"plan": plan, "layout": layout, "keep_gamma": keep_gamma}, client=client,
+                          progress=progress)
+    n_calls = int(gathered.pop("_calls").sum())
+    omega3_start = problem.omega0[:, 2]
+    P, moments = problem.axes, problem.moments
+    if layout is not None:
+        summary = gathered
+        theta_min = theta_max = None
+        if "tilt_max" in summary:
+            theta_max = np.degrees(summary["tilt_max"])
+            theta_min = np.degrees(np.arccos(np.clip(summary["gamma3.max"], -1.0, 1.0)))
+        drifts = {name[:-len(".drift")]: float(np.max(v)) for name, v in summary.items() if name.endswith(".drift")}
+        notes = report_notes(plan, moments, P, theta_min=theta_min, theta_max=theta_max, w3=omega3_start,
+                             bound=bound, turning=turning, tensor_given=tensor_given)
+        notes.append(f"kept per member: {len(summary)} summaries (" + _summary_note(layout) + "), no trajectories")
+        return {"omega": None, "attitude": None, "euler_angles": None, "polhode": None, "invariants": {},
+                "drift": drifts, "notes": notes, "turning_points": turning, "summary": summary, "gamma": None,
+                "n_calls": n_calls}
+    invariants = {name.split(":", 1)[1]: v for name, v in gathered.items() if name.startswith("invariant:")}
+    drifts = {name: float(np.max(v)) if name in _MAXIMA else float(np.max(drift(v))) for name, v in invariants.items()}
+    gamma = gathered.get("gamma")
+    theta_min = theta_max = None
+    if plan.regime == "heavy top":
+        theta = np.degrees(np.arccos(np.clip(gamma[..., 2], -1.0, 1.0)))
+        theta_min, theta_max = theta.min(axis=1), theta.max(axis=1)
+    notes = report_notes(plan, moments, P, theta_min=theta_min, theta_max=theta_max, w3=omega3_start, bound=bound,
+                         turning=turning, tensor_given=tensor_given)
+    return {**{name: gathered.get(name) for name in _TRAJECTORIES}, "invariants": invariants, "drift": drifts,
+            "notes": notes, "turning_points": turning, "summary": {}, "gamma": gamma, "n_calls": n_calls}
+
+
+def _summary_note(layout) -> str:
+    quantities, invariants, tilt = layout
+    parts = [f"min/max/final of {', '.join(quantities)}"] + (["the largest tilt"] if tilt else [])
+    return "; ".join(parts + ([f"drift of {', '.join(invariants)}"] if invariants else []))
