@@ -117,7 +117,7 @@ def map_chunks(client, task: Callable, piece: Callable, spans, *, members: int, 
     """
     from distributed import as_completed
 
-    from eulersym.sweeps.chunks import allocate, store
+    from eulersym.sweeps.outputs import allocate, store
 
     static = dict(static or {})
     shared = {k: client.scatter(v, broadcast=True) if isinstance(v, np.ndarray) else v for k, v in static.items()}
