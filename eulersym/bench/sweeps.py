@@ -195,7 +195,10 @@ with contextlib.redirect_stderr(err):
     rc = main(["simulate", {path!r}])
 seconds = time.perf_counter() - start
 hwm = [int(l.split()[1]) for l in open("/proc/self/status") if l.startswith("VmHWM:")][0]
-print(json.dumps(dict(rc=rc, seconds=seconds, peak_kib=hwm, message=err.getvalue().strip())))
+import resource
+use = resource.getrusage(resource.RUSAGE_SELF)
+print(json.dumps(dict(rc=rc, seconds=seconds, cpu=use.ru_utime + use.ru_stime, peak_kib=hwm,
+                      message=err.getvalue().strip())))
 """
 
 
@@ -281,8 +284,8 @@ def main(argv) -> int:
               f"(accuracy {r['accuracy']:g}: {verdict(r['error'] <= 10 * r['accuracy'])})")
     if "refusal" in only:
         r = bench_refusal()
-        print(f"refusal: {r['case']}\n  exit {r['rc']} in {r['seconds']:.2f} s (whole command {r['wall']:.2f} s; floor < 1 s: "
-              f"{verdict(r['rc'] == 2 and r['seconds'] < 1)}), peak {r['peak_kib'] / 1024:.0f} MiB (floor < 100 MB: "
+        print(f"refusal: {r['case']}\n  exit {r['rc']} in {r['seconds']:.2f} s, {r['cpu']:.2f} CPU-s, imports included "
+              f"(whole command {r['wall']:.2f} s; floor < 1 s: {verdict(r['rc'] == 2 and r['seconds'] < 1)}), peak {r['peak_kib'] / 1024:.0f} MiB (floor < 100 MB: "
               f"{verdict(r['peak_kib'] * 1024 < 100e6)})\n  {r['message'][:400]}")
     if "dask" in only:
         r = bench_dask(args.members)
