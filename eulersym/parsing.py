@@ -224,7 +224,7 @@ def _normalize(text: str) -> str:
     return "".join(out)
 
 
-def _tokenize(text: str, argument: str) -> list[_Token]:
+def _tokenize(text: str, argument: str, rates: bool = True) -> list[_Token]:
     tokens: list[_Token] = []
     i, n = 0, len(text)
     while i < n:
@@ -287,7 +287,7 @@ def _tokenize(text: str, argument: str) -> list[_Token]:
     k = 0
     while k < len(tokens):
         tok = tokens[k]
-        if (tok.kind == "NAME" and tok.text.startswith("d") and k + 2 < len(tokens)
+        if (rates and tok.kind == "NAME" and tok.text.startswith("d") and k + 2 < len(tokens)
                 and tokens[k + 1].text == "/" and tokens[k + 2].kind == "NAME" and tokens[k + 2].text == "dt"
                 and _rate_name(tok.text) is not None):
             merged.append(tok)
@@ -853,7 +853,7 @@ def parse(text: str, *, known: dict | None = None, argument: str = "candidate", 
         raise UnsafeExpression(argument, text[:40] + "...", f"a formula of at most {MAX_LENGTH} characters")
     if not normalized.strip():
         raise InvalidInput(argument, text, "a non-empty formula")
-    tokens = _tokenize(normalized, argument)
+    tokens = _tokenize(normalized, argument, rates=not strict)  # strict: "dq0/dt" is a name over a name
     known_names = {str(k): v for k, v in (known or {}).items()}
     extra_functions = {}
     for name, spec in (functions or {}).items():

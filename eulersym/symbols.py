@@ -41,7 +41,12 @@ t: sp.Symbol = sp.Symbol("t")
 
 def _dynamicsymbols(names: str) -> list:
     """``sympy.physics.vector.dynamicsymbols(names)`` (undefined functions of ``t``) without importing
-    ``sympy.physics`` (a third of SymPy's import time)."""
+    ``sympy.physics`` (a third of SymPy's import time).
+
+    >>> from sympy.physics.vector import dynamicsymbols
+    >>> _dynamicsymbols("phi theta") == dynamicsymbols("phi theta") and t == dynamicsymbols._t
+    True
+    """
     return [f(t) for f in sp.symbols(names, cls=sp.Function)]
 
 

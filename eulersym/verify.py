@@ -254,13 +254,13 @@ class _Catalogue(Mapping):
     builds the whole table. Either way ``import eulersym.verify`` stays cheap."""
 
     def __getitem__(self, name: str) -> Quantity:
-        quantity = _lookup(name)
+        quantity = _lookup(name) if isinstance(name, str) else None
         if quantity is None:
             raise KeyError(name)
         return quantity
 
     def __contains__(self, name) -> bool:
-        return _lookup(name) is not None
+        return isinstance(name, str) and _lookup(name) is not None
 
     def __iter__(self):
         return iter(_catalogue())

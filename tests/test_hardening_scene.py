@@ -392,3 +392,49 @@ def test_a_missing_dimension_is_named_where_it_goes(tmp_path, capsys):
 def test_an_array_value_is_shown_on_one_line():
     err = InvalidInput("u", np.arange(40.0).reshape(8, 5) * 1e281, "finite arguments")
     assert "\n" not in str(err) and str(err).startswith("u=array([[") and len(str(err)) < 200
+
+
+def _bundled_models():
+    from importlib import resources
+
+    folder = resources.files("eulersym.models")
+    return sorted(str(p) for p in folder.iterdir() if p.name.endswith(".toml"))
+
+
+@pytest.mark.parametrize("path", _bundled_models(), ids=lambda p: Path(p).stem)
+def test_model_scenes_pass_the_work_guard(path):
+    from eulersym.scene.cli import WORK_LIMIT, _refuse_endless, work_estimate
+    from eulersym.scene.spec import load
+
+    scene = load(path)
+    assert work_estimate(scene).evaluations < WORK_LIMIT
+    _refuse_endless(scene)  # no refusal, no crash
+
+
+def test_an_endless_model_scene_is_refused(tmp_path, capsys):
+    """Kovalevskaya's top is integrated (no closed form): over 10¹² time units it is refused with the estimate."""
+    text = Path(next(p for p in _bundled_models() if p.endswith("kovalevskaya.toml"))).read_text()
+    path = tmp_path / "endless-model.toml"
+    assert "\nend = 20.0\n" in text
+    path.write_text(text.replace("\nend = 20.0\n", "\nend = 1e12\n", 1))
+    _exit_2(capsys, str(path), needles=("work budget",))
+
+
+def test_a_user_work_budget_is_honoured(tmp_path, capsys):
+    path = tmp_path / "long.toml"
+    path.write_text("[body]\nmoments = [1, 1.5, 2]\nmass = 1\n[pivot]\nl = 0.1\n[initial]\neuler = [0, 0.5, 0]\n"
+                    "omega = [0, 0, 10]\n[time]\nend = 1e5\npoints = 11\n[output]\nwant = [\"omega\"]\n")
+    _exit_2(capsys, str(path), "--work-budget", "1e6", needles=("work budget",))
+
+
+def test_a_model_scene_plots_the_vertical_and_keeps_it_in_the_csv(tmp_path):
+    pytest.importorskip("matplotlib")
+    from eulersym.scene.spec import load
+
+    result = simulate(load(next(p for p in _bundled_models() if p.endswith("lagrange-top.toml"))))
+    fig = figure(result)
+    assert any("vertical" in ax.get_title() for ax in fig.axes)
+    _axes_read(fig)
+    path = tmp_path / "model.csv"
+    save(result, str(path))
+    assert "gamma3" in path.read_text().splitlines()[0].split(",")

@@ -206,3 +206,11 @@ def test_bad_input():
     with pytest.raises(InvalidInput, match="rotor"):
         derive.equations(Mechanics(name="x", inertia=sp.ImmutableMatrix(sp.eye(3)), mass=sp.Integer(1),
                                    rotor=sp.ImmutableMatrix([OMEGA[0], 0, 0])))
+
+
+def test_a_body_that_changes_with_the_state_is_refused():
+    with pytest.raises(InvalidInput, match="inertia"):
+        derive.equations(Mechanics(name="x", inertia=sp.ImmutableMatrix(sp.diag(1, 1, 1 + S.t ** 2)), mass=sp.Integer(1)))
+    with pytest.raises(InvalidInput, match="centre_of_mass"):
+        derive.equations(Mechanics(name="x", inertia=sp.ImmutableMatrix(sp.eye(3)), mass=sp.Integer(1), pivoted=True,
+                                   gravity=sp.Integer(1), centre_of_mass=sp.ImmutableMatrix([GAMMA[0], 0, 0])))

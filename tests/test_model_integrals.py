@@ -95,6 +95,11 @@ def test_damped_energy_decays_at_minus_c_omega_squared():
 def test_gyrostat_energy_and_momentum():
     verdicts = integrals.invariants(B.gyrostat())
     assert verdicts["E"].conserved and verdicts["L2"].conserved and verdicts["q_norm2"].conserved
+    # the body's own momentum |I ω|² is not: d/dt |Iω|² = 2 Iω·(Iω̇) = −2 Iω·(ω × h)
+    body = verdicts["L_body2"]
+    w = sp.Matrix(OMEGA)
+    Iw = sp.diag(1, 2, 3) * w
+    assert not body.conserved and sp.expand(body.rate + 2 * (Iw.T * w.cross(sp.Matrix([B.h1, 0, B.h3])))[0]) == 0
     # E is the kinetic energy ½ ωᵀIω (not ½ ωᵀIω + h·ω): the latter is not conserved
     v = integrals.prove(B.gyrostat(), (w1 ** 2 + 2 * w2 ** 2 + 3 * w3 ** 2) / 2 + B.h1 * w1 + B.h3 * w3)
     assert not v.conserved
@@ -151,3 +156,11 @@ def test_bad_candidates():
         integrals.prove(B.damped(), sp.Matrix([w1, w2]))
     with pytest.raises(InvalidInput, match="Mechanics"):
         integrals.invariants(None)
+
+
+def test_energy_with_a_potential_in_q_and_a_rotor_is_conserved():
+    """The torque of V(q) is derived by virtual work through q̇ = ½ q ⊗ (0, ω): the energy balance closes exactly,
+    while L·Γ, conserved under gravity alone, is not (that torque is not horizontal)."""
+    verdicts = integrals.invariants(B.heavy_asymmetric())
+    assert verdicts["E"].conserved and verdicts["E"].exact
+    assert not verdicts["L_dot_Gamma"].conserved and verdicts["L_dot_Gamma"].rate.has(B.k)

@@ -201,6 +201,91 @@ def test_rotated_part_against_monte_carlo(rng):
     assert np.allclose(np.array(model.centre_of_mass.evalf(), dtype=float).ravel(), r.mean(axis=0), atol=2e-3)
 
 
+def _quat_matrix(q):
+    w, x, y, z = np.asarray(q, dtype=float) / np.linalg.norm(q)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def _hamilton(p, q):
+    p0, p1, p2, p3 = p
+    q0, q1, q2, q3 = q
+    return [p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3, p0 * q1 + p1 * q0 + p2 * q3 - p3 * q2,
+            p0 * q2 - p1 * q3 + p2 * q0 + p3 * q1, p0 * q3 + p1 * q2 - p2 * q1 + p3 * q0]
+
+
+def _random_parts(rng, n):
+    parts = []
+    for _ in range(n):
+        kind = rng.integers(3)
+        part = {"mass": float(rng.uniform(0.5, 2)), "position": rng.uniform(-1, 1, 3).round(3).tolist(),
+                "orientation": {"quaternion": rng.normal(size=4).round(3).tolist()}}
+        if kind == 0:
+            part.update(shape="cuboid", a=float(rng.uniform(0.1, 1)), b=float(rng.uniform(0.1, 1)),
+                        c=float(rng.uniform(0.1, 1)))
+        elif kind == 1:
+            part.update(shape="sphere", R=float(rng.uniform(0.1, 1)))
+        else:
+            part.update(shape="point")
+        parts.append(part)
+    return parts
+
+
+def _numpy_body(parts, pivoted):
+    """The same body summed in NumPy from textbook tensors (independent of eulersym.inertia)."""
+    masses, centres, tensors = [], [], []
+    for part in parts:
+        m, R = part["mass"], _quat_matrix(part["orientation"]["quaternion"])
+        if part["shape"] == "cuboid":
+            a, b, c = part["a"], part["b"], part["c"]
+            I = m / 12 * np.diag([b * b + c * c, a * a + c * c, a * a + b * b])
+        elif part["shape"] == "sphere":
+            I = 0.4 * m * part["R"] ** 2 * np.eye(3)
+        else:
+            I = np.zeros((3, 3))
+        masses.append(m)
+        centres.append(np.array(part["position"]))
+        tensors.append(R @ I @ R.T)
+    M = sum(masses)
+    com = sum(m * p for m, p in zip(masses, centres)) / M
+    ref = np.zeros(3) if pivoted else com
+    total = sum(I + m * (np.dot(p - ref, p - ref) * np.eye(3) - np.outer(p - ref, p - ref))
+                for m, p, I in zip(masses, centres, tensors))
+    return M, com, total
+
+
+@pytest.mark.parametrize("seed, pivoted", [(1, False), (2, True), (3, False), (4, True)])
+def test_random_parts_against_numpy(seed, pivoted):
+    rng = np.random.default_rng(seed)
+    parts = _random_parts(rng, 3)
+    parts.append({"shape": "sphere", "mass": 1.0, "R": 0.5, "position": [0.0, 0.0, 0.0],  # never a line body
+                  "orientation": {"quaternion": [1.0, 0.0, 0.0, 0.0]}})
+    model = Model(body={"parts": parts}, **({"pivot": {}} if pivoted else {}))
+    M, com, total = _numpy_body(parts, pivoted)
+    assert float(model.mass) == pytest.approx(M, rel=1e-12)
+    assert np.allclose(np.array(model.centre_of_mass.evalf(20), dtype=float).ravel(), com, atol=1e-12)
+    assert np.allclose(np.array(model.inertia.evalf(20), dtype=float), total, atol=1e-12)
+
+
+@pytest.mark.parametrize("seed", [5, 6])
+def test_turning_every_part_turns_the_tensor(seed):
+    """Turn the whole assembly by r (each part's position by R(r), its orientation by r ⊗ q): I → R I Rᵀ."""
+    rng = np.random.default_rng(seed)
+    parts = _random_parts(rng, 3) + [{"shape": "sphere", "mass": 1.0, "R": 0.5, "position": [0.1, 0.2, 0.3],
+                                      "orientation": {"quaternion": [1.0, 0, 0, 0]}}]
+    r = rng.normal(size=4).round(3).tolist()
+    Rr = _quat_matrix(r)
+    turned = [{**p, "position": (Rr @ np.array(p["position"])).tolist(),
+               "orientation": {"quaternion": _hamilton(np.asarray(r) / np.linalg.norm(r),
+                                                       np.asarray(p["orientation"]["quaternion"])
+                                                       / np.linalg.norm(p["orientation"]["quaternion"]))}}
+              for p in parts]
+    I0 = np.array(Model(body={"parts": parts}, pivot={}).inertia.evalf(20), dtype=float)
+    I1 = np.array(Model(body={"parts": turned}, pivot={}).inertia.evalf(20), dtype=float)
+    assert np.allclose(I1, Rr @ I0 @ Rr.T, atol=1e-10)
+
+
 @pytest.mark.parametrize("orientation", [
     {"quaternion": [2 ** -0.5, 2 ** -0.5, 0, 0]},
     [2 ** -0.5, 2 ** -0.5, 0, 0],
@@ -302,6 +387,11 @@ def test_names_tables_match_the_parser():
     assert N.FORBIDDEN == parsing._FORBIDDEN_NAMES
 
 
+def test_a_pivot_without_gravity_needs_no_mass_nor_centre():
+    m = Model(body={"moments": [1, 2, 3]}, pivot={"g": 0}, torque={"body": "[0, 0, 1]"})
+    assert m.pivoted and m.mass is None and m.centre_of_mass == sp.zeros(3, 1) and m.mechanics.gravity == 0
+
+
 def test_rotor_and_default_gravity():
     m = Model(body={"moments": [1, 1, 2], "mass": 1}, pivot={"l": 0.1}, rotor={"h": [0, 0, 0.5]})
     assert m.mechanics.rotor == sp.Matrix([0, 0, R("0.5")]) and m.mechanics.gravity == R("9.81")
@@ -314,7 +404,7 @@ def test_rotor_and_default_gravity():
 
 
 def test_every_bundled_scene_is_a_model():
-    files = sorted(SCENES.glob("*.toml"))
+    files = sorted(SCENES.glob("*.toml")) + sorted((SCENES.parent / "models").glob("*.toml"))
     assert files
     for path in files:
         m = Model.from_toml(path)
@@ -551,6 +641,17 @@ def test_digest_stable_across_processes_and_hash_seeds():
         out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
         digests.add(out.stdout.strip())
     assert len(digests) == 1 and len(digests.pop()) == 64
+
+
+def test_pickles_carry_the_data_only():
+    import pickle
+
+    m = Model(parameters={"c": 0.1}, body={"moments": [1, 2, 3]}, torque={"body": "-c*omega"})
+    m.mechanics
+    blob = pickle.dumps(m)
+    back = pickle.loads(blob)
+    assert back == m and back.digest == m.digest and back.mechanics == m.mechanics
+    assert len(blob) < 2000 and b"sympy" not in blob
 
 
 def test_to_dict_is_json():

@@ -53,9 +53,15 @@ def test_the_reference_covers_every_kind_of_start():
 
 
 @pytest.mark.parametrize("name", NAMES)
-def test_short_times_match_the_40_digit_reference(name):
+@pytest.mark.parametrize("dense", [False, True])
+def test_short_times_match_the_40_digit_reference(name, dense):
+    """``dense``: among 300 more times, where the third-kind integrals come from their Chebyshev series."""
     I, M, g, l, w0, q0 = _case(name)
-    motion = heavy_top_exact(I, M, g, l, w0, q0, DATA[name]["short_t"])
+    t = DATA[name]["short_t"]
+    extra = np.linspace(0.0, 2 * max(t), 300) if dense else []
+    motion = heavy_top_exact(I, M, g, l, w0, q0, np.concatenate([t, extra]))
+    motion = type(motion)(**{**motion.__dict__, "omega": motion.omega[:3], "gamma": motion.gamma[:3],
+                             "q": motion.q[:3]})
     assert max(_errors(motion, DATA[name]["short"])) <= TOL
 
 
@@ -216,3 +222,83 @@ def test_every_start_keeps_its_integrals(theta, phi, psi, w, spin, l, t):
     assert abs(E[1] - E[0]) <= 1e-12 * scale
     assert abs(p_phi[1] - p_phi[0]) <= 1e-12 * math.sqrt(2 * scale)
     assert np.all(np.isfinite(motion.q)) and abs(np.sum(motion.q[1] ** 2) - 1) <= 1e-15
+
+
+def test_the_all_members_path_agrees_with_the_precise_one():
+    cases = [_case(n) for n in NAMES]
+    args = [np.array([c[k] for c in cases]) for k in range(6)]
+    t = np.linspace(0.0, 20.0, 41)
+    precise = heavy_top_exact(*args, t, precise=True)
+    fast = heavy_top_exact(*args, t, precise=False)
+    for k in range(len(cases)):
+        scale = max(1.0, float(np.max(np.abs(precise.omega[k]))))
+        assert np.max(np.abs(fast.omega[k] - precise.omega[k])) <= 1e-11 * scale, NAMES[k]
+        assert np.max(np.abs(fast.q[k] - precise.q[k])) <= 1e-11, NAMES[k]
+        assert np.max(np.abs(fast.gamma[k] - precise.gamma[k])) <= 1e-11, NAMES[k]
+    assert np.allclose(fast.turning_points, precise.turning_points, rtol=0, atol=1e-13)
+
+
+# ---- scenes ------------------------------------------------------------------------------------------------------
+def test_the_heavy_top_scene_runs_in_closed_form_and_agrees_with_dop853():
+    from eulersym.scene import Scene, load, simulate
+
+    scene = load("heavy-top-nutation")
+    closed = simulate(scene)
+    assert closed.plan.engine == "closed form: elliptic (Lagrange top)" and closed.n_rhs_calls == 0
+    assert not any("closed form" == s.what for s in closed.plan.skipped)
+    kwargs = dict(moments=tuple(scene.moments), mass=scene.mass, l=scene.l, g=scene.g, euler=tuple(scene.euler),
+                  omega=tuple(scene.omega), t_end=0.2, points=51, outputs=("omega",), accuracy=1e-11)
+    a = simulate(Scene(**kwargs))
+    b = simulate(Scene(**kwargs, method="DOP853"))
+    assert "DOP853" in b.plan.engine
+    assert np.max(np.abs(a.omega - b.omega)) <= 1e-8 * np.max(np.abs(b.omega))
+    assert closed.drift["energy"] <= 1e-14 and closed.drift["gamma_norm2"] <= 1e-14
+
+
+def test_the_plan_names_why_the_closed_form_is_not_used():
+    from eulersym.scene import Scene
+
+    top = dict(mass=0.5, l=0.04, euler=(0.0, 0.5, 0.0), omega=(0.0, 0.0, 150.0), t_end=0.1)
+    asym = Scene(moments=(1.2e-3, 1.1e-3, 4e-4), **top).plan()
+    reasons = {s.what: s.reason for s in asym.skipped}
+    assert "I1 ≠ I2" in reasons["closed form"] and not asym.engine.startswith("closed form")
+    asked = Scene(moments=(1.2e-3, 1.2e-3, 4e-4), method="DOP853", **top).plan()
+    assert "'DOP853' asked for" in {s.what: s.reason for s in asked.skipped}["closed form"]
+    with pytest.raises(InvalidInput) as info:
+        Scene(moments=(1.2e-3, 1.1e-3, 4e-4), method="closed-form", **top).plan()
+    assert info.value.argument == "method"
+
+
+def test_a_sweep_of_symmetric_tops_is_one_closed_form_call():
+    from eulersym.scene import Scene, simulate
+
+    base = dict(moments=(1.2e-3, 1.2e-3, 4e-4), mass=0.5, l=0.04, t_end=0.1, points=11, outputs=("omega",))
+    sweep = simulate(Scene(**base, omega=(0.0, 0.0, [100.0, 150.0]), euler=(0.0, [0.3, 0.5], 0.0)))
+    assert sweep.plan.engine.startswith("closed form") and sweep.omega.shape == (4, 11, 3)
+    for b in range(4):
+        w3, th = sweep.sweep["omega[2]"][b], sweep.sweep["euler[1]"][b]
+        single = simulate(Scene(**base, omega=(0.0, 0.0, w3), euler=(0.0, th, 0.0)))
+        assert np.max(np.abs(single.omega - sweep.omega[b])) <= 1e-14 * w3
+
+
+@pytest.mark.parametrize("precise", [True, False])
+def test_a_start_on_a_turning_point_within_rounding_of_the_phase_origin(precise):
+    """u̇0 = 0 at the lower turning point: τ0 = ±1e-17 where the half period of τ0 − K depends on rounding."""
+    from scipy.integrate import solve_ivp
+
+    q0 = euler_to_quaternion((0.75, 2.0, 0.0))
+    w0 = np.array([0.0, -2.0, -2.0])
+    t = np.array([1e-9, 1e-3, 0.5])
+    motion = heavy_top_exact([(1.0, 1.0, 1.0)] * 2, 1.0, 9.81, 0.3, [w0, w0], [q0, q0], t, precise=precise)
+    sol = solve_ivp(_rhs, (0.0, 0.5), np.concatenate([w0, _gamma(q0), q0]), method="DOP853", rtol=1e-12,
+                    atol=1e-14, t_eval=t, args=(1.0, 1.0, 9.81 * 0.3))
+    assert np.max(np.abs(motion.q[0] - sol.y.T[:, 6:])) <= 1e-9
+    assert np.max(np.abs(motion.omega[1] - sol.y.T[:, :3])) <= 1e-9
+
+
+def test_a_start_on_the_separatrix_is_refused_with_its_reason():
+    from eulersym.errors import SingularConfiguration
+
+    with pytest.raises(SingularConfiguration) as info:  # upright, below the threshold, nudged by 1e-230
+        heavy_top_exact((1.0, 1.0, 1.0), 1.0, 9.81, 0.3, (0.0, 4.6e-230, 1.0), (1.0, 0.0, 0.0, 0.0), [0.0, 109.0])
+    assert info.value.argument == "omega0"

@@ -213,6 +213,8 @@ def test_accuracy_picks_the_step():
     (dict(t=[0.0, 1.0, 0.5]), "t"),
     (dict(inertia=(2.0, 1.0, 1.5), free_flow="symmetric"), "inertia"),
     (dict(rotor=(1.0, 0.0, 0.0), free_flow="symmetric"), "rotor"),
+    (dict(omega0=(1e200, 2e200, 1.0)), "omega0"),  # more than 2⁵² rad over the span
+    (dict(h="fast"), "h"),
 ])
 def test_bad_input_names_the_argument(kwargs, argument):
     args = dict(inertia=(2.0, 2.0, 1.0), M=1.0, g=1.0, c=(1.0, 0.0, 0.0), omega0=(0.3, 0.1, 1.0), q0=(1, 0, 0, 0),
@@ -235,3 +237,18 @@ def test_casimirs_for_any_top(omega, c, q, g):
     L = tr.omega @ np.asarray(TOPS["full+rotor"][0]).T + np.array([0.1, 0.2, 0.3])
     assert abs(np.sum(tr.gamma[-1] ** 2) - 1) <= 1e-14
     assert abs(L[-1] @ tr.gamma[-1] - L[0] @ tr.gamma[0]) <= 1e-13 * max(1.0, np.linalg.norm(L[0]))
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.floats(-5, 5) | st.sampled_from([float("nan"), float("inf")]), min_size=9, max_size=9),
+       st.booleans())
+def test_any_tensor_runs_or_is_refused_by_name(entries, symmetrise):
+    T = np.reshape(entries, (3, 3))
+    if symmetrise:
+        T = T + T.T
+    try:
+        tr = integrate_pivoted(T, 1.0, 9.81, (0, 0, 0.5), (0.1, 0.2, 1.0), (1, 0, 0, 0), [0.0, 0.1], h=0.01, fast=False)
+    except InvalidInput as err:
+        assert err.argument in ("inertia", "h", "omega0")  # a valid but tiny moment: a spin too fast to carry
+    else:
+        assert np.all(np.isfinite(tr.omega)) and np.all(np.isfinite(tr.q)) and np.all(np.isfinite(tr.gamma))

@@ -406,6 +406,13 @@ def test_strict_names(text, match):
         parse(text, names={"k": _k}, strict=True, argument="torque")
 
 
+def test_strict_reads_d_name_over_dt_as_a_quotient():
+    """With names of one's own, "domega1/dt" is the parameter domega1 divided by the parameter dt, not a rate."""
+    d, dt = sp.Symbol("domega1", real=True), sp.Symbol("dt", real=True)
+    assert parse("domega1/dt", names={"domega1": d, "dt": dt}, strict=True) == d / dt
+    assert parse("domega1/dt") == S.omega1.diff(S.t)  # the verify reading is unchanged
+
+
 def test_strict_keeps_pi_functions_and_spaced_products():
     assert parse("k (2 + pi)", names={"k": _k}, strict=True) == _k * (2 + sp.pi)
     assert parse("sin(k)^2 + max(k, 1)", names={"k": _k}, strict=True) == sp.sin(_k) ** 2 + sp.Max(_k, 1)
@@ -413,3 +420,18 @@ def test_strict_keeps_pi_functions_and_spaced_products():
 
 def test_new_functions():
     assert parse("sign(x) + min(x, 2) + max(x, 2)") == sp.sign(_x) + sp.Min(_x, 2) + sp.Max(_x, 2)
+
+
+@pytest.mark.parametrize("candidate, against", [
+    ("640^-640^-64", "4.2.omega_body[0]"), ("[x] + 1", "4.2.omega_body"), ("[x] + [y, z]", "4.2.omega_body"),
+    ("①", "4.2.omega_body[0]"), ("٣", "4.2.omega_body[0]"),
+])
+def test_issue_14_verify_cli_exits_2_quickly(candidate, against, capsys):
+    """The command line of issue 14: a clean message and exit status 2 (not 1, the code of NOT EQUAL)."""
+    from eulersym.cli import main
+
+    start = time.perf_counter()
+    assert main(["verify", candidate, "--against", against]) == 2
+    assert time.perf_counter() - start < 5.0
+    err = capsys.readouterr().err
+    assert "candidate=" in err and "Traceback" not in err

@@ -21,6 +21,8 @@ import sys
 import time
 from typing import Callable
 
+from eulersym.bench.report import ratio_text
+
 __all__ = ["main"]
 
 
@@ -143,17 +145,17 @@ def main(argv: list[str]) -> int:
     rows = _rows(args.quick, args.repeat)
 
     width = max(len(r[0]) for r in rows)
-    print(f"{'derivation':<{width}}  {'eulersym s':>10}  {'baseline s':>10}  {'ratio':>8}  baseline")
+    print(f"{'derivation':<{width}}  {'eulersym s':>10}  {'baseline s':>10}  {'ratio':>14}  baseline")
     for name, ours, base_name, base in rows:
         if base is None:
             print(f"{name:<{width}}  {ours:10.4f}")
         else:
-            print(f"{name:<{width}}  {ours:10.4f}  {base:10.4f}  {base / ours:7.1f}x  {base_name}")
+            print(f"{name:<{width}}  {ours:10.4f}  {base:10.4f}  {ratio_text(base, ours):>14}  {base_name}")
     print(f"\ncold `eulersym check` (fresh process): {cold_check:.2f} s; `import sympy` alone: {sympy_import:.2f} s; "
           f"beyond SymPy's import: {cold_check - sympy_import:.2f} s")
     print(f"cold check of §4.1–4.3 and Example 4.1 (fresh process): {foundation:.2f} s; beyond SymPy's import: "
           f"{foundation - sympy_import:.2f} s")
-    print("ratio = baseline seconds / eulersym seconds (> 1: eulersym is faster)")
+    print("ratio = baseline seconds / eulersym seconds")
     if args.csv:
         with open(args.csv, "w", newline="") as fh:
             writer = csv.writer(fh)

@@ -25,6 +25,8 @@ import time
 
 import numpy as np
 
+from eulersym.bench.report import load_text, ratio_text
+
 __all__ = ["main", "bench_torque_free", "bench_sweep"]
 
 
@@ -153,10 +155,10 @@ def main(argv) -> int:
         floor = row["floor"]
         passed = floor is None or row["ratio"] >= floor
         ok &= passed or args.quick
-        verdict = "informational" if floor is None else f"floor {floor:.0f}×: {'met' if passed else 'MISSED'}"
+        verdict = "informational" if floor is None else f"floor {floor:.0f}×: {'met' if passed else 'MISSED, ' + load_text()}"
         print(f"{row['case']}\n  engine: {row['engine']}\n"
               f"  eulersym {row['eulersym_s'] * 1e3:10.2f} ms   baseline {row['baseline_s'] * 1e3:12.2f} ms   "
-              f"ratio {row['ratio']:8.1f}×  ({verdict})")
+              f"{ratio_text(row['baseline_s'], row['eulersym_s'])}  ({verdict})")
         if row["baseline_error"] == row["baseline_error"]:
             print(f"  max relative ω error: eulersym {row['eulersym_error']:.1e}, baseline {row['baseline_error']:.1e}")
         if "note" in row:

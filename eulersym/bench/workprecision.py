@@ -6,7 +6,7 @@ In the style of Hairer–Wanner and SciML's DiffEqDevTools: every method runs at
 each point is the minimum of several timed runs after a warm-up (runs longer than one second are timed once);
 failed runs are recorded with their reason, not dropped. Errors are the maximum absolute error of ω (and Γ for
 the top) over the output times, against the exact oracle (validated against 30-digit mpmath) or, for the heavy
-top, a tight DOP853 reference cross-checked by the order-4 splitting at a small step. Separate columns/panels give
+top, its closed form (validated against 40-digit mpmath; a tight DOP853 run is reported beside it). Separate columns/panels give
 the drift of the invariants (relative energy and L² or |Γ|², L·Γ).
 
 Problems
@@ -24,7 +24,14 @@ Problems
     y(0) = (1, 0, 0.9), T = 20 (the original adds the torque 0.25 sin²t on y3 for 3π ≤ t ≤ 4π; omitted so that the
     exact oracle is the reference).
 ``heavy_top``
-    I = (1, 1, 2), M g l = 4.905, tilted 0.3 rad, ω0 = (0.5, 0.2, 10), T = 100.
+    I = (1, 1, 2), M g l = 4.905, tilted 0.3 rad, ω0 = (0.5, 0.2, 10), T = 100; with the closed form
+    (:func:`eulersym.numerics.heavy_top_exact`, series "closed form": one point, no right-hand side).
+``kovalevskaya``, ``full_tensor_rotor`` (:func:`pivoted_problems`)
+    The generalised splitting of :mod:`eulersym.numerics.pivoted` (strang, yoshida4, yoshida6; plain Python and
+    numba) against DOP853 and RK45 over T = 10³ on Kovalevskaya's top and on a full-tensor top with a rotor;
+    reference: the order-6 splitting at a quarter of the smallest step, cross-checked against DOP853 at rtol 1e-13.
+    Its summary gives, for each DOP853 run, the cheapest splitting no less accurate, the time ratio (floor ≥ 5×)
+    and both energy drifts with their growth after the first 10 % of the span.
 
 Baselines (same run): ``solve_ivp`` RK45, DOP853, LSODA, Radau over right-hand sides obtained the usual way —
 SymPy → ``lambdify`` — from :func:`eulersym.dynamics.euler_equations` / ``euler_poisson_equations``.
@@ -46,7 +53,8 @@ import numpy as np
 
 from eulersym.bench.report import ratio_text
 
-__all__ = ["main", "lambdify_module", "mp_reference_omega", "run_problem", "PROBLEMS"]
+__all__ = ["main", "lambdify_module", "mp_reference_omega", "run_problem", "PROBLEMS", "pivoted_problems",
+           "lambdify_pivoted", "run_pivoted_problem", "summarise_pivoted"]
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -260,6 +268,16 @@ def _invariant_drift(p: Problem, omega, gamma=None):
     return float(np.max(np.abs(e / e[0] - 1))), float(np.max(np.abs(lg - lg[0]) / max(abs(lg[0]), 1e-300)))
 
 
+def _heavy_top_closed_form(p: Problem, ts):
+    """The symmetric heavy top in closed form (:func:`eulersym.numerics.heavy_top_exact`) as a trajectory-like
+    record: no right-hand side is evaluated."""
+    from eulersym.numerics import heavy_top_exact
+
+    M, g, l, q0 = p.top
+    motion = heavy_top_exact(p.I, M, g, l, p.omega0, q0, ts)
+    return types.SimpleNamespace(omega=motion.omega, gamma=motion.gamma, n_rhs_calls=0)
+
+
 def run_problem(p: Problem, *, repeats=3, max_seconds=60.0, log=print):
     """Run every method of ``p`` at every setting; returns a list of row dicts (CSV columns)."""
     from eulersym.numerics import free_rigid_body_exact, integrate_free_body, integrate_heavy_top, integrate_ivp
@@ -277,10 +295,10 @@ def run_problem(p: Problem, *, repeats=3, max_seconds=60.0, log=print):
         mod = lambdify_module("heavy_top_euler_poisson")
         params = (*p.I, M, g, l)
         tight = integrate_ivp(mod, [*p.omega0, *gamma0, *q0], ts, params, method="DOP853", rtol=1e-13, atol=1e-14)
-        check = integrate_heavy_top(p.I, M, g, l, p.omega0, q0, ts, h=5e-4, method="yoshida4")
-        ref = np.hstack([tight.omega, tight.gamma])
-        spread = float(np.max(np.abs(ref - np.hstack([check.omega, check.gamma]))))
-        ref_note = f"DOP853 rtol 1e-13 (differs from yoshida4 at h=5e-4 by {spread:.1e})"
+        exact = _heavy_top_closed_form(p, ts)  # validated against 40-digit mpmath (tests)
+        ref = np.hstack([exact.omega, exact.gamma])
+        spread = float(np.max(np.abs(ref - np.hstack([tight.omega, tight.gamma]))))
+        ref_note = f"the closed form, heavy_top_exact (DOP853 rtol 1e-13 differs from it by {spread:.1e})"
     log(f"\n== {p.name}: I={p.I} omega0={p.omega0} T={p.T:g}; reference: {ref_note}")
     from eulersym.numerics import _fast
 
@@ -319,6 +337,7 @@ def run_problem(p: Problem, *, repeats=3, max_seconds=60.0, log=print):
         mod = lambdify_module("euler_principal")
         y0, params = list(p.omega0), p.I
     else:
+        record("closed form", "eulersym", "exact", lambda: _heavy_top_closed_form(p, ts))
         for route, fast in routes:
             for method in p.geometric:
                 for h in p.hs:
@@ -356,7 +375,8 @@ def summarise(rows, log=print):
                 f"energy drift {float(base['energy_drift']):.1e}, invariant drift {float(base['invariant_drift']):.1e}")
             for label, pred in (
                 ("oracle", lambda r: r["method"] == "oracle"),
-                ("geometric, pure Python", lambda r: r["route"] == "eulersym" and r["method"] != "oracle"),
+                ("closed form", lambda r: r["method"] == "closed form"),
+                ("geometric, pure Python", lambda r: r["route"] == "eulersym" and r["method"] not in ("oracle", "closed form")),
                 ("geometric, numba (fast extra)", lambda r: r["route"] == "numba"),
             ):
                 best = _best(pr, lambda r, pred=pred: pred(r) and float(r["error"]) <= target)
@@ -364,7 +384,7 @@ def summarise(rows, log=print):
                     if any(pred(r) for r in pr):
                         log(f"      {label}: no run reached error {target:.1e}")
                     continue
-                what = f"{label} {best['method']} {best['setting']}" if best["method"] != "oracle" else label
+                what = f"{label} {best['method']} {best['setting']}" if best["method"] not in ("oracle", "closed form") else label
                 log(f"      {what}: {float(best['time_s']):.3g} s, error "
                     f"{float(best['error']):.2e}, energy drift {float(best['energy_drift']):.1e}, invariant drift "
                     f"{float(best['invariant_drift']):.1e} -> {ratio_text(float(base['time_s']), float(best['time_s']))}")
@@ -423,14 +443,191 @@ def main(argv) -> int:
     for p in problems:
         limit = args.max_seconds if args.max_seconds is not None else (5.0 if args.quick else 60.0)
         rows.extend(run_problem(p, repeats=repeats, max_seconds=limit))
+    pivoted_rows = []  # the generalised splitting (eulersym.numerics.pivoted)
+    for p in pivoted_problems(args.quick):
+        if not args.only or p.name in set(args.only.split(",")):
+            limit = args.max_seconds if args.max_seconds is not None else (5.0 if args.quick else 60.0)
+            pivoted_rows.extend(run_pivoted_problem(p, repeats=repeats, max_seconds=limit))
+    rows.extend(pivoted_rows)
     os.makedirs(args.out, exist_ok=True)
     csv_path = os.path.join(args.out, "workprecision.csv")
     with open(csv_path, "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        writer = csv.DictWriter(fh, fieldnames=list(dict.fromkeys(k for r in rows for k in r)), restval="")
         writer.writeheader()
         writer.writerows(rows)
-    summarise(rows)
+    summarise([r for r in rows if r not in pivoted_rows])
+    summarise_pivoted(pivoted_rows)
     print(f"\nCSV: {csv_path}")
     png = os.path.join(args.out, "workprecision.png")
     print(f"PNG: {png}" if _plot(rows, png) else "PNG: skipped (install the 'plot' extra: matplotlib)")
     return 0
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# Any pivoted body: the generalised splitting (eulersym.numerics.pivoted) against DOP853 over T = 10³
+# ----------------------------------------------------------------------------------------------------------------
+@dataclass
+class PivotedProblem:
+    """A pivoted top for :func:`run_pivoted_problem`: tensor about the pivot, M, g, c, rotor, start, span, settings."""
+
+    name: str
+    inertia: tuple
+    M: float
+    g: float
+    c: tuple
+    rotor: tuple
+    omega0: tuple
+    q0: tuple
+    T: float
+    hs: tuple
+    rtols: tuple
+    methods: tuple = ("strang", "yoshida4", "yoshida6")
+    n_out: int = 101
+
+
+def _turned(axis, angle):
+    a = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    return np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * K @ K
+
+
+def pivoted_problems(quick: bool):
+    """Kovalevskaya's top (I = diag(2, 2, 1) about the pivot, c = (1, 0, 0), M g = 1) and a full-tensor top with a
+    rotor (principal moments (1.5, 2, 2.5) turned by 0.7 rad about (1, 2, 3), c off every axis, M g = 9.81), T = 10³.
+
+    Examples
+    --------
+    >>> [p.name for p in pivoted_problems(True)]
+    ['kovalevskaya', 'full_tensor_rotor']
+    """
+    R = _turned((1.0, 2.0, 3.0), 0.7)
+    kov_hs = (0.05, 0.02, 0.01) if quick else (0.1, 0.05, 0.02, 0.01, 0.005)
+    full_hs = (0.02, 0.01, 0.005) if quick else (0.04, 0.02, 0.01, 0.005, 0.0025)
+    rt = (1e-6, 1e-8, 1e-10) if quick else (1e-6, 1e-8, 1e-10, 1e-12)
+    return [
+        PivotedProblem("kovalevskaya", ((2.0, 0.0, 0.0), (0.0, 2.0, 0.0), (0.0, 0.0, 1.0)), 1.0, 1.0, (1.0, 0.0, 0.0),
+                       (0.0, 0.0, 0.0), (0.3, 0.1, 1.0), (math.cos(0.3), math.sin(0.3), 0.0, 0.0), 1e3, kov_hs, rt),
+        PivotedProblem("full_tensor_rotor", tuple(map(tuple, R @ np.diag([1.5, 2.0, 2.5]) @ R.T)), 1.0, 9.81,
+                       tuple(R @ np.array([0.1, -0.2, 0.5])), tuple(R @ np.array([0.3, 0.2, 1.0])), (0.5, -0.3, 4.0),
+                       (math.cos(0.2), 0.0, math.sin(0.2), 0.0), 1e3, full_hs, rt),
+    ]
+
+
+def lambdify_pivoted(p: PivotedProblem):
+    """The Euler–Poisson right-hand side of ``p`` the usual way: SymPy matrices → ``lambdify``; y = (ω, Γ, q).
+
+    ``I ω̇ = (I ω + h) × ω + M g Γ × c`` (Euler's equations of a gyrostat with the weight's torque), ``Γ̇ = Γ × ω``,
+    ``q̇`` from :func:`eulersym.kinematics.quaternion_rate`.
+
+    Examples
+    --------
+    >>> mod = lambdify_pivoted(pivoted_problems(True)[0])
+    >>> [round(float(v), 12) + 0.0 for v in mod.rhs(0.0, [0, 0, 1.0, 0, 0, 1.0, 1.0, 0, 0, 0])[:3]]
+    [0.0, 0.5, 0.0]
+    """
+    import sympy as sp
+
+    from eulersym import kinematics
+
+    y = sp.symbols("y0:10")
+    w, G, q = sp.Matrix(y[:3]), sp.Matrix(y[3:6]), list(y[6:])
+    I = sp.Matrix(p.inertia)
+    h, c = sp.Matrix(p.rotor), sp.Matrix(p.c)
+    wdot = I.LUsolve((I * w + h).cross(w) + p.M * p.g * G.cross(c))
+    rhs = [*wdot, *G.cross(w), *kinematics.quaternion_rate(q, list(w))]
+    f = sp.lambdify((sp.Symbol("t"), y), rhs, "numpy")
+    return types.SimpleNamespace(__name__="pivoted_euler_poisson", rhs=lambda t, yy: f(t, yy))
+
+
+def _pivoted_invariants(p: PivotedProblem, omega, gamma):
+    """(max relative energy drift, its growth: whole run over the first 10 %, max |L·Γ| drift / |L|)."""
+    from eulersym.numerics.pivoted import pivoted_energy
+
+    I = np.asarray(p.inertia)
+    e = pivoted_energy(I, p.M, p.g, p.c, omega, gamma)
+    de = np.abs(e - e[0]) / abs(e[0])
+    L = omega @ I.T + np.asarray(p.rotor)
+    lg = np.sum(L * gamma, axis=1)
+    tenth = max(float(de[: len(de) // 10 + 1].max()), 1e-300)
+    return float(de.max()), float(de.max()) / tenth, float(np.max(np.abs(lg - lg[0])) / np.linalg.norm(L[0]))
+
+
+def run_pivoted_problem(p: PivotedProblem, *, repeats=3, max_seconds=60.0, log=print):
+    """Every splitting at every step (plain Python and numba) and DOP853/RK45 at every rtol; rows like
+    :func:`run_problem`'s, with ``energy_drift`` and ``invariant_drift`` (L·Γ) from the pivoted energy.
+
+    The reference is the order-6 splitting at a quarter of the smallest step (numba), cross-checked against DOP853
+    at rtol 1e-13 (the spread is printed).
+    """
+    from eulersym.numerics import _fast, integrate_ivp
+    from eulersym.numerics.pivoted import integrate_pivoted
+
+    ts = np.linspace(0.0, p.T, p.n_out)
+    a, b, c, d = p.q0
+    gamma0 = (2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d)
+    mod = lambdify_pivoted(p)
+    y0 = [*p.omega0, *gamma0, *p.q0]
+    fast = _fast.available()
+    href = min(p.hs) / 4
+    ref_tr = integrate_pivoted(p.inertia, p.M, p.g, p.c, p.omega0, p.q0, ts, rotor=p.rotor, method="yoshida6",
+                               h=href, fast=fast)
+    ref = np.hstack([ref_tr.omega, ref_tr.gamma])
+    tight = integrate_ivp(mod, y0, ts, (), method="DOP853", rtol=1e-13, atol=1e-14, layout="omega_gamma_q")
+    spread = float(np.max(np.abs(ref - np.hstack([tight.omega, tight.gamma]))))
+    log(f"\n== {p.name}: T={p.T:g}; reference: yoshida6 h={href:g} (differs from DOP853 rtol 1e-13 by {spread:.1e})")
+    rows = []
+
+    def record(method, route, setting, fn):
+        row = dict(problem=p.name, method=method, route=route, setting=setting, time_s="", error="", energy_drift="",
+                   invariant_drift="", n_calls="", status="ok", energy_growth="")
+        try:
+            tr, secs = _timed(fn, repeats)
+            err = float(np.max(np.abs(np.hstack([tr.omega, tr.gamma]) - ref)))
+            de, growth, dlg = _pivoted_invariants(p, tr.omega, tr.gamma)
+            row.update(time_s=f"{secs:.6g}", error=f"{err:.3e}", energy_drift=f"{de:.3e}", invariant_drift=f"{dlg:.3e}",
+                       n_calls=str(tr.n_rhs_calls), energy_growth=f"{growth:.3g}")
+        except Exception as exc:  # noqa: BLE001 - a failed run is a data point
+            row["status"] = f"failed: {type(exc).__name__}: {exc}"[:200]
+        rows.append(row)
+        log(f"  {method:<16} {route:<9} {setting:<10} t={row['time_s'] or '-':>10} err={row['error'] or '-':>10} "
+            f"dE={row['energy_drift'] or '-':>10} (x{row['energy_growth'] or '-'} after the first 10 %) "
+            f"d(L.G)={row['invariant_drift'] or '-':>9} {row['status'] if row['status'] != 'ok' else ''}")
+        return row
+
+    routes = [("eulersym", False)] + ([("numba", True)] if fast else [])
+    for route, fl in routes:
+        for method in p.methods:
+            for h in p.hs:
+                r = record(f"pivoted:{method}", route, f"h={h:g}", lambda m=method, h=h, fl=fl: integrate_pivoted(
+                    p.inertia, p.M, p.g, p.c, p.omega0, p.q0, ts, rotor=p.rotor, method=m, h=h, fast=fl))
+                if r["time_s"] and float(r["time_s"]) > max_seconds:
+                    break
+    for method in ("DOP853", "RK45"):
+        for rtol in p.rtols:
+            r = record(method, "lambdify", f"rtol={rtol:g}", lambda m=method, rtol=rtol: integrate_ivp(
+                mod, y0, ts, (), method=m, rtol=rtol, atol=rtol * 1e-2, layout="omega_gamma_q"))
+            if r["time_s"] and float(r["time_s"]) > max_seconds:
+                break
+    return rows
+
+
+def summarise_pivoted(rows, log=print):
+    """The generalised splitting's floor: at each DOP853 error, the cheapest splitting run (per route) that is no
+    worse, the time ratio, and the energy drift of both (ratios from the same run)."""
+    log("\n== summary: generalised splitting (eulersym.numerics.pivoted) vs solve_ivp DOP853 over T = 10³, same run")
+    for name in dict.fromkeys(r["problem"] for r in rows):
+        pr = [r for r in rows if r["problem"] == name]
+        for base in (r for r in pr if r["method"] == "DOP853" and r["status"] == "ok"):
+            target = float(base["error"])
+            log(f"  {name}: DOP853 {base['setting']}: {float(base['time_s']):.3g} s, error {target:.2e}, "
+                f"energy drift {float(base['energy_drift']):.1e} (x{float(base['energy_growth']):.3g} after the first 10 %)")
+            for label, route in (("splitting, pure Python", "eulersym"), ("splitting, numba (fast extra)", "numba")):
+                best = _best(pr, lambda r, route=route: r["route"] == route and r["method"].startswith("pivoted:")
+                             and float(r["error"]) <= target)
+                if best is None:
+                    continue
+                ratio = float(base["time_s"]) / max(float(best["time_s"]), 1e-9)
+                floor = f" (floor 5x: {'PASS' if ratio >= 5 else 'FAIL'})" if route == "numba" else ""
+                log(f"      {label} {best['method'][8:]} {best['setting']}: {float(best['time_s']):.3g} s, error "
+                    f"{float(best['error']):.2e}, energy drift {float(best['energy_drift']):.1e} (x"
+                    f"{float(best['energy_growth']):.3g} after the first 10 %) -> {ratio:.3g}x faster{floor}")

@@ -151,8 +151,9 @@ def derive(argv) -> int:
     print("  state: " + ", ".join(eqs.names))
     print()
     print("equations of motion (Newton–Euler in the body frame, L = I ω + h):")
-    for name, e in zip(eqs.names, eqs.rhs):
-        print(f"  d({name})/dt = {show(e)}")
+    for symbol, e in zip(eqs.state, eqs.rhs):
+        lhs = rf"\frac{{d{_latex(symbol)}}}{{dt}}" if args.latex else f"d({symbol.name})/dt"
+        print(f"  {lhs} = {show(e)}")
     if eqs.potential != 0:
         print(f"  potential V = {show(eqs.potential)}")
     print()

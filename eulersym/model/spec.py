@@ -387,7 +387,7 @@ def _check_tensor(key: str, raw: Any, rows: list) -> None:
                            " must satisfy I1 + I2 >= I3 (the triangle inequality)")
 
 
-def _body(value: Any, check: _Checker, pivoted: bool) -> dict:
+def _body(value: Any, check: _Checker, weighed: bool) -> dict:
     if value is None:
         raise InvalidInput("body", None, "a [body] table with one of moments, tensor, shape or parts")
     table = _table("body", value, ("moments", "tensor", "shape", "parts", "mass", "origin", "dimensions",
@@ -413,9 +413,9 @@ def _body(value: Any, check: _Checker, pivoted: bool) -> dict:
         out = {kind: (_moments if kind == "moments" else _tensor)(f"body.{kind}", table[kind], check)}
         if "mass" in table:
             out["mass"] = check.number("body.mass", table["mass"], sign="positive")
-        elif pivoted:
+        elif weighed:
             raise InvalidInput("body.mass", None, "the body's mass M: a pivoted body under gravity feels the torque "
-                               "M g c × gamma")
+                               "M g c × gamma (or pivot.g = 0)")
         else:
             out["mass"] = None
         return out
@@ -588,11 +588,15 @@ class Model:
         parameters = _parameters(kwargs.get("parameters"))
         check = _Checker(parameters)
         pivot = _pivot(kwargs.get("pivot"), check)
-        body = _body(kwargs.get("body"), check, pivot is not None)
+        weighed = pivot is not None and pivot["g"] != 0.0
+        body = _body(kwargs.get("body"), check, weighed)
         if pivot is not None and pivot["centre_of_mass"] is None and ("moments" in body or "tensor" in body):
-            raise InvalidInput("pivot.centre_of_mass", None, "the centre of mass from the pivot, body frame: "
-                               "centre_of_mass = [x, y, z] (or l = ... for [0, 0, l]; [0, 0, 0] for a pivot at "
-                               "the centre of mass)")
+            if not weighed:  # no gravity: the centre of mass plays no part
+                pivot["centre_of_mass"] = [0.0, 0.0, 0.0]
+            else:
+                raise InvalidInput("pivot.centre_of_mass", None, "the centre of mass from the pivot, body "
+                                   "frame: centre_of_mass = [x, y, z] (or l = ... for [0, 0, l]; [0, 0, 0] for a "
+                                   "pivot at the centre of mass)")
         self._data = {
             "name": name,
             "parameters": [[k, v] for k, v in parameters.items()],
@@ -759,6 +763,12 @@ class Model:
 
     def __hash__(self) -> int:
         return hash(self.digest)
+
+    def __getstate__(self) -> dict:  # pickles (Dask, multiprocessing) carry the data, not the derived SymPy
+        return {"_data": self._data}
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
 
     # ---- derived (SymPy) -------------------------------------------------------------------------------------
     @cached_property

@@ -2,7 +2,7 @@
 at once (NumPy and SciPy's vectorised Carlson integrals and Jacobi functions).
 
 Same formulas as :mod:`eulersym.numerics.heavy_top_exact`, but the constants of each motion (roots, λ, K, τ0, the
-rates) are computed in double rather than 50-digit decimal arithmetic and the phase is not reduced in
+rates) are computed in double rather than 36-digit decimal arithmetic and the phase is not reduced in
 double-double, so the error grows like ~1e-16 × (number of nutation periods) instead of staying at round-off; it
 is ~1e-13 relative to ω after 10³ periods. Members this path does not treat — a steady motion (double root), a
 start at or near a pole (``1 ∓ w`` below 1e-6 at a turning point), a motion near the separatrix (``m_c < 1e-12``),
@@ -163,7 +163,10 @@ def _batch_motion(I1, I3, mgl, omega, q, t):
     # τ0 − K: sn² = cd² τ0, cn² = k′² sd² τ0; in [−2K, 0], wrapped by 2K (one half period back) when τ0 < 0
     S, Cc = np.sqrt(c_sq / d_sq), np.sqrt(mc * s_sq / d_sq)
     W0f_abs = _W(S, Cc, n_f, n_f1, mc)
-    W0f, j0f = np.where(tau0 < 0, W0f_abs, -W0f_abs), np.where(tau0 < 0, -1.0, 0.0)
+    x0 = tau0 - K  # as the evaluation below reduces it (a τ0 within rounding of 0 may land on either side)
+    low0 = x0 < -K
+    x0 = np.where(low0, x0 + 2 * K, x0)
+    W0f, j0f = np.sign(x0) * W0f_abs, np.where(low0, -1.0, 0.0)
     # the angles at t = 0 from q0 (amplitudes positive off the poles)
     near_pair, far_pair = np.where(sigma[:, None] > 0, [[1, 2]], [[0, 3]]), np.where(sigma[:, None] > 0, [[0, 3]], [[1, 2]])
     rows = np.arange(len(sigma))

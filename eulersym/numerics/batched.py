@@ -32,6 +32,7 @@ from eulersym.numerics.pivoted import (
     PIVOTED_METHODS,
     _compiled_runner,
     _prepare,
+    _refuse_uncarried,
     _renormalise,
     _substep,
     _to_body,
@@ -50,8 +51,11 @@ __all__ = [
 
 #: Default memory budget of one call (bytes): refuse above it, with the estimate.
 DEFAULT_MAX_BYTES = 2 * 1024**3
-#: With ``parallel=None``, numba's ``prange`` over members from this many members on (``eulersym bench stress``).
-PARALLEL_MIN_MEMBERS = 64
+#: With ``parallel=None``, numba's ``prange`` over members from this many members on. Measured by ``eulersym bench
+#: stress`` (section "batched splitting") on the shared 2-core machine under a load average of ~9: parallel and serial
+#: within ±15 % of each other (no gain while other processes hold the cores); threads pay only on idle cores, and
+#: below ~10³ members the thread start-up is not repaid.
+PARALLEL_MIN_MEMBERS = 1024
 _BYTES_PER_MEMBER_POINT = 3 * 10 * 8
 
 
@@ -185,6 +189,7 @@ def integrate_pivoted_batch(inertia, M, g, c, omega0, q0, t, *, rotor=(0.0, 0.0,
                            f"at most max_bytes = {max_bytes / 2**20:.0f} MiB of outputs (this needs ≈ "
                            f"{need / 2**20:.0f} MiB): run ≤ {fit} members per call, or fewer output times")
     span = float(tt[-1] - tt[0])
+    _refuse_uncarried(scale, span, omega0)
     if h is None:
         acc = 1e-8 if accuracy is None else accuracy
         hs = step_for_accuracy(method, acc, scale, span) if span > 0 else np.ones(B)
@@ -203,7 +208,8 @@ def integrate_pivoted_batch(inertia, M, g, c, omega0, q0, t, *, rotor=(0.0, 0.0,
         use_parallel = B >= PARALLEL_MIN_MEMBERS if parallel is None else parallel
         out = _compiled_runner(use_parallel)(state, par, hs, tt, subs, kind)
     else:
-        out = _run_numpy(state, par, hs, tt, subs, kind)
+        with np.errstate(all="ignore"):  # an overflowing member becomes NaN, refused below by name
+            out = _run_numpy(state, par, hs, tt, subs, kind)
     if not np.all(np.isfinite(out)):
         bad = int(np.argmax(~np.all(np.isfinite(out), axis=(1, 2))))
         raise InvalidInput("h", float(hs[bad]), f"a step small enough for a finite solution (member {bad})")
@@ -289,5 +295,6 @@ def integrate_heavy_tops(I, M, g, l, omega0, q0, t, *, method="yoshida4", h=None
     if np.any(larr <= 0):
         raise InvalidInput("l", l, "positive distances from the pivot to the centre of mass")
     c = np.stack([np.zeros_like(larr), np.zeros_like(larr), larr], axis=-1)
-    return integrate_pivoted_batch(tensors if len(tensors) > 1 else tensors[0], M, g, c, omega0, q0, t, method=method, h=h, accuracy=accuracy,
+    shared = tensors if len(tensors) > 1 else tensors[0]
+    return integrate_pivoted_batch(shared, M, g, c, omega0, q0, t, method=method, h=h, accuracy=accuracy,
                                    free_flow="symmetric", fast=fast, parallel=parallel, max_bytes=max_bytes)

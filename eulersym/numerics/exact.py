@@ -731,9 +731,11 @@ def free_rigid_body_attitude_exact(I, omega0, q0, t, *, check_body=True):
         q = quaternion_multiply(quaternion_multiply(left, q0), right)
     else:
         q_perm = _perm_quaternion(sol.idx, sol.signs)
-        q_inv = _invariable_quaternion(sol, tt)
         q_inv0 = _invariable_quaternion(sol, np.zeros(1))[0]
         q_fix = quaternion_multiply(quaternion_multiply(q0, _quat_conj(q_perm)), _quat_conj(q_inv0))
-        q = quaternion_multiply(quaternion_multiply(q_fix, q_inv), q_perm)
+        q = np.empty((tt.size, 4))
+        for start in range(0, tt.size, _BLOCK):  # blocks: the temporaries stay in cache, the cost per point flat
+            block = slice(start, start + _BLOCK)
+            q[block] = quaternion_multiply(quaternion_multiply(q_fix, _invariable_quaternion(sol, tt[block])), q_perm)
     q = q / np.sqrt(np.sum(q * q, axis=-1, keepdims=True))
     return omega, q

@@ -30,16 +30,26 @@ constant. When a pole is a turning point (``y2 = 0``: the top passes through the
 taken with a sign (``S ∝ cn τ``) and its rate coefficient ``b − a`` vanishes, so q stays smooth.
 
 Accuracy: the roots, λ, K, τ0 and the mean rates per nutation period are computed once per motion in
-:mod:`decimal` arithmetic at 50 digits from the exact binary inputs (:mod:`eulersym.numerics._decimal_elliptic`;
+:mod:`decimal` arithmetic at 36 digits from the exact binary inputs (:mod:`eulersym.numerics._decimal_elliptic`;
 exact deflation where a root is known: ``u̇0 = 0``, or a pole that is a turning point), then rounded to
 double-double. The phase ``λ t + τ0`` is reduced modulo ``2K`` and the secular angles modulo ``4π`` in
 double-double, so the error does not grow with t. A double root (steady precession, the sleeping top) is
-exact: the motion is then a uniform rotation of the Euler angles.
+exact: the motion is then a uniform rotation of the Euler angles. For many output times the third-kind integrals
+come from a 64-term Chebyshev series of each motion (exact Carlson values at the nodes), unless the series does not
+reach round-off (a pass close to the vertical), and then directly.
+
+Sweeps: more than :data:`BATCH_PRECISE` members are evaluated all at once with the constants in double precision
+(:mod:`eulersym.numerics._heavy_top_batch`, ``precise=False``; the error then grows like ~1e-16 per nutation period).
+
+Limits: a tilt below 2e-17 rad from a pole is taken as the pole itself; a start on (or within m_c < 1e-290 of) the
+separatrix of the upright top is refused; at times within a pass closer to the vertical than ~1e-8 rad (the
+pass lasting less than ~1e8 ulps of the phase) ω is only as accurate as the phase resolves the pass.
 """
 
 from __future__ import annotations
 
 import decimal
+import functools
 import math
 from dataclasses import dataclass
 from decimal import Decimal
@@ -264,8 +274,38 @@ def _W_decimal(s_sq, c_sq, d_sq, n, one_minus_n):
     return out
 
 
-def _W(x, n, one_minus_n, mc, rootmc):
+_CHEB_N = 64
+
+
+@functools.lru_cache(maxsize=256)
+def _W_chebyshev(n, one_minus_n, mc, rootmc, K):
+    """Chebyshev coefficients of W on [−K, K] (W is odd and analytic there), or None where 64 terms do not reach
+    round-off (a pole close to the real axis: the start passes near the vertical): then W is evaluated directly."""
+    k = np.arange(_CHEB_N)
+    nodes = np.cos(np.pi * (k + 0.5) / _CHEB_N)
+    values = _W_direct(K * nodes, n, one_minus_n, mc, rootmc)
+    coefficients = (2.0 / _CHEB_N) * np.cos(np.pi * np.outer(k, k + 0.5) / _CHEB_N) @ values
+    coefficients[0] *= 0.5
+    scale = max(float(np.max(np.abs(values))), 1e-300)
+    if float(np.max(np.abs(coefficients[-6:]))) > 32 * np.finfo(float).eps * scale:  # not yet at the noise floor
+        return None
+    return coefficients
+
+
+def _W(x, n, one_minus_n, mc, rootmc, K=None):
+    """W(x) = ∫₀ˣ dy/(1 − n sn² y) for |x| ≤ K: by its Chebyshev series on [−K, K] for many points (64 Carlson
+    evaluations per motion instead of one per point), directly otherwise."""
+    x = np.asarray(x, dtype=np.float64)
+    if K is not None and x.size > 2 * _CHEB_N:
+        coefficients = _W_chebyshev(float(n), float(one_minus_n), float(mc), float(rootmc), float(K))
+        if coefficients is not None:
+            return np.polynomial.chebyshev.chebval(x / K, coefficients)
+    return _W_direct(x, n, one_minus_n, mc, rootmc)
+
+
+def _W_direct(x, n, one_minus_n, mc, rootmc):
     """W(x) = ∫₀ˣ dy/(1 − n sn² y) for |x| ≤ K (SciPy's Carlson R_F, R_J)."""
+    from scipy.special import elliprf, elliprj  # imported when used: `import eulersym.numerics` stays SciPy-free
     s, c, _ = jacobi_sncndn(np.abs(x), mc, rootmc=rootmc)
     s = np.abs(s)
     c2 = c * c
@@ -335,10 +375,11 @@ def _setup(I1, I3, M, g, l, omega, q):
         span = x3 - x1
         mc = (x3 - x2) / span
         m = delta / span
-        if mc <= 0:
+        if mc < Decimal("1e-290"):  # on the separatrix, or so close that m_c underflows a double
             raise SingularConfiguration(
                 "omega0", tuple(float(v) for v in omega),
-                "a start off the separatrix (here the top approaches the vertical asymptotically: w2 = w3 = 1)")
+                "a start off the separatrix of the upright top (here m_c = 1 − m is below 1e-290: the top leaves or "
+                "approaches the vertical asymptotically, with no periodic closed form in double precision)")
         lam = (A * span).sqrt() / 2
         rootmc = mc.sqrt()
         K = _de.pi() / (2 * _de.agm(Decimal(1), rootmc))
@@ -369,16 +410,23 @@ def _setup(I1, I3, M, g, l, omega, q):
             period=per_dd[0], period_lo=per_dd[1], omega3=float(w[2]), nutation_period=float(nutation),
             turning=tuple(sorted(turning)),
         )
-        # W(τ0) and W(τ0 − K) at t = 0, to 50 digits: near a pole W is steep, and a rounded τ0 would shift every later angle
-        W0n = _W_decimal(s_sq, c_sq, d_sq, near_n, near_1mn) * (-1 if tau0 < 0 else 1) if Bn != 0 else Decimal(0)
+        # W(τ0) and W(τ0 − K) at t = 0, to 36 digits: near a pole W is steep, and a rounded τ0 would shift every later angle
+        # (only where the start is near a pole, 1 − n sn² < 1e-4: elsewhere W is smooth and a double will do)
+        steep = Decimal("1e-4")
+        W0n = None
+        if Bn != 0 and near_1mn + near_n * c_sq < steep:
+            W0n = _W_decimal(s_sq, c_sq, d_sq, near_n, near_1mn) * (-1 if tau0 < 0 else 1)
         S_sq, C_sq = c_sq / d_sq, mc * s_sq / d_sq  # sn², cn² of τ0 ∓ K (cd², k′² sd²), dn² = m_c/dn²τ0
-        W0f = _W_decimal(S_sq, C_sq, mc / d_sq, far_n, far_1mn) if Bf != 0 else Decimal(0)
-        W0f, j0f = (W0f, -1.0) if tau0 < 0 else (-W0f, 0.0)  # τ0 − K in [−2K, 0]: wrapped by 2K when τ0 < 0
+        W0f = None
+        if Bf != 0 and far_1mn + far_n * C_sq < steep:
+            W0f = _W_decimal(S_sq, C_sq, mc / d_sq, far_n, far_1mn)
+            W0f = W0f if tau0 < 0 else -W0f
+        j0f = -1.0 if tau0 < 0 else 0.0  # τ0 − K in [−2K, 0]: wrapped by 2K when τ0 < 0
         near = dict(base=float(y2), signed=(y2 == 0), at_pole=(one_m_w0 == 0), B=float(Bn), n=float(near_n), one_minus_n=float(near_1mn),
                     coef=float(near_coef), rate=_dd(nu_near), per=_dd(near_per))
         far = dict(base=float(z1), signed=(z1 == 0), at_pole=(one_p_w0 == 0), B=float(Bf), n=float(far_n), one_minus_n=float(far_1mn),
                    coef=float(far_coef), rate=_dd(far_rate), per=_dd(far_per))
-        start = {"near": (float(W0n), 0.0), "far": (float(W0f), j0f)}
+        start = {"near": (None if W0n is None else float(W0n), 0.0), "far": (None if W0f is None else float(W0f), j0f)}
     return _finish(motion, near, far, omega, q, start)
 
 
@@ -409,7 +457,7 @@ def _finish(motion, near, far, omega, q, start=None):
     qn = np.asarray(q, dtype=np.float64)
     qn = qn / math.sqrt(float(np.sum(qn * qn)))
     zero = np.zeros(1)
-    amp_n, amp_f, _, _, dn_sign, df_sign = _amplitudes(proto, _Pole(**near, W0=0.0, j0=0.0, chi0=0.0),
+    amp_n, amp_f, _, _, dn_sign, df_sign, _ = _amplitudes(proto, _Pole(**near, W0=0.0, j0=0.0, chi0=0.0),
                                                       _Pole(**far, W0=0.0, j0=0.0, chi0=0.0), zero)
     qdot = 0.5 * np.array([
         -qn[1] * omega[0] - qn[2] * omega[1] - qn[3] * omega[2],
@@ -428,7 +476,29 @@ def _finish(motion, near, far, omega, q, start=None):
             half = math.atan2(ds * dsign, dc * dsign)
         out.append(2.0 * half)
     chi_near0, chi_far0 = out
-    (W0n, j0n), (W0f, j0f) = (start["near"], start["far"]) if start else ((0.0, 0.0), (0.0, 0.0))
+    W0n = W0f = j0n = j0f = 0.0
+    if not motion["steady"]:
+        # the half periods and reduced arguments at t = 0 exactly as the evaluation will find them
+        r0, j0 = _phase(proto, zero)
+        x0 = r0 - motion["K"]
+        j0n = float(j0[0])
+        j0f = j0n - 1.0 if x0[0] < -motion["K"] else j0n
+        x0 = np.where(x0 < -motion["K"], x0 + motion["period"], x0)
+        (exact_n, jn_exact), (exact_f, jf_exact) = start["near"], start["far"]
+        for key, pole, x, jj, exact, j_exact in (("n", near, r0, j0n, exact_n, jn_exact),
+                                                 ("f", far, x0, j0f, exact_f, jf_exact)):
+            if not pole["B"]:
+                value = 0.0
+            elif exact is None:  # off the poles: W at the reduced argument, in double
+                value = float(_W(x, pole["n"], pole["one_minus_n"], motion["mc"], motion["rootmc"])[0])
+            else:  # the decimal value, moved to the branch (half period) the evaluation uses: W(x + 2K) = W(x) + W(2K)
+                w2k = 2.0 * float(_W(np.array([motion["K"]]), pole["n"], pole["one_minus_n"], motion["mc"],
+                                     motion["rootmc"])[0])
+                value = exact + (j_exact - jj) * w2k
+            if key == "n":
+                W0n = value
+            else:
+                W0f = value
     return _Motion(near=_Pole(**near, W0=W0n, j0=j0n, chi0=chi_near0),
                    far=_Pole(**far, W0=W0f, j0=j0f, chi0=chi_far0), **motion)
 
@@ -439,7 +509,8 @@ def _amplitudes(mo, near, far, t):
     if mo.steady:
         rn = np.full(t.shape, math.sqrt(near.base))
         rf = np.full(t.shape, math.sqrt(far.base))
-        return rn, rf, np.zeros_like(t), np.zeros_like(t), 1.0, 1.0
+        zero = np.zeros_like(t)
+        return rn, rf, zero, zero, 1.0, 1.0, (zero, zero, np.ones_like(t))
     r, j = _phase(mo, t)
     sn, cn, dn = jacobi_sncndn(r, mo.mc, rootmc=mo.rootmc)
     parity = 1.0 - 2.0 * np.mod(j, 2.0)  # sn and cn change sign over each half period 2K
@@ -460,20 +531,13 @@ def _amplitudes(mo, near, far, t):
     # d(√Δ cn)/dτ = −√Δ sn dn, d(√Δ sn)/dτ = √Δ cn dn: the direction a zero amplitude leaves in
     dn_sign = -1.0 if float(sn.ravel()[0]) >= 0 else 1.0
     df_sign = 1.0 if float(cn.ravel()[0]) >= 0 else -1.0
-    return rn, rf, ratio_n, ratio_f, dn_sign, df_sign
+    return rn, rf, ratio_n, ratio_f, dn_sign, df_sign, (r, j, dn)
 
 
 def _evaluate(mo, t):
     """ω, Γ, q and Euler angles of one motion at the times t."""
     four_pi = _four_pi()
-    rn, rf, ratio_n, ratio_f, _, _ = _amplitudes(mo, mo.near, mo.far, t)
-    if mo.steady:
-        r, j = np.zeros_like(t), np.zeros_like(t)
-        sn = cn = np.zeros_like(t)
-        dn = np.ones_like(t)
-    else:
-        r, j = _phase(mo, t)
-        sn, cn, dn = jacobi_sncndn(r, mo.mc, rootmc=mo.rootmc)
+    rn, rf, ratio_n, ratio_f, _, _, (r, j, dn) = _amplitudes(mo, mo.near, mo.far, t)
     chis = []
     for pole, far in ((mo.near, False), (mo.far, True)):
         x, jj = r, j
@@ -485,7 +549,7 @@ def _evaluate(mo, t):
         secular = _dd_linear(pole.rate, t, pole.per, jj - pole.j0, four_pi)
         chi = secular + pole.chi0
         if pole.B != 0.0 and not mo.steady:
-            chi = chi + pole.coef * (_W(x, pole.n, pole.one_minus_n, mo.mc, mo.rootmc) - pole.W0)
+            chi = chi + pole.coef * (_W(x, pole.n, pole.one_minus_n, mo.mc, mo.rootmc, mo.K) - pole.W0)
         chis.append(chi)
     chi_near, chi_far = chis
     half_n, half_f = rn / math.sqrt(2.0), rf / math.sqrt(2.0)
@@ -609,7 +673,7 @@ def _snap_to_poles(q):
     return q
 
 
-#: Up to this many members, :func:`heavy_top_exact` computes every member's constants to 50 digits (~10 ms each).
+#: Up to this many members, :func:`heavy_top_exact` computes every member's constants to 36 digits (~10 ms each).
 BATCH_PRECISE = 64
 
 
@@ -659,7 +723,7 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None):
     t : array_like, shape (n,)
         Times (any order, negative allowed).
     precise : bool or None, optional
-        True: every member's constants to 50 digits and the phase in double-double (round-off error at any t,
+        True: every member's constants to 36 digits and the phase in double-double (round-off error at any t,
         ~10 ms per member). False: all members at once in double precision (error ~1e-16 × the number of
         nutation periods; members at a double root, near a pole or the separatrix still go the precise way).
         None (default): precise up to :data:`BATCH_PRECISE` members.

@@ -125,12 +125,12 @@ def _turn3(s, half, cos, sin):
 
 def _free_axes(s, tau, par, cos, sin):
     """Strang splitting of the free flow: F₁(τ/2) F₂(τ/2) F₃(τ) F₂(τ/2) F₁(τ/2), each exact."""
-    q = 0.25 * tau
-    s = _turn1(s, q * (s[0] - par[3]) * par[0], cos, sin)
-    s = _turn2(s, q * (s[1] - par[4]) * par[1], cos, sin)
+    quarter = 0.25 * tau  # half-angles: half of τ/2 for F₁, F₂; half of τ for F₃
+    s = _turn1(s, quarter * (s[0] - par[3]) * par[0], cos, sin)
+    s = _turn2(s, quarter * (s[1] - par[4]) * par[1], cos, sin)
     s = _turn3(s, 0.5 * tau * (s[2] - par[5]) * par[2], cos, sin)
-    s = _turn2(s, q * (s[1] - par[4]) * par[1], cos, sin)
-    return _turn1(s, q * (s[0] - par[3]) * par[0], cos, sin)
+    s = _turn2(s, quarter * (s[1] - par[4]) * par[1], cos, sin)
+    return _turn1(s, quarter * (s[0] - par[3]) * par[0], cos, sin)
 
 
 def _rotate_back(p0, p1, p2, p3, v0, v1, v2):
@@ -435,8 +435,16 @@ def _prepare(inertia, M, g, c, omega0, q0, rotor, free_flow, batch=None):
     L_p = moments * w_p + h_p
     state = np.vstack([L_p.T, g_p.T, q_p])
     par = np.vstack([(1.0 / moments).T, h_p.T, k_p.T, np.sum(L_p * g_p, axis=1)[None]])
-    scale = rate_scale(moments, w_p, g_p, k_p, h_p)
+    with np.errstate(over="ignore"):
+        scale = rate_scale(moments, w_p, g_p, k_p, h_p)
     return state, par, (moments, P, pp), scale
+
+
+def _refuse_uncarried(scale, span, omega0):
+    """Refuse members that would turn by more than 2⁵² rad over the span (the phase is lost to round-off)."""
+    if np.any(~np.isfinite(scale)) or np.any(scale * span > 2.0**52):
+        raise InvalidInput("omega0", omega0, "spins double precision can carry: the rate scale × the span ≤ 2^52 rad "
+                           f"(here up to {float(np.max(scale, initial=0.0) * span):.3g})")
 
 
 def _to_body(out, par, frame):
@@ -515,20 +523,28 @@ def integrate_pivoted(inertia, M, g, c, omega0, q0, t, *, rotor=(0.0, 0.0, 0.0),
             raise InvalidInput(name, v, "a number")
     state, par, frame, scale = _prepare(inertia, M, g, c, omega0, q0, rotor, free_flow, batch=1)
     span = float(tt[-1] - tt[0])
+    _refuse_uncarried(scale, span, omega0)
     if h is None:
         acc = 1e-8 if accuracy is None else accuracy
         h = float(step_for_accuracy(method, acc, scale, max(span, 0.0))[0]) if span > 0 else 1.0
     elif accuracy is not None:
         raise InvalidInput("accuracy", accuracy, "None when a step h is given (one or the other)")
-    counts, steps = output_steps(tt, min(float(h), span) if span > 0 and 0 < float(h) else h)
+    hv = finite_array("h", h)
+    if hv.ndim != 0 or float(hv) <= 0:
+        raise InvalidInput("h", h, "a positive step size")
+    h = min(float(hv), span) if span > 0 else float(hv)
+    counts, steps = output_steps(tt, h)
     kind = 0 if free_flow == "axes" else 1
     subs = COMPOSITIONS[method]
     runner = _fast.select(fast, _compiled_runner)
     if runner is not None:
-        out = runner(state, par, np.array([float(h)]), tt, subs, kind)
+        out = runner(state, par, np.array([h]), tt, subs, kind)
     else:
         p = tuple(float(x) for x in par[:, 0])
-        out = _run_pivoted(state[:, 0], counts.tolist(), steps.tolist(), subs, p, kind)[None]
+        try:
+            out = _run_pivoted(state[:, 0], counts.tolist(), steps.tolist(), subs, p, kind)[None]
+        except (ValueError, OverflowError, ZeroDivisionError):  # math.cos(inf): the state overflowed
+            out = np.full((1, tt.size, 10), np.nan)
     if not np.all(np.isfinite(out)):
         raise InvalidInput("h", h, "a step small enough for a finite solution")
     omega, gamma, q = _to_body(out, par, frame)
@@ -540,5 +556,6 @@ def _compiled_runner(parallel=False):
     """The member loop compiled by numba (:mod:`eulersym.numerics._batched_fast`) over this module's sub-flows."""
     from eulersym.numerics import _batched_fast
 
-    jitable = (hamilton, _turn1, _turn2, _turn3, _free_axes, _rotate_back, _free_symmetric, _kick, _substep, _renormalise)
+    jitable = (hamilton, _turn1, _turn2, _turn3, _free_axes, _rotate_back, _free_symmetric, _kick, _substep,
+               _renormalise)
     return _batched_fast.member_runner(_substep, _renormalise, jitable, parallel)

@@ -174,7 +174,8 @@ def summary_path(path: str) -> str:
 
 def summary(result) -> tuple:
     """(column names, array (batch, k)): one row per sweep member — its swept values, ω at the end, the largest
-    |ω_i|, the heavy top's largest tilt θ (degrees), and each invariant's relative drift.
+    |ω_i|, the largest tilt θ of body axis 3 from the vertical (degrees; when Γ was propagated: a heavy top, a
+    model that needs it), and each invariant's relative drift.
 
     Examples
     --------
@@ -206,10 +207,10 @@ def summary(result) -> tuple:
     cols += [omega[:, -1, j] for j in range(3)]
     names += ["omega1_max_abs", "omega2_max_abs", "omega3_max_abs"]
     cols += [np.abs(omega[..., j]).max(axis=1) for j in range(3)]
-    if result.gamma is not None and result.plan.regime == "heavy top":
+    if result.gamma is not None:
         gamma = result.gamma if batch > 1 else result.gamma[None]
         names.append("theta_max_deg")
-        cols.append(np.degrees(np.arccos(np.clip(gamma[..., 2], -1.0, 1.0))).max(axis=1))
+        cols.append(_tilt(gamma).max(axis=1))
     for key, values in result.invariants.items():
         v = np.atleast_2d(values)
         ref = v[:, :1]
@@ -328,7 +329,7 @@ def figure(result):
     plan = result.plan
     single = plan.batch == 1
     first = (lambda a: a) if single else (lambda a: a[0])
-    heavy = plan.regime == "heavy top" and (result.gamma is not None or "tilt_max" in result.summary)
+    heavy = result.gamma is not None or "tilt_max" in result.summary  # the vertical Γ: a heavy top, or a model that needs it
     panels = ["omega"] if result.omega is not None else []
     if result.euler_angles is not None:
         panels.append("euler")
@@ -351,8 +352,8 @@ def figure(result):
         f"{quantity_label(k, unit=False)} = {v[0]:.4g}" for k, v in result.sweep.items()) + ")"
     t = result.t
 
-    def time_axis(ax, ylabel, title):
-        _readable_limits(ax)
+    def time_axis(ax, ylabel, title, floor=0.0):
+        _readable_limits(ax, floor)
         ax.set_xlabel("t (s)")
         ax.set_ylabel(ylabel)
         ax.set_title(title + member, fontsize=10)
@@ -405,12 +406,12 @@ def figure(result):
             ax.legend(fontsize=8)
         elif panel == "theta":
             gamma = first(result.gamma)
-            theta = np.degrees(np.arccos(np.clip(gamma[:, 2], -1, 1)))
+            theta = _tilt(gamma)
             ax.plot(t, theta, label="θ(t)")
             if single and result.turning_points is not None:
                 for j, value in enumerate(np.degrees(result.turning_points)):
                     ax.axhline(value, ls="--", color="0.5", label="θ1, θ2 derived" if j == 0 else None)
-            time_axis(ax, "θ, tilt of the axis e3 (degrees)", "nutation")
+            time_axis(ax, "θ, tilt of the axis e3 (degrees)", "nutation", floor=1e-9)
             ax.legend(fontsize=8)
         elif panel == "invariants":
             for key, values in result.invariants.items():
@@ -426,7 +427,7 @@ def figure(result):
             if "tilt_max" in result.summary:  # from the per-member summaries (want = ["summary"]: no trajectories)
                 tilt = np.degrees(result.summary["tilt_max"]).reshape(len(ux), len(uy))
             else:
-                tilt = np.degrees(np.arccos(np.clip(result.gamma[..., 2], -1, 1))).max(axis=1).reshape(len(ux), len(uy))
+                tilt = _tilt(result.gamma).max(axis=1).reshape(len(ux), len(uy))
             mesh = ax.pcolormesh(uy, ux, tilt, shading="auto")
             fig.colorbar(mesh, ax=ax, label="largest θ over the run (degrees)")
             ax.set_xlabel(quantity_label(ly))
@@ -456,8 +457,16 @@ def figure(result):
     return fig
 
 
-def _readable_limits(ax) -> None:
-    """A line that is constant to many digits gets a y range of ±5 % of its size (not one in its 13th digit)."""
+def _tilt(gamma) -> np.ndarray:
+    """θ (degrees), the tilt of body axis 3 from the upward vertical: atan2(|Γ × e3|, Γ3), accurate near 0 and π
+    (arccos Γ3 would turn round-off into micro-degrees there)."""
+    gamma = np.asarray(gamma, dtype=float)
+    return np.degrees(np.arctan2(np.hypot(gamma[..., 0], gamma[..., 1]), gamma[..., 2]))
+
+
+def _readable_limits(ax, floor: float = 0.0) -> None:
+    """A line that is constant to many digits gets a y range of ±5 % of its size (not one in its 13th digit);
+    variations below ``floor`` (in the axis' unit) count as constant."""
     values = [line.get_ydata() for line in ax.get_lines()]
     if not values:
         return
@@ -467,8 +476,8 @@ def _readable_limits(ax) -> None:
         return
     low, high = float(data.min()), float(data.max())
     scale = max(abs(low), abs(high))
-    if high - low <= 1e-9 * scale:
-        pad = 0.05 * scale if scale > 0 else 1.0
+    if high - low <= max(1e-9 * scale, floor):
+        pad = 0.05 * scale if scale > 10 * floor and scale > 0 else 1.0
         ax.set_ylim(low - pad, high + pad)
 
 

@@ -94,8 +94,8 @@ class Plan:
     --------
     >>> from eulersym.scene import Scene
     >>> plan = Scene(moments=(1, 1.5, 2), mass=1, l=0.1, omega=(0, 0, 50), euler=(0, 0.3, 0), t_end=1).plan()
-    >>> plan.regime, plan.kernels
-    ('heavy top', ('heavy_top_euler_poisson',))
+    >>> plan.regime, plan.kernels, plan.options["engine"]
+    ('heavy top', ('heavy_top_euler_poisson',), 'ivp')
     """
 
     scene: str
@@ -292,7 +292,7 @@ def make_plan(scene, moments=None, model=None) -> Plan:
         propagate = ("omega", "gamma", "attitude")
         symmetric = body in ("symmetric", "spherical") and known is not None and _axis3_symmetric(known)
         no_closed_form = (_no_heavy_top_closed_form(scene, known, symmetric) if not is_model else
-                          "a model scene integrates its own kernel (the closed form serves the chapter's keys: moments, l)")
+                          _no_model_heavy_top_closed_form(scene, options["frame"], symmetric))
         if no_closed_form is None:
             engine = "closed form: elliptic (Lagrange top)"
             steps.append(Step("closed form", "ω(t), Γ(t) and q(t) by eulersym.numerics.heavy_top_exact",
@@ -431,6 +431,18 @@ def _no_heavy_top_closed_form(scene, known, symmetric) -> str | None:
         return "a torque besides gravity: only the heavy top under gravity alone is integrable"
     if scene.mass is None or np.any(_values(scene.mass) <= 0):
         return "the closed form needs a positive mass"
+    return None
+
+
+def _no_model_heavy_top_closed_form(scene, frame, symmetric) -> str | None:
+    """Why the heavy top's closed form does not apply to a model in the heavy-top regime (None when it does): its
+    frame already excludes torques, potentials and rotors."""
+    if scene.method not in ("auto", "closed-form"):
+        return f"method {scene.method!r} asked for (the closed form applies: method 'auto' or 'closed-form')"
+    if not symmetric:
+        return "I1 ≠ I2 about the pivot–centre-of-mass line: the asymmetric heavy top has no closed form in general"
+    if np.any(frame.mass * frame.g * frame.l <= 0):
+        return "the closed form needs M g l > 0 for every member"
     return None
 
 

@@ -109,7 +109,7 @@ _BODY_KEYWORDS = ("moments", "tensor", "shape", "mass", "dimensions", "origin", 
 #: TOML sections of a scene that are not the model's (a scene file is a model file plus these).
 SCENE_SECTIONS = ("initial", "time", "output")
 #: Sections and keys only a model expresses: their presence makes Scene.from_dict build a Model.
-_MODEL_ONLY = {"": ("parameters", "rotor"), "body": ("parts", "centre_of_mass"), "pivot": ("centre_of_mass",),
+_MODEL_ONLY = {"": ("parameters", "rotor"), "body": ("parts", "dimensions", "L"), "pivot": ("centre_of_mass",),
                "torque": ("potential",)}
 
 # TOML layout: section → key → Scene keyword (a tuple names a keyword and a sub-key).
@@ -247,8 +247,9 @@ class Scene:
                 raise InvalidInput(key, kwargs[key], "a Scene keyword: " + _did_you_mean(key, _DEFAULTS))
         if kwargs.get("model") is not None:
             for key in _BODY_KEYWORDS:
-                if kwargs.get(key) is not None and not (key == "torque_frame" and kwargs[key] == "body"):
-                    raise InvalidInput(key, kwargs[key], "no body keyword beside a model (the model is the body: "
+                value = kwargs.get(key)
+                if value is not None and not (isinstance(value, (str, float, int)) and value == _DEFAULTS[key]):
+                    raise InvalidInput(key, value, "no body keyword beside a model (the model is the body: "
                                        "its mass, inertia, pivot, gravity and torques)")
         values = {**_DEFAULTS, **kwargs}
         for key, value in _normalise(values).items():
@@ -472,6 +473,11 @@ def _needs_model(data: Mapping) -> bool:
     of mass off the legacy axis, a potential, or an expression (a string where the legacy keys take numbers)."""
     if any(key in data for key in _MODEL_ONLY[""]):
         return True
+    body = data.get("body")
+    if isinstance(body, Mapping):
+        shape, origin = body.get("shape"), body.get("origin")
+        if isinstance(shape, str) and (shape not in SHAPES or (isinstance(origin, str) and origin not in SHAPE_ORIGINS.get(shape, ("center",)))):
+            return shape in ("rod", "point", "cylinder")  # a model's shapes and origins (a rod, a cylinder on its base)
     for section in ("body", "pivot", "torque"):
         table = data.get(section)
         if not isinstance(table, Mapping):
@@ -670,6 +676,8 @@ def _parameters(model, raw):
         return None
     if model is None:
         raise InvalidInput("parameters", raw, "parameters only with a model (Scene(model=Model(...), parameters=...))")
+    if isinstance(raw, tuple) and all(isinstance(p, tuple) and len(p) == 2 for p in raw):
+        raw = dict(raw)  # the normalised form, as dataclasses.replace passes it back
     if not isinstance(raw, Mapping):
         raise InvalidInput("parameters", raw, "a mapping of parameter names to values (numbers, lists or ranges to sweep)")
     known = tuple(getattr(model, "parameters", {}) or {})
@@ -863,6 +871,8 @@ def rate_bound(scene_or_values) -> float:
     """
     out = scene_or_values if isinstance(scene_or_values, dict) else {
         f.name: getattr(scene_or_values, f.name) for f in dataclasses.fields(scene_or_values)}
+    if out.get("model") is not None:
+        return _model_rate_bound(scene_or_values, out)
     i_min, _ = _inertia_range(out)
     rate = _largest(out["omega"])
     if out["torque"] is not None and i_min > 0:
@@ -870,6 +880,21 @@ def rate_bound(scene_or_values) -> float:
     if out["l"] is not None and out["mass"] is not None and i_min > 0:
         rate = max(rate, math.sqrt(_largest(out["mass"]) * _largest(out["g"]) * _largest(out["l"]) / i_min))
     return rate
+
+
+def _model_rate_bound(scene, out) -> float:
+    """A model scene's rate: the initial spin, and where its kernel is cached (its body numbers known without
+    SymPy) the pendulum rate √(M g |c| / I_min) and the rotor's |h| / I_min; its other torques are the kernel's."""
+    rate = _largest(out["omega"])
+    facts = scene.cached_model_facts() if isinstance(scene, Scene) else None
+    if facts is None or not len(facts.params[0] if facts.params else [1]):
+        return rate
+    i_min = float(np.min(np.linalg.eigvalsh(facts.tensor)))
+    if i_min <= 0:
+        return rate
+    weight = float(np.max(np.abs(facts.body["M"] * facts.body["g"]) * np.linalg.norm(facts.centre_of_mass, axis=1)))
+    spin = float(np.max(np.linalg.norm(facts.rotor, axis=1)))
+    return max(rate, math.sqrt(weight / i_min)) + spin / i_min
 
 
 def _size(x: float) -> str:
