@@ -48,8 +48,9 @@ def test_workers_are_processes_without_sympy():
         assert np.array_equal(out["y"], 2 * x)
         from eulersym.generated import heavy_top_euler_poisson  # noqa: F401  (what a kernel chunk imports)
 
-        loaded = c.run(lambda: ["sympy" in sys.modules, "eulersym.sweeps.distributed" in sys.modules])
-        assert all(v == [False, True] for v in loaded.values()), loaded
+        loaded = c.run(lambda: ["sympy" in sys.modules, "eulersym.sweeps.distributed" in sys.modules,
+                                __import__("os").environ.get("NUMBA_NUM_THREADS")])
+        assert all(v == [False, True, "1"] for v in loaded.values()), loaded  # one core per worker
     finally:
         distributed.close(c)
 

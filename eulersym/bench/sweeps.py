@@ -29,17 +29,14 @@ import time
 
 import numpy as np
 
-__all__ = ["main", "bench_map", "bench_default_vs_dop853", "bench_refusal", "bench_dask", "ratio_text"]
+from eulersym.bench.report import load_text, ratio_text
+
+__all__ = ["main", "bench_map", "bench_default_vs_dop853", "bench_refusal", "bench_dask"]
 
 #: The bundled sleeping top (eulersym/scenes/sleeping-top-map.toml): the map's body.
 SLEEPING_TOP = dict(moments=(1.2e-3, 1.2e-3, 4.0e-4), mass=0.5, l=0.04, g=9.81)
 #: An asymmetric heavy top (three distinct moments about the pivot): no closed form.
 ASYMMETRIC_TOP = dict(moments=(1.0e-3, 1.4e-3, 6.0e-4), mass=0.5, l=0.04, g=9.81)
-
-
-def ratio_text(ours: float, baseline: float) -> str:
-    """``baseline / ours`` as a ratio, e.g. ``'5.3×'`` (local until eulersym.bench shares one)."""
-    return f"{baseline / ours:.1f}×" if ours > 0 else "∞×"
 
 
 def _peak_kib() -> int:
@@ -133,7 +130,7 @@ def _reference(scene, b: int, result) -> np.ndarray:
 
     import dataclasses
 
-    kwargs = {f.name: getattr(scene, f.name) for f in dataclasses.fields(scene)}
+    kwargs = {f.name: getattr(scene, f.name) for f in dataclasses.fields(scene) if f.init}
     kwargs.update(omega=(1.0, 0.0, float(result.sweep["omega[2]"][b])),
                   euler=(0.0, float(result.sweep["euler[1]"][b]), 0.0), method="DOP853", accuracy=1e-13)
     for key in ("dimensions",):
@@ -198,7 +195,10 @@ with contextlib.redirect_stderr(err):
     rc = main(["simulate", {path!r}])
 seconds = time.perf_counter() - start
 hwm = [int(l.split()[1]) for l in open("/proc/self/status") if l.startswith("VmHWM:")][0]
-print(json.dumps(dict(rc=rc, seconds=seconds, peak_kib=hwm, message=err.getvalue().strip())))
+import resource
+use = resource.getrusage(resource.RUSAGE_SELF)
+print(json.dumps(dict(rc=rc, seconds=seconds, cpu=use.ru_utime + use.ru_stime, peak_kib=hwm,
+                      message=err.getvalue().strip())))
 """
 
 
@@ -266,7 +266,7 @@ def main(argv) -> int:
         ok &= passed or args.quick
         return "met" if passed else "MISSED"
 
-    print("eulersym bench sweeps" + (" --quick" if args.quick else "") + " (2-core machine shared with others: noisy)")
+    print("eulersym bench sweeps" + (" --quick" if args.quick else "") + f" ({load_text()}; wall times are noisy under load)")
     if "map" in only:
         r = bench_map(args.tilts, args.spins)
         gb = r["peak_bytes"] / 1e9
@@ -278,18 +278,18 @@ def main(argv) -> int:
     if "dop853" in only:
         r = bench_default_vs_dop853(args.members)
         print(f"{r['case']}\n  default: {r['engine']}  {r['seconds']:.2f} s   DOP853: {r['baseline_engine']}  "
-              f"{r['baseline_seconds']:.2f} s   ratio {ratio_text(r['seconds'], r['baseline_seconds'])} "
+              f"{r['baseline_seconds']:.2f} s   {ratio_text(r['baseline_seconds'], r['seconds'])} "
               f"(floor ≥ 5×: {verdict(r['ratio'] >= 5)})\n"
               f"  max relative ω error against rtol 1e-12: default {r['error']:.1e}, DOP853 {r['baseline_error']:.1e} "
               f"(accuracy {r['accuracy']:g}: {verdict(r['error'] <= 10 * r['accuracy'])})")
     if "refusal" in only:
         r = bench_refusal()
-        print(f"refusal: {r['case']}\n  exit {r['rc']} in {r['seconds']:.2f} s (whole command {r['wall']:.2f} s; floor < 1 s: "
-              f"{verdict(r['rc'] == 2 and r['seconds'] < 1)}), peak {r['peak_kib'] / 1024:.0f} MiB (floor < 100 MB: "
+        print(f"refusal: {r['case']}\n  exit {r['rc']} in {r['seconds']:.2f} s, {r['cpu']:.2f} CPU-s, imports included "
+              f"(whole command {r['wall']:.2f} s; floor < 1 s: {verdict(r['rc'] == 2 and r['seconds'] < 1)}), peak {r['peak_kib'] / 1024:.0f} MiB (floor < 100 MB: "
               f"{verdict(r['peak_kib'] * 1024 < 100e6)})\n  {r['message'][:400]}")
     if "dask" in only:
         r = bench_dask(args.members)
         print(f"{r['case']}\n  engine: {r['engine']}\n  1 worker {r['one_worker_seconds']:.2f} s, 2 workers "
-              f"{r['two_worker_seconds']:.2f} s: throughput {ratio_text(r['two_worker_seconds'], r['one_worker_seconds'])} "
+              f"{r['two_worker_seconds']:.2f} s: throughput {r['ratio']:.2f}× one worker's "
               f"(floor ≥ 1.6×: {verdict(r['ratio'] >= 1.6)}); identical to in-process: {verdict(r['identical'])}")
     return 0 if ok else 1

@@ -105,6 +105,11 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
     fields :func:`eulersym.scene.result.outputs` returns, plus ``"summary"`` (per member), ``"gamma"`` and
     ``"n_calls"``. Trajectories are kept unless ``layout`` (a summary scene) is given."""
     grain = _grain(plan)
+    if client is not None:  # several chunks per worker, so that every worker stays busy to the end
+        from eulersym.sweeps.distributed import workers
+
+        share = -(-problem.batch // (4 * max(workers(client), 1)))
+        chunk = min(chunk, max(-(-share // grain) * grain, grain))
     if problem.batch > chunk and chunk % grain:
         chunk = max(chunk // grain, 1) * grain  # whole groups of members that step together: the same bits
     keep_gamma = plan.regime == "heavy top" or "invariants" in problem.outputs

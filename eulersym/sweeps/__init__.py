@@ -4,8 +4,10 @@ A layer under :mod:`eulersym.scene` (it never imports the scene): pure functions
 
 - :mod:`~eulersym.sweeps.cost` — bytes and kernel evaluations a sweep needs, budgets, refusals with what would fit;
 - :mod:`~eulersym.sweeps.summary` — per-member min/max/final, the largest tilt, invariant drift;
-- :mod:`~eulersym.sweeps.chunks` — members a chunk at a time into preallocated outputs;
-- :mod:`~eulersym.sweeps.distributed` — the chunks as Dask tasks (the optional ``dask`` extra).
+- :mod:`~eulersym.sweeps.chunks` — members a chunk at a time (:mod:`~eulersym.sweeps.outputs`: the preallocated outputs);
+- :mod:`~eulersym.sweeps.distributed` — the chunks as Dask tasks (the optional ``dask`` extra);
+- :mod:`~eulersym.sweeps.members_dop853` — DOP853 compiled by numba, a heavy top per ``prange`` iteration with its
+  own step (the optional ``fast`` extra).
 
 Examples
 --------

@@ -24,6 +24,7 @@ from typing import Callable, Mapping
 import numpy as np
 
 from eulersym.errors import InvalidInput
+from eulersym.sweeps.outputs import allocate, store
 
 __all__ = ["bounds", "allocate", "store", "run"]
 
@@ -42,33 +43,6 @@ def bounds(members: int, chunk: int) -> tuple:
         raise InvalidInput("chunk", chunk, "a positive whole number of members per chunk")
     members, chunk = int(members), int(chunk)
     return tuple((lo, min(lo + chunk, members)) for lo in range(0, members, chunk))
-
-
-def allocate(first: Mapping, members: int) -> dict:
-    """Outputs for ``members`` rows shaped like a first chunk's results ``{name: ndarray (rows, ...)}``.
-
-    Examples
-    --------
-    >>> out = allocate({"y": np.zeros((2, 3))}, 5)
-    >>> out["y"].shape, out["y"].dtype.name
-    ((5, 3), 'float64')
-    """
-    return {name: np.empty((members, *np.shape(v)[1:]), dtype=np.asarray(v).dtype) for name, v in first.items()}
-
-
-def store(out: Mapping, part: Mapping, lo: int, hi: int) -> None:
-    """Copy a chunk's results into rows ``lo:hi`` of the outputs (the names must match).
-
-    Examples
-    --------
-    >>> out = {"y": np.zeros(4)}
-    >>> store(out, {"y": np.ones(2)}, 1, 3); out["y"].tolist()
-    [0.0, 1.0, 1.0, 0.0]
-    """
-    if set(part) != set(out):
-        raise InvalidInput("task", sorted(part), f"a chunk result with exactly the outputs {sorted(out)}")
-    for name, values in part.items():
-        out[name][lo:hi] = values
 
 
 def run(task: Callable, piece: Callable, *, members: int, chunk: int, static: Mapping | None = None,

@@ -42,8 +42,8 @@ def require_dask(argument: str = "client", value=None) -> None:
 
 
 def local_client(n_workers: int, *, processes: bool = True, memory_limit="auto"):
-    """A ``dask.distributed.Client`` on a new local cluster of ``n_workers`` workers, one thread each (the
-    kernels are NumPy: one thread per core does the work; more would contend for it).
+    """A ``dask.distributed.Client`` on a new local cluster of ``n_workers`` workers, one thread each — and one
+    thread for NumPy's BLAS and numba's ``prange`` inside each worker process — so N workers use N cores.
 
     Examples
     --------
@@ -56,8 +56,10 @@ def local_client(n_workers: int, *, processes: bool = True, memory_limit="auto")
     require_dask("--workers", n_workers)
     from distributed import Client, LocalCluster
 
+    one_thread = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+    extra = {"env": one_thread} if processes else {}
     cluster = LocalCluster(n_workers=int(n_workers), threads_per_worker=1, processes=processes,
-                           dashboard_address=":0", memory_limit=memory_limit, silence_logs=50)
+                           dashboard_address=":0", memory_limit=memory_limit, silence_logs=50, **extra)
     client = Client(cluster)
     client._eulersym_owns_cluster = cluster  # closed with the client by :func:`close`
     return client
@@ -115,7 +117,7 @@ def map_chunks(client, task: Callable, piece: Callable, spans, *, members: int, 
     """
     from distributed import as_completed
 
-    from eulersym.sweeps.chunks import allocate, store
+    from eulersym.sweeps.outputs import allocate, store
 
     static = dict(static or {})
     shared = {k: client.scatter(v, broadcast=True) if isinstance(v, np.ndarray) else v for k, v in static.items()}

@@ -1,7 +1,8 @@
 """Per-member summaries of a sweep: what a map needs, in memory that grows with members, not members × points.
 
 For each component of each quantity: its minimum, maximum and final value over the output times; the largest tilt
-θ_max = arccos(min Γ3) of a heavy top (Γ the body-frame upward vertical, Γ3 = cos θ); and each invariant's drift
+θ_max = max atan2(|Γ × e3|, Γ3) of a heavy top (Γ the body-frame upward vertical, Γ3 = cos θ; the two-argument
+form keeps small tilts accurate where arccos Γ3 would not); and each invariant's drift
 ``max_t |I(t) − I(0)| / |I(0)|`` (absolute where I(0) = 0). They are reductions along the time axis of a chunk's
 trajectories (``(members, points)`` or ``(members, points, components)`` arrays), so a chunked run gives exactly
 the reductions of the full trajectories.
@@ -81,15 +82,19 @@ def drift(values: np.ndarray) -> np.ndarray:
     return np.max(np.abs(v - ref) / denom, axis=1)
 
 
-def largest_tilt(gamma3: np.ndarray) -> np.ndarray:
-    """Per member, the largest tilt θ_max = arccos(min_t Γ3) in radians, from ``gamma3`` (members, points).
+def largest_tilt(gamma: np.ndarray) -> np.ndarray:
+    """Per member, the largest tilt θ_max = max_t atan2(√(Γ1² + Γ2²), Γ3) in radians, from ``gamma``
+    (members, points, 3).
 
     Examples
     --------
-    >>> largest_tilt(np.array([[1.0, 0.5, 0.9]])).round(12).tolist()  # arccos(0.5) = π/3
+    >>> largest_tilt(np.array([[[0, 0, 1.0], [np.sqrt(0.75), 0, 0.5], [0, 1e-9, 1.0]]])).round(12).tolist()  # π/3
     [1.047197551197]
+    >>> float(largest_tilt(np.array([[[0, 1e-9, 1.0]]]))[0])  # arccos(1.0) would say 0
+    1e-09
     """
-    return np.arccos(np.clip(np.min(gamma3, axis=1), -1.0, 1.0))
+    gamma = np.asarray(gamma, dtype=float)
+    return np.max(np.arctan2(np.hypot(gamma[..., 0], gamma[..., 1]), gamma[..., 2]), axis=1)
 
 
 def summarize(quantities: Mapping[str, np.ndarray], *, invariants: Mapping[str, np.ndarray] | None = None,
@@ -126,7 +131,7 @@ def summarize(quantities: Mapping[str, np.ndarray], *, invariants: Mapping[str, 
             out[f"{label}.max"] = maxs[:, k]
             out[f"{label}.final"] = finals[:, k]
     if gamma is not None:
-        out["tilt_max"] = largest_tilt(np.asarray(gamma)[..., 2])
+        out["tilt_max"] = largest_tilt(gamma)
     for name, values in (invariants or {}).items():
         out[f"{name}.drift"] = drift(values)
     return out
