@@ -453,3 +453,15 @@ def test_compile_expressions_messages_read(args, kwargs, needle):
         compile_expressions(*args, **kwargs)
     assert needle in str(info.value)
     assert "f.f=" not in str(info.value)
+
+
+def test_generate_through_a_symlinked_folder_replaces_the_folder(tmp_path):
+    from eulersym.codegen.generate import generate
+
+    real = tmp_path / "real"
+    real.mkdir()
+    link = tmp_path / "link"
+    link.symlink_to(real, target_is_directory=True)
+    generate(link, names=["kinematics"])
+    assert link.is_symlink() and (real / "kinematics.py").is_file()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link", "real"]

@@ -138,3 +138,13 @@ def test_memory_grows_with_the_chunk_not_the_members(rng):
     finally:
         tracemalloc.stop()
     assert peak < 0.6 * unchunked  # three chunks (the kernels' own temporaries are bounded by blocks now)
+
+
+def test_threads_give_the_same_bits(rng):
+    """Chunks on two threads (NumPy releases the GIL) are computed alone: the single-thread result, bitwise."""
+    tilt, spin = _members(300, rng)
+    piece = lambda lo, hi: (tilt[lo:hi], spin[lo:hi])  # noqa: E731
+    one = chunks.run(heavy_top_chunk, piece, members=300, chunk=40, static={"t": T, "summarize": True})
+    two = chunks.run(heavy_top_chunk, piece, members=300, chunk=40, static={"t": T, "summarize": True}, threads=2)
+    for name in one:
+        assert np.array_equal(one[name], two[name]), name

@@ -3,7 +3,7 @@
 Four figures, each beside its floor (issue 12), measured in the same run:
 
 1. **Map.** The sleeping top's stability map, ``--tilts`` × ``--spins`` members (default 1000 × 1000), T = 3, 31
-   output times, ``want = ["summary"]``, run by ``eulersym.scene.simulate`` in a fresh process whose peak resident
+   output times, ``want = ["summary"]``, ``memory = "1 GiB"`` (the budget that sizes the chunks), run by ``eulersym.scene.simulate`` in a fresh process whose peak resident
    memory (``VmHWM``) is read at its end. Floors: ≤ 60 s and ≤ 1.5 GB. Sampled members are run again as single
    scenes: their largest tilt and final ω agree with the map's summaries to the accuracy asked.
 2. **Default against DOP853.** An asymmetric heavy top (no closed form), ``--members`` members (default 10⁵), by the
@@ -67,13 +67,16 @@ start = time.perf_counter()
 import numpy as np
 from eulersym.scene import Scene, simulate
 scene = Scene(name="sleeping-top-map-bench", **{body!r}, t_end={t_end!r}, points={points!r}, accuracy={accuracy!r},
-              outputs=("summary",), omega=(0.0, 0.0, {{"start": 60.0, "stop": 95.0, "num": {spins}}}),
+              outputs=("summary",), memory={memory!r}, omega=(0.0, 0.0, {{"start": 60.0, "stop": 95.0, "num": {spins}}}),
               euler=(0.0, {{"start": 0.005, "stop": 0.05, "num": {tilts}}}, 0.0))
 r = simulate(scene)
 seconds = time.perf_counter() - start
 picks = {picks!r}
 hwm = [int(l.split()[1]) for l in open("/proc/self/status") if l.startswith("VmHWM:")][0]
-print(json.dumps(dict(seconds=seconds, motion=r.timings.get("motion", 0.0), peak_kib=hwm, engine=r.plan.engine,
+import resource, os
+use = resource.getrusage(resource.RUSAGE_SELF)
+print(json.dumps(dict(seconds=seconds, cpu=use.ru_utime + use.ru_stime, load=os.getloadavg()[0],
+    motion=r.timings.get("motion", 0.0), peak_kib=hwm, engine=r.plan.engine,
     members=r.plan.batch, tilt=[float(r.sweep["euler[1]"][b]) for b in picks],
     spin=[float(r.sweep["omega[2]"][b]) for b in picks], tilt_max=[float(r.summary["tilt_max"][b]) for b in picks],
     omega_final=[[float(r.summary[f"omega{{k}}.final"][b]) for k in (1, 2, 3)] for b in picks])))
@@ -81,7 +84,7 @@ print(json.dumps(dict(seconds=seconds, motion=r.timings.get("motion", 0.0), peak
 
 
 def bench_map(tilts: int = 1000, spins: int = 1000, *, t_end: float = 3.0, points: int = 31, accuracy: float = 1e-6,
-              samples: int = 5) -> dict:
+              samples: int = 5, memory: str = "1 GiB") -> dict:
     """The sleeping-top map of ``tilts × spins`` members (summaries) in a fresh process: time, peak memory, and
     sampled members against single runs."""
     from eulersym.scene import Scene, simulate
@@ -89,7 +92,7 @@ def bench_map(tilts: int = 1000, spins: int = 1000, *, t_end: float = 3.0, point
     members = tilts * spins
     picks = sorted({int(b) for b in np.linspace(0, members - 1, samples)})
     code = _MAP_CODE.format(body=SLEEPING_TOP, t_end=t_end, points=points, accuracy=accuracy, tilts=tilts,
-                            spins=spins, picks=picks)
+                            spins=spins, picks=picks, memory=memory)
     got = _in_fresh_process(code)
     worst_tilt = worst_omega = 0.0
     for k in range(len(picks)):
@@ -103,6 +106,8 @@ def bench_map(tilts: int = 1000, spins: int = 1000, *, t_end: float = 3.0, point
                 f"times, accuracy {accuracy:g}, want = [\"summary\"]",
         "engine": got["engine"],
         "seconds": got["seconds"],
+        "cpu": got["cpu"],
+        "load": got["load"],
         "peak_bytes": got["peak_kib"] * 1024,
         "tilt_error": worst_tilt,
         "omega_error": worst_omega,
@@ -265,7 +270,8 @@ def main(argv) -> int:
     if "map" in only:
         r = bench_map(args.tilts, args.spins)
         gb = r["peak_bytes"] / 1e9
-        print(f"{r['case']}\n  engine: {r['engine']}\n  {r['seconds']:.1f} s (floor ≤ 60 s: {verdict(r['seconds'] <= 60)}), "
+        print(f"{r['case']}\n  engine: {r['engine']}\n  {r['seconds']:.1f} s (floor ≤ 60 s: {verdict(r['seconds'] <= 60)}; "
+              f"{r['cpu']:.1f} CPU-s, load average {r['load']:.1f} on 2 cores), "
               f"peak {gb:.2f} GB (floor ≤ 1.5 GB: {verdict(gb <= 1.5)})\n"
               f"  sampled members against single runs: largest tilt {r['tilt_error']:.1e}, final ω {r['omega_error']:.1e} "
               f"(relative; accuracy {r['accuracy']:g}: {verdict(max(r['tilt_error'], r['omega_error']) <= 10 * r['accuracy'])})")

@@ -522,7 +522,7 @@ def lambdify_pivoted(p: PivotedProblem):
     Examples
     --------
     >>> mod = lambdify_pivoted(pivoted_problems(True)[0])
-    >>> [round(float(v), 12) for v in mod.rhs(0.0, [0, 0, 1.0, 0, 0, 1.0, 1.0, 0, 0, 0])[:3]]
+    >>> [round(float(v), 12) + 0.0 for v in mod.rhs(0.0, [0, 0, 1.0, 0, 0, 1.0, 1.0, 0, 0, 0])[:3]]
     [0.0, 0.5, 0.0]
     """
     import sympy as sp

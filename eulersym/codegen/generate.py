@@ -159,6 +159,8 @@ def _target_directory(directory, argument: str) -> Path:
     if isinstance(directory, bytes) or not isinstance(directory, (str, Path)) or str(directory).strip() == "":
         raise InvalidInput(argument, directory, "a folder path")
     path = Path(directory)
+    if path.is_symlink():  # replace the folder it points to, not the link
+        path = path.resolve()
     if path.exists() and not path.is_dir():
         raise InvalidInput(argument, str(directory), "a folder (or a path that does not exist yet); this is a file")
     for parent in path.absolute().parents:

@@ -279,9 +279,10 @@ def equations(mech: Mechanics) -> Equations:
     V = total_potential(mech)
     N = sp.Matrix(mech.torque) + potential_torque(V)
     lhs = I * sp.Matrix(OMEGA_DOT) + w.cross(L)
-    euler = tuple(sp.Eq(sp.expand(lhs[k]), sp.expand(N[k]), evaluate=False) for k in range(3))
-    # I ω̇ = N − ω × L, solved with I⁻¹ (diagonal: entry by entry).
-    residual = (N - w.cross(L)).applyfunc(sp.expand)
+    euler = tuple(sp.Eq(sp.expand(lhs[k]), N[k], evaluate=False) for k in range(3))
+    # I ω̇ = N − ω × L, solved with I⁻¹ (diagonal: entry by entry). The torque keeps the structure it was written
+    # with (a gravity-gradient torque expanded is twenty times larger); ω × L is expanded.
+    residual = N - w.cross(L).applyfunc(sp.expand)
     inverse = _inverse(I)
     omega_dot = [sp.Add(*[inverse[k, j] * residual[j] for j in range(3) if inverse[k, j] != 0])
                  for k in range(3)]

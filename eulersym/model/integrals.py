@@ -133,8 +133,15 @@ def _rate(mech: Mechanics, H) -> sp.Expr:
     return rate
 
 
+_TIDY_LIMIT = 200
+
+
 def _tidy(expr) -> sp.Expr:
-    """A readable form of a rate: one fraction, its numerator expanded and factored when small."""
+    """A readable form of a rate: one fraction, its numerator expanded and factored when small. A rate larger than
+    ``_TIDY_LIMIT`` operations is only expanded (so that terms that cancel, such as ω·(ω × L), are gone): putting a
+    gravity-gradient rate over one denominator and factoring it costs seconds and reads no better."""
+    if sp.count_ops(expr) > _TIDY_LIMIT:
+        return sp.expand(expr)
     num, den = sp.fraction(sp.together(sp.expand(expr)))
     num = sp.expand(num)
     if num == 0:

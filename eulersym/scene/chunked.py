@@ -100,7 +100,7 @@ def _grain(plan) -> int:
 
 
 def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, tensor_given=False, client=None,
-        progress=None) -> dict:
+        progress=None, threads: int = 1) -> dict:
     """Run ``problem`` in chunks of ``chunk`` members (in-process, or on ``client``'s Dask workers) and return the
     fields :func:`eulersym.scene.result.outputs` returns, plus ``"summary"`` (per member), ``"gamma"`` and
     ``"n_calls"``. Trajectories are kept unless ``layout`` (a summary scene) is given."""
@@ -110,7 +110,7 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
     keep_gamma = plan.regime == "heavy top" or "invariants" in problem.outputs
     gathered = chunks.run(run_chunk, lambda lo, hi: take(problem, lo, hi), members=problem.batch, chunk=chunk,
                           static={"plan": plan, "layout": layout, "keep_gamma": keep_gamma}, client=client,
-                          progress=progress)
+                          progress=progress, threads=threads)
     n_calls = int(gathered.pop("_calls").sum())
     omega3_start = problem.omega0[:, 2]
     P, moments = problem.axes, problem.moments

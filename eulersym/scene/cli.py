@@ -64,9 +64,12 @@ end = 1.0                   # required: end time (s), > 0
 points = 1001               # output times from 0 to end, 2 to 10**7
 
 [output]
-want = ["omega", "euler_angles", "invariants"]   # any of omega, attitude, euler_angles, invariants, polhode
+want = ["omega", "euler_angles", "invariants"]   # any of omega, attitude, euler_angles, invariants, polhode;
+                            #   or "summary" (per member only: min/max/final, largest tilt, drift) for big sweeps
 accuracy = 1e-8             # relative accuracy wanted, 1e-13 to 1e-1
 method = "auto"             # auto, closed-form, splitting, DOP853, RK45, Radau, LSODA
+memory = "2 GiB"            # budgets: a run estimated beyond them is refused with the estimate
+work = 1e9                  #   (kernel evaluations); --memory-budget / --work-budget override them
 """
 
 __all__ = ["cli"]
@@ -146,7 +149,7 @@ def cli(argv: list) -> int:
     if args.plot:
         check_target("--plot", args.plot, PLOT_SUFFIXES)
         require_matplotlib(args.plot)
-    _refuse_endless(scene)
+    _refuse_endless(scene, work if (args.work_budget is not None or scene.work is not None) else None)
     try:
         result = _simulate(scene, args, memory, work)
     except MemoryError:
@@ -204,14 +207,16 @@ def work_estimate(scene, plan=None):
                          accuracy=scene.accuracy)
 
 
-def _refuse_endless(scene) -> None:
-    """No silent endless run: refuse a scene whose estimate passes the memory budget or the work budget
-    (:data:`WORK_LIMIT` kernel evaluations for one member, integrated by scalar kernels; the sweeps' budget for a
-    sweep), with the estimate (:func:`eulersym.sweeps.cost.check`)."""
+def _refuse_endless(scene, work=None) -> None:
+    """No silent endless run: refuse a scene whose estimate passes the memory budget or the work budget, with the
+    estimate (:func:`eulersym.sweeps.cost.check`). ``work``: the budget the user gave (``--work-budget``, ``[output]
+    work``); without one, :data:`WORK_LIMIT` kernel evaluations for one member (integrated by scalar kernels) and
+    the sweeps' default for a sweep."""
     from eulersym.sweeps import cost
 
     estimate = work_estimate(scene)
-    work = WORK_LIMIT if scene.batch == 1 else cost.DEFAULT_WORK_BUDGET
+    if work is None:
+        work = WORK_LIMIT if scene.batch == 1 else cost.DEFAULT_WORK_BUDGET
     try:
         cost.check(estimate, work=work)
     except InvalidInput as exc:

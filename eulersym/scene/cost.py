@@ -18,13 +18,15 @@ Examples
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
 from eulersym.scene.values import values_of
 from eulersym.sweeps import cost as model
 from eulersym.sweeps.summary import summary_names
 
-__all__ = ["ENGINE_COST", "estimate", "check", "budgets", "describe", "summary_layout", "wants_summary"]
+__all__ = ["ENGINE_COST", "estimate", "check", "budgets", "describe", "summary_layout", "wants_summary", "threads"]
 
 #: Scene engine module → the cost model's engine.
 ENGINE_COST = {
@@ -127,6 +129,21 @@ def budgets(scene, memory=None, work=None) -> tuple:
     return mem, wk
 
 
+def threads(plan) -> int:
+    """Chunks run at once in-process: one per core for NumPy engines (their loops release the GIL), one for an
+    engine that spreads its members over the cores itself (numba ``prange``).
+
+    Examples
+    --------
+    >>> from eulersym.scene.spec import Scene
+    >>> s = Scene(moments=(1, 2, 3), omega=(0, [1, 2], 0), t_end=1)
+    >>> 1 <= threads(s.plan()) <= (os.cpu_count() or 1)
+    True
+    """
+    engine = model.ENGINES[ENGINE_COST.get(plan.options.get("engine", ""), "dop853")]
+    return 1 if engine.threaded else max(1, min(os.cpu_count() or 1, 8))
+
+
 def estimate(scene, plan, *, memory=None, chunk=None) -> model.Estimate:
     """The cost of running ``scene`` by ``plan`` (pure: counts and the sweep's extremes, nothing per member).
 
@@ -148,7 +165,8 @@ def estimate(scene, plan, *, memory=None, chunk=None) -> model.Estimate:
     return model.estimate(members=scene.batch, points=scene.points, state=_state(plan),
                           output_values=_output_values(scene, plan), engine=engine, rate=_rate(scene),
                           t_end=float(scene.t_end), accuracy=float(scene.accuracy), summary_values=n_summary,
-                          summary=summary, inputs=inputs, memory=mem, chunk=chunk)
+                          summary=summary, inputs=inputs, memory=mem, chunk=chunk,
+                          threads=threads(plan) if scene.batch > 1 else 1)
 
 
 def check(scene, plan, *, memory=None, work=None) -> model.Estimate:

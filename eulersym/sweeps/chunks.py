@@ -72,7 +72,7 @@ def store(out: Mapping, part: Mapping, lo: int, hi: int) -> None:
 
 
 def run(task: Callable, piece: Callable, *, members: int, chunk: int, static: Mapping | None = None,
-        out: Mapping | None = None, client=None, progress: Callable | None = None) -> dict:
+        out: Mapping | None = None, client=None, progress: Callable | None = None, threads: int = 1) -> dict:
     """Run ``task`` over all members, a chunk at a time, into ``out`` (allocated from the first chunk if None).
 
     Parameters
@@ -90,6 +90,9 @@ def run(task: Callable, piece: Callable, *, members: int, chunk: int, static: Ma
     client : dask.distributed.Client, optional
         Run the chunks as Dask tasks on its workers.
     progress : callable(fraction) or None
+    threads : int
+        Chunks run at once in this process (NumPy releases the GIL in its loops: two threads use two cores); at
+        most ``threads`` chunks' temporaries are alive. Each chunk is computed alone, so the bits do not change.
 
     Returns
     -------
@@ -114,6 +117,8 @@ def run(task: Callable, piece: Callable, *, members: int, chunk: int, static: Ma
 
         return map_chunks(client, task, piece, spans, members=members, static=static, out=out, progress=progress)
     result = None if out is None else dict(out)
+    if threads > 1 and len(spans) > 1:
+        return _threaded(task, piece, spans, members, static, result, progress, int(threads))
     for lo, hi in spans:
         part = task(piece(lo, hi), **static)
         if result is None:
@@ -122,4 +127,30 @@ def run(task: Callable, piece: Callable, *, members: int, chunk: int, static: Ma
         del part  # one chunk's temporaries at a time
         if progress is not None:
             progress(hi / members)
+    return result if result is not None else {}
+
+
+def _threaded(task, piece, spans, members, static, result, progress, threads) -> dict:
+    """The chunks on a pool of ``threads`` threads, at most ``threads`` in flight, stored as they finish."""
+    from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
+
+    queue = list(spans)
+    done = 0
+    with ThreadPoolExecutor(max_workers=threads) as pool:
+        running = {}
+        while queue or running:
+            while queue and len(running) < threads:
+                lo, hi = queue.pop(0)
+                running[pool.submit(task, piece(lo, hi), **static)] = (lo, hi)
+            finished, _ = wait(running, return_when=FIRST_COMPLETED)
+            for future in finished:
+                lo, hi = running.pop(future)
+                part = future.result()
+                if result is None:
+                    result = allocate(part, members)
+                store(result, part, lo, hi)
+                del part
+                done += hi - lo
+                if progress is not None:
+                    progress(done / members)
     return result if result is not None else {}
