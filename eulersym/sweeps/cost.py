@@ -162,7 +162,8 @@ class Estimate:
         what = "summaries" if self.summary else "trajectories"
         return (f"cost: {self.members} members × {self.points} points ({what}): output {format_bytes(self.output_bytes)}"
                 f" + working set {format_bytes(self.chunk_bytes)} (chunks of {self.chunk} members) = peak"
-                f" {format_bytes(self.peak_bytes)}; {self.engine}: ~{self.steps} steps per member,"
+                f" {format_bytes(self.peak_bytes)}; {self.engine}: ~{self.steps} "
+                f"{'output times' if ENGINES[self.engine].order == 0 else 'steps'} per member,"
                 f" {self.evaluations:.3g} kernel evaluations, ~{_format_seconds(self.seconds)} on one core")
 
 
