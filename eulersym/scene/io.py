@@ -211,7 +211,7 @@ def summary(result) -> tuple:
     if result.gamma is not None:
         gamma = result.gamma if batch > 1 else result.gamma[None]
         names.append("theta_max_deg")  # as a summary run reduces it (eulersym.sweeps.summary), column for column
-        cols.append(np.degrees(largest_tilt(gamma[..., 2])))
+        cols.append(np.degrees(largest_tilt(gamma)))
     for key, values in result.invariants.items():
         v = np.atleast_2d(values)
         ref = v[:, :1]
