@@ -325,7 +325,11 @@ def rhs_batched(t, y, I1, I3, M, g, l, *extra, out=None):
         raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     out = _prepare_out(out, (6,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
-    return _blocked(_rhs_block, out, 1, (t, y, I1, I3, M, g, l,), (False, True, False, False, False, False, False))
+    out = _blocked(_rhs_block, out, 1, (t, y, I1, I3, M, g, l,), (False, True, False, False, False, False, False))
+    bad = ~np.isfinite(out).all(axis=(0,))
+    if bad.any():
+        raise _singular('theta', np.broadcast_to(y[1], bad.shape)[bad], 'sin(theta) != 0 (theta strictly between 0 and pi, modulo pi): the Euler-angle equations are singular at theta = 0 and pi (the sleeping top); use heavy_top_euler_poisson there')
+    return out
 
 
 def _rhs_block(t, y, I1, I3, M, g, l, out):
@@ -385,7 +389,11 @@ def jac_batched(t, y, I1, I3, M, g, l, *extra, out=None):
         raise _too_many('jac', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     out = _prepare_out(out, (6, 6), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
-    return _blocked(_jac_block, out, 2, (t, y, I1, I3, M, g, l,), (False, True, False, False, False, False, False))
+    out = _blocked(_jac_block, out, 2, (t, y, I1, I3, M, g, l,), (False, True, False, False, False, False, False))
+    bad = ~np.isfinite(out).all(axis=(0, 1))
+    if bad.any():
+        raise _singular('theta', np.broadcast_to(y[1], bad.shape)[bad], 'sin(theta) != 0 (theta strictly between 0 and pi, modulo pi): the Euler-angle equations are singular at theta = 0 and pi (the sleeping top); use heavy_top_euler_poisson there')
+    return out
 
 
 def _jac_block(t, y, I1, I3, M, g, l, out):
@@ -485,7 +493,11 @@ def invariants_batched(t, y, I1, I3, M, g, l, *extra, out=None):
         raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
     out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
-    return _blocked(_invariants_block, out, 1, (t, y, I1, I3, M, g, l,), (False, True, False, False, False, False, False))
+    out = _blocked(_invariants_block, out, 1, (t, y, I1, I3, M, g, l,), (False, True, False, False, False, False, False))
+    bad = ~np.isfinite(out).all(axis=(0,))
+    if bad.any():
+        raise _singular('theta', np.broadcast_to(y[1], bad.shape)[bad], 'sin(theta) != 0 (theta strictly between 0 and pi, modulo pi): the Euler-angle equations are singular at theta = 0 and pi (the sleeping top); use heavy_top_euler_poisson there')
+    return out
 
 
 def _invariants_block(t, y, I1, I3, M, g, l, out):

@@ -192,7 +192,7 @@ class ModuleSpec:
     notes: tuple = field(default=())
     #: ``(name, condition, expected)``: where the coordinates are singular. The scalar flavour turns a division by
     #: zero where the Python ``condition`` holds into ``eulersym.errors.SingularConfiguration(name, value,
-    #: expected)``; the flat flavour stays unchecked. Empty: no singularity.
+    #: expected)`` and the batched one refuses inf/nan the same way; the flat flavour stays unchecked. Empty: none.
     singular: tuple = field(default=())
 
     @property
@@ -602,7 +602,18 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str, singular: tuple =
         inputs = ", ".join(a.name for a in f.arguments)
         vectors = tuple(a.vector for a in f.arguments)
         body.append(f"out = _prepare_out(out, {f.out_shape!r}, ({', '.join(shapes)},), ({inputs},))")
-        body.append(f"return _blocked(_{f.name}_block, out, {len(f.out_shape)}, ({inputs},), {vectors!r})")
+        if singular:  # a division by zero gives inf/nan in NumPy: refuse it as the scalar flavour does
+            name, _, expected = singular
+            where = next((f"{a.name}[{a.names.index(name)}]" for a in f.arguments if a.vector and name in a.names),
+                         name)
+            axes = tuple(range(len(f.out_shape)))
+            body.append(f"out = _blocked(_{f.name}_block, out, {len(f.out_shape)}, ({inputs},), {vectors!r})")
+            body += [f"bad = ~np.isfinite(out).all(axis={axes!r})",
+                     "if bad.any():",
+                     f"    raise _singular({name!r}, np.broadcast_to({where}, bad.shape)[bad], {expected!r})",
+                     "return out"]
+        else:
+            body.append(f"return _blocked(_{f.name}_block, out, {len(f.out_shape)}, ({inputs},), {vectors!r})")
         wrapper = "\n".join([head] + ["    " + doc[0]] + doc[1:] + ["    " + line for line in body])
         head = f"def _{f.name}_block({args}, out):"
         doc = [_Q + f"``{f.name}_batched`` on one block of the batch (checked by the caller), into ``out``." + _Q]
@@ -819,7 +830,7 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
     cse = cse_pass(spec.functions)
     scalar = [emit_function(f, cse, "scalar", spec.singular) for f in spec.functions]
     flat = [emit_function(f, cse, "flat") for f in spec.functions]
-    batched = [emit_function(f, cse, "batched") for f in spec.functions]
+    batched = [emit_function(f, cse, "batched", spec.singular) for f in spec.functions]
     loops = [emit_loop(f) for f in spec.functions]
     used = set()
     for f in spec.functions:
