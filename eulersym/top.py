@@ -298,9 +298,9 @@ def _stable_quadratic(A, B, C) -> list:
     return sorted({q / A, C / q})
 
 
-def _bisect_root(c, lo, hi) -> float:
-    """The root of the cubic in [lo, hi] where it changes sign: bisection to the last bit (monotone segment)."""
-    flo = _cubic_value(c, lo)
+def _bisect_root(c, lo, hi, flo) -> float:
+    """The root of the cubic in [lo, hi] where it changes sign (``flo``: its sign at lo, exact at a pole):
+    bisection to the last bit (monotone segment)."""
     for _ in range(2000):
         mid = 0.5 * (lo + hi)
         if mid <= lo or mid >= hi:
@@ -323,14 +323,13 @@ def _turning_roots(values, c):
     returned as the critical point itself (to round-off), not by a solver that loses half the digits. A pole
     ``u = ±1`` is a root exactly when ``p_φ = ±p_ψ`` (``f(±1) = −(p_φ ∓ p_ψ)²/I1²``).
     """
-    E, p_phi, p_psi = values[:3]
+    E, p_phi, p_psi, I1_ = values[:4]
     crit = [u for u in _stable_quadratic(3 * c[0], 2 * c[1], c[2]) if -1.0 < u < 1.0]
     knots = [-1.0, *crit, 1.0]
     fvals = [_cubic_value(c, u) for u in knots]
-    if p_phi == p_psi:
-        fvals[-1] = 0.0
-    if p_phi == -p_psi:
-        fvals[0] = 0.0
+    # at the poles the value is known exactly, f(±1) = −(p_φ ∓ p_ψ)²/I1² ≤ 0 (the polynomial's rounding is not)
+    fvals[0] = -(((p_phi + p_psi) / I1_) ** 2)
+    fvals[-1] = -(((p_phi - p_psi) / I1_) ** 2)
     roots = []  # (u, double?)
     for k, (u, fu) in enumerate(zip(knots, fvals)):
         is_crit = 0 < k < len(knots) - 1
@@ -339,7 +338,7 @@ def _turning_roots(values, c):
             fvals[k] = 0.0
     for a, b, fa, fb in zip(knots, knots[1:], fvals, fvals[1:]):
         if fa != 0.0 and fb != 0.0 and (fa > 0) != (fb > 0):
-            roots.append((_bisect_root(c, a, b), False))
+            roots.append((_bisect_root(c, a, b, fa), False))
     roots.sort()
     return roots, knots, fvals
 

@@ -294,3 +294,14 @@ def test_turning_points_of_steady_precession_are_the_double_root(theta0, which):
     E = 0.5 * I1_ * phid**2 * math.sin(theta0) ** 2 + 0.5 * I3_ * w3**2 + M_ * g_ * l_ * c
     u1, u2 = top.turning_points(E, p_phi, p_psi, I1_, I3_, M_, g_, l_)
     assert u1 == u2 and abs(u1 - c) <= 4e-16
+
+
+def test_turning_points_use_the_exact_values_at_the_poles():
+    """A spherical pendulum with φ̇ = 1e-25 swings down to u = −1 + 1e-51: f(−1) = −(p_φ + p_ψ)²/I1² is known exactly
+    (the polynomial rounds it to +4e-16), so the lower turning point is found, not the critical point."""
+    I1_, I3_, M_, g_, l_ = 1.2, 0.8, 1.0, 9.81, 0.25
+    u0 = math.cos(1.0)
+    p_phi = I1_ * 1e-25 * math.sin(1.0) ** 2
+    E = 0.5 * I1_ * (1e-25 * math.sin(1.0)) ** 2 + M_ * g_ * l_ * u0
+    u1, u2 = top.turning_points(E, p_phi, 0.0, I1_, I3_, M_, g_, l_)
+    assert u1 == pytest.approx(-1.0, abs=1e-15) and u2 == pytest.approx(u0, abs=1e-15)
