@@ -36,6 +36,7 @@ _SUBMODULES = (
     "parsing",
     "codegen",
     "numerics",
+    "model",
     "scene",
     "generated",
 )

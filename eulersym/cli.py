@@ -15,7 +15,7 @@ __all__ = ["main", "COMMANDS"]
 #: name → (``module:function``, one-line description).
 COMMANDS: dict[str, tuple[str, str]] = {
     "check": ("eulersym.text:cli", "derive every closed form of the text and prove it equal"),
-    "derive": ("eulersym.text:cli_derive", "print a derived quantity (--latex for LaTeX)"),
+    "derive": ("eulersym.derive_command:cli", "print a derived quantity (--latex for LaTeX)"),
     "generate": ("eulersym.codegen:cli", "write the NumPy kernels to generated/ (--check: fail if stale)"),
     "verify": ("eulersym.verify:cli", "check a hand derivation against a derived quantity"),
     "simulate": ("eulersym.scene:cli", "run a scene (TOML file or bundled name)"),

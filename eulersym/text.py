@@ -36,7 +36,7 @@ from eulersym.symbols import (
 
 __all__ = [
     "ClosedForm", "CheckResult", "CLOSED_FORMS", "SECTIONS", "check", "check_all", "report", "derivation_printer",
-    "cli", "cli_derive",
+    "cli",
 ]
 
 #: Sections of the text, in reading order.
@@ -546,37 +546,3 @@ def cli(argv: list[str]) -> int:
           f"{counts['error']} errors — {len(results)} closed forms in {total:.2f} s")
     failed = counts["differs"] + counts["error"] + (counts["pending"] + counts["numeric"] if args.strict else 0)
     return 1 if failed else 0
-
-
-def cli_derive(argv: list[str]) -> int:
-    """``eulersym derive NAME [--latex]``: print a derived quantity (a closed-form id or a verify quantity)."""
-    parser = argparse.ArgumentParser(prog="eulersym derive", description="Print a derived quantity.")
-    parser.add_argument("name", nargs="?", help="a closed-form id (eulersym check --list) or a quantity name")
-    parser.add_argument("--latex", action="store_true")
-    parser.add_argument("--list", action="store_true", help="list the names")
-    args = parser.parse_args(argv)
-    quantities: dict = {}
-    try:
-        quantities = dict(importlib.import_module("eulersym.verify").QUANTITIES)
-    except (ImportError, AttributeError):
-        pass
-    names = list(quantities) + [i for i in CLOSED_FORMS if i not in quantities]
-    if args.list or not args.name:
-        print("\n".join(names))
-        return 0 if args.list else 2
-    if args.name in CLOSED_FORMS:
-        obj = CLOSED_FORMS[args.name].derived()
-    elif args.name in quantities:
-        q = quantities[args.name]
-        obj = q.derive() if hasattr(q, "derive") else (q[1]() if isinstance(q, tuple) else q())
-    else:
-        import difflib
-
-        close = difflib.get_close_matches(args.name, names, n=3)
-        hint = f" (did you mean {', '.join(close)}?)" if close else ""
-        raise InvalidInput("NAME", args.name, "a closed-form id or quantity name; see `eulersym derive --list`" + hint)
-    if args.latex:
-        print(_format(obj, True))
-    else:
-        print(sp.pretty(obj) if isinstance(obj, (sp.Basic, sp.MatrixBase)) else _format(obj, False))
-    return 0

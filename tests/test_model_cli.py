@@ -96,3 +96,17 @@ from hypothesis import strategies as st  # noqa: E402
 def test_any_integral_text_gets_a_verdict_or_a_clean_refusal(text):
     """Property: whatever is typed, verify answers 0, 1 or 2 through the CLI, never with an uncaught exception."""
     assert main(["verify", "--model", "kovalevskaya", "--integral", text]) in (0, 1, 2)
+
+
+def test_derive_check_failure_exits_1(monkeypatch, capsys):
+    from eulersym.model import derive as D
+
+    def failing(mech, conventions=None):
+        return D.CheckReport(mech.name, (D.CheckItem("Lagrange's equations = Jᵀ·(Newton–Euler)", "zxz", False,
+                                                     "counterexample found"),))
+
+    monkeypatch.setattr(D, "check", failing)
+    assert main(["derive", "--model", "spin-up", "--check"]) == 1
+    captured = capsys.readouterr()
+    assert "FAIL" in captured.out and "the two routes differ" in captured.err
+    assert main(["derive", "--model", "spin-up", "--check", "--json"]) == 1

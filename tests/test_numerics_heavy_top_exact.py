@@ -302,3 +302,20 @@ def test_a_start_on_the_separatrix_is_refused_with_its_reason():
     with pytest.raises(SingularConfiguration) as info:  # upright, below the threshold, nudged by 1e-230
         heavy_top_exact((1.0, 1.0, 1.0), 1.0, 9.81, 0.3, (0.0, 4.6e-230, 1.0), (1.0, 0.0, 0.0, 0.0), [0.0, 109.0])
     assert info.value.argument == "omega0"
+
+
+@pytest.mark.parametrize("tilt", [0.0, 2.220446049250313e-16, 1e-14])
+def test_a_pendulum_over_the_top_started_at_the_vertical(tilt):
+    """No spin, ω⊥ = 1, started within a rounding error of upright: it swings over both poles (both half angles
+    signed); the poles' distances come without cancellation, so the energy is kept."""
+    from scipy.integrate import solve_ivp
+
+    q0 = euler_to_quaternion((0.0, tilt, 0.0))
+    w0 = np.array([1.0, 0.0, 0.0])
+    t = np.array([0.3, 1.0, 3.0])
+    motion = heavy_top_exact((1.0, 1.0, 1.0), 1.0, 9.81, 0.3, w0, q0, t)
+    assert motion.turning_points[0] == -1.0 and motion.turning_points[1] == 1.0
+    sol = solve_ivp(_rhs, (0.0, 3.0), np.concatenate([w0, _gamma(q0), q0]), method="DOP853", rtol=1e-12,
+                    atol=1e-14, t_eval=t, args=(1.0, 1.0, 9.81 * 0.3))
+    assert np.max(np.abs(motion.omega - sol.y.T[:, :3])) <= 1e-9
+    assert np.max(np.abs(motion.gamma - sol.y.T[:, 3:6])) <= 1e-9

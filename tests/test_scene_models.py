@@ -324,3 +324,19 @@ def test_bundled_model_scenes_run_briefly(name):
     short = dataclasses.replace(scene, t_end=min(scene.t_end, 0.5), points=11)
     r = simulate(short)
     assert np.all(np.isfinite(r.omega)) and r.plan.engine and "timings" in r.report()
+
+
+def test_every_output_of_every_regime_in_the_model_frame():
+    """Euler angles and the attitude describe the same rotation; the vertical is R(q)ᵀ ẑ; a polhode only for a
+    torque-free model (Poinsot's construction needs N = 0: the plan says it skips it)."""
+    want = ["omega", "attitude", "euler_angles", "invariants", "polhode"]
+    for data in (PARTS, DAMPED, HEAVY):
+        r = simulate(Scene.from_dict({**data, "output": {"want": want}, "time": {"end": 0.1, "points": 11}}))
+        rot = quaternion_to_rotation(r.attitude)
+        assert np.allclose(Rotation.from_euler("ZXZ", r.euler_angles).as_matrix(), rot.as_matrix(), atol=1e-9)
+        assert np.allclose(r.gamma, rot.inv().apply([0.0, 0.0, 1.0]), atol=1e-9)
+        if r.plan.regime == "torque-free":
+            assert r.polhode is not None and r.polhode.shape == r.omega.shape
+        else:
+            assert r.polhode is None and any(s.what == "polhode" for s in r.plan.skipped)
+

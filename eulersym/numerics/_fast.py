@@ -16,7 +16,7 @@ from functools import lru_cache
 
 import numpy as np
 
-__all__ = ["available", "select", "free_body_runner", "heavy_top_runner", "batched"]
+__all__ = ["available", "select", "batched"]
 
 
 def available() -> bool:
@@ -41,7 +41,7 @@ def select(fast, runner):
 
     Examples
     --------
-    >>> select(False, free_body_runner) is None
+    >>> select(False, lambda: 'compiled') is None
     True
     """
     from eulersym.errors import InvalidInput
@@ -55,45 +55,6 @@ def select(fast, runner):
             raise InvalidInput("fast", fast, "numba installed (pip install 'eulersym[fast]'), or fast=False/None")
         return None
     return runner()
-
-
-@lru_cache(maxsize=1)
-def free_body_runner():
-    """``runner(kind, state, counts, steps, inv, par) -> out`` compiled from ``splitting._run_free``."""
-    import numba
-    from numba.extending import register_jitable
-
-    from eulersym.numerics import splitting as S
-
-    for fn in (S._flow1, S._flow2, S._flow3, S._strang, S._yoshida4, S._dmv_step):
-        register_jitable(fn)
-    run = numba.njit(cache=True)(S._run_free)
-
-    def runner(kind, state, counts, steps, inv, par):
-        return run(kind, np.asarray(state, dtype=np.float64), np.asarray(counts, dtype=np.int64),
-                   np.asarray(steps, dtype=np.float64), tuple(inv), tuple(par), None, None)
-
-    return runner
-
-
-@lru_cache(maxsize=1)
-def heavy_top_runner():
-    """``runner(state, counts, steps, subs, i1inv, nu_coef, mgl) -> (out, kicks)`` compiled from ``heavy_top._run_top``."""
-    import numba
-    from numba.extending import register_jitable
-
-    from eulersym.numerics import heavy_top as H
-    from eulersym.quaternion import hamilton
-
-    for fn in (hamilton, H._rotate_back, H._exp_half, H._free, H._kick, H._renormalise):
-        register_jitable(fn)
-    run = numba.njit(cache=True)(H._run_top)
-
-    def runner(state, counts, steps, subs, i1inv, nu_coef, mgl):
-        return run(np.asarray(state, dtype=np.float64), np.asarray(counts, dtype=np.int64),
-                   np.asarray(steps, dtype=np.float64), tuple(subs), i1inv, nu_coef, mgl)
-
-    return runner
 
 
 @lru_cache(maxsize=None)

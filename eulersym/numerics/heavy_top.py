@@ -22,6 +22,7 @@ the vertical sleeping top (Γ = e3) is an exact fixed point of every sub-flow.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
@@ -174,7 +175,7 @@ def integrate_heavy_top(I, M, g, l, omega0, q0, t, *, h=None, method="strang", f
     state = tuple(float(x) for x in (I[0] * w0[0], I[1] * w0[1], I[2] * w0[2], *gamma0, *qq))
     i1inv, nu_coef = 1.0 / I[0], 1.0 / I[2] - 1.0 / I[0]
     subs = (1.0,) if method == "strang" else YOSHIDA_GAMMA
-    runner = _fast.select(fast, _fast.heavy_top_runner)
+    runner = _fast.select(fast, _compiled_runner)
     if runner is not None:
         out, kicks = runner(state, counts, steps, subs, i1inv, nu_coef, mgl)
     else:
@@ -290,3 +291,22 @@ def sleeping_top_threshold_numeric(I1, I3, M, g, l, *, theta0=1e-6, periods=60.0
         else:
             lo = mid
     return 0.5 * (lo * lo + hi * hi)
+
+
+@lru_cache(maxsize=1)
+def _compiled_runner():
+    """``runner(state, counts, steps, subs, i1inv, nu_coef, mgl) -> (out, kicks)`` compiled from :func:`_run_top` (numba, cached on disk)."""
+    import numba
+    from numba.extending import register_jitable
+
+    from eulersym.quaternion import hamilton
+
+    for fn in (hamilton, _rotate_back, _exp_half, _free, _kick, _renormalise):
+        register_jitable(fn)
+    run = numba.njit(cache=True)(_run_top)
+
+    def runner(state, counts, steps, subs, i1inv, nu_coef, mgl):
+        return run(np.asarray(state, dtype=np.float64), np.asarray(counts, dtype=np.int64),
+                   np.asarray(steps, dtype=np.float64), tuple(subs), i1inv, nu_coef, mgl)
+
+    return runner

@@ -41,7 +41,7 @@ reach round-off (a pass close to the vertical), and then directly.
 Sweeps: more than :data:`BATCH_PRECISE` members are evaluated all at once with the constants in double precision
 (:mod:`eulersym.numerics._heavy_top_batch`, ``precise=False``; the error then grows like ~1e-16 per nutation period).
 
-Limits: a tilt below 2e-17 rad from a pole is taken as the pole itself; a start on (or within m_c < 1e-290 of) the
+Limits: a tilt below 2e-17 rad from a pole is taken as the pole itself; a start on (or within m_c < 1e-150 of) the
 separatrix of the upright top is refused; at times within a pass closer to the vertical than ~1e-8 rad (the
 pass lasting less than ~1e8 ulps of the phase) ω is only as accurate as the phase resolves the pass.
 """
@@ -187,6 +187,7 @@ class _Motion:
 
 
 _FOUR_PI = None
+_THROUGH = Decimal("1e-26")  # 1 ∓ w below this at a turning point: the motion passes through the pole
 
 
 def _four_pi():
@@ -238,16 +239,17 @@ def _largest_root(A, B, C, D, lo):
     return x
 
 
-def _roots(A, B, C, D, w0, Bn, Bf):
-    """The roots x1 ≤ 0 ≤ x2 ≤ x3 of A x³ + B x² + C x + D (x = w − w0), deflating a known root exactly."""
+def _roots(A, B, C, D, one_m_w0, one_p_w0, Bn, Bf):
+    """The roots x1 ≤ 0 ≤ x2 ≤ x3 of A x³ + B x² + C x + D (x = w − w0), deflating a known root exactly (a pole
+    ``w = ±1`` at the distance ``1 ∓ w0`` computed without cancellation)."""
     if D == 0:
         known = Decimal(0)
     elif Bn == 0:
-        known = 1 - w0
+        known = one_m_w0
     elif Bf == 0:
-        known = -1 - w0
+        known = -one_p_w0
     else:
-        known = _largest_root(A, B, C, D, 1 - w0)
+        known = _largest_root(A, B, C, D, one_m_w0)
     Bq = B + A * known
     Cq = -D / known if known != 0 else C + Bq * known
     r1, r2 = _quadratic(A, Bq, Cq)
@@ -279,27 +281,31 @@ _CHEB_N = 64
 
 @functools.lru_cache(maxsize=256)
 def _W_chebyshev(n, one_minus_n, mc, rootmc, K):
-    """Chebyshev coefficients of W on [−K, K] (W is odd and analytic there), or None where 64 terms do not reach
-    round-off (a pole close to the real axis: the start passes near the vertical): then W is evaluated directly."""
+    """(slope, Chebyshev coefficients) of W on [−K, K]: ``W(x) = slope·x + Σ c_j T_j(x/K)``, the series fitted to
+    the periodic part only (exact Carlson values at 64 nodes). None where 64 terms do not reach round-off (a pole
+    close to the real axis: the start passes near the vertical): then W is evaluated directly."""
     k = np.arange(_CHEB_N)
     nodes = np.cos(np.pi * (k + 0.5) / _CHEB_N)
-    values = _W_direct(K * nodes, n, one_minus_n, mc, rootmc)
+    slope = float(_W_direct(np.array([K]), n, one_minus_n, mc, rootmc)[0]) / K
+    values = _W_direct(K * nodes, n, one_minus_n, mc, rootmc) - slope * K * nodes
     coefficients = (2.0 / _CHEB_N) * np.cos(np.pi * np.outer(k, k + 0.5) / _CHEB_N) @ values
     coefficients[0] *= 0.5
-    scale = max(float(np.max(np.abs(values))), 1e-300)
+    scale = max(float(np.max(np.abs(values))), slope * K, 1e-300)
     if float(np.max(np.abs(coefficients[-6:]))) > 32 * np.finfo(float).eps * scale:  # not yet at the noise floor
         return None
-    return coefficients
+    return slope, coefficients
 
 
 def _W(x, n, one_minus_n, mc, rootmc, K=None):
-    """W(x) = ∫₀ˣ dy/(1 − n sn² y) for |x| ≤ K: by its Chebyshev series on [−K, K] for many points (64 Carlson
-    evaluations per motion instead of one per point), directly otherwise."""
+    """W(x) = ∫₀ˣ dy/(1 − n sn² y) for |x| ≤ K: by its Chebyshev series on [−K, K] where it reaches round-off (64
+    Carlson evaluations per motion instead of one per time; the same values whatever the number of times), directly
+    otherwise."""
     x = np.asarray(x, dtype=np.float64)
-    if K is not None and x.size > 2 * _CHEB_N:
-        coefficients = _W_chebyshev(float(n), float(one_minus_n), float(mc), float(rootmc), float(K))
-        if coefficients is not None:
-            return np.polynomial.chebyshev.chebval(x / K, coefficients)
+    if K is not None:
+        fit = _W_chebyshev(float(n), float(one_minus_n), float(mc), float(rootmc), float(K))
+        if fit is not None:
+            slope, coefficients = fit
+            return slope * x + np.polynomial.chebyshev.chebval(x / K, coefficients)
     return _W_direct(x, n, one_minus_n, mc, rootmc)
 
 
@@ -351,7 +357,7 @@ def _setup(I1, I3, M, g, l, omega, q):
         steady = D == 0 and C == 0
         if steady:
             return _finish(*_steady(sigma, w0, one_m_w0, one_p_w0, Bn, Bf, nu_near, nu_far, w, u0), omega, q)
-        x1, x2, x3 = _roots(A, B, C, D, w0, Bn, Bf)
+        x1, x2, x3 = _roots(A, B, C, D, one_m_w0, one_p_w0, Bn, Bf)
         if x1 > 0:
             x1 = Decimal(0)
         if x2 < 0:
@@ -366,19 +372,20 @@ def _setup(I1, I3, M, g, l, omega, q):
             y2 = Bn * Bn / (A * (1 - w1d) * (w3d - 1))
         if z1 < Decimal("1e-20") and w2d > -1:
             z1 = Bf * Bf / (A * (1 + w2d) * (1 + w3d))
-        # a pass closer to the pole than doubles resolve (< 1e-140 rad) is a pass through it: the angle's jump
-        # of ±2π there is the sign change of the signed half angle (same q); its rate term goes
-        if y2 < Decimal("1e-280"):
+        # a pass within 1.4e-13 rad of a pole (1 ∓ w < 1e-26) is a pass through it: the angle's jump of ±2π there
+        # is the sign change of the signed half angle (the same q, to O(tilt)); its rate term goes. A start that
+        # close to the pole leaves it in the direction of q̇0.
+        if y2 < _THROUGH:
             y2, Bn = Decimal(0), Decimal(0)
-        if z1 < Decimal("1e-280"):
+        if z1 < _THROUGH:
             z1, Bf = Decimal(0), Decimal(0)
         span = x3 - x1
         mc = (x3 - x2) / span
         m = delta / span
-        if mc < Decimal("1e-290"):  # on the separatrix, or so close that m_c underflows a double
+        if mc < Decimal("1e-150"):  # on the separatrix, or so close that the third-kind integrals overflow a double
             raise SingularConfiguration(
                 "omega0", tuple(float(v) for v in omega),
-                "a start off the separatrix of the upright top (here m_c = 1 − m is below 1e-290: the top leaves or "
+                "a start off the separatrix of the upright top (here m_c = 1 − m is below 1e-150: the top leaves or "
                 "approaches the vertical asymptotically, with no periodic closed form in double precision)")
         lam = (A * span).sqrt() / 2
         rootmc = mc.sqrt()
@@ -422,9 +429,9 @@ def _setup(I1, I3, M, g, l, omega, q):
             W0f = _W_decimal(S_sq, C_sq, mc / d_sq, far_n, far_1mn)
             W0f = W0f if tau0 < 0 else -W0f
         j0f = -1.0 if tau0 < 0 else 0.0  # τ0 − K in [−2K, 0]: wrapped by 2K when τ0 < 0
-        near = dict(base=float(y2), signed=(y2 == 0), at_pole=(one_m_w0 == 0), B=float(Bn), n=float(near_n), one_minus_n=float(near_1mn),
+        near = dict(base=float(y2), signed=(y2 == 0), at_pole=(one_m_w0 < _THROUGH), B=float(Bn), n=float(near_n), one_minus_n=float(near_1mn),
                     coef=float(near_coef), rate=_dd(nu_near), per=_dd(near_per))
-        far = dict(base=float(z1), signed=(z1 == 0), at_pole=(one_p_w0 == 0), B=float(Bf), n=float(far_n), one_minus_n=float(far_1mn),
+        far = dict(base=float(z1), signed=(z1 == 0), at_pole=(one_p_w0 < _THROUGH), B=float(Bf), n=float(far_n), one_minus_n=float(far_1mn),
                    coef=float(far_coef), rate=_dd(far_rate), per=_dd(far_per))
         start = {"near": (None if W0n is None else float(W0n), 0.0), "far": (None if W0f is None else float(W0f), j0f)}
     return _finish(motion, near, far, omega, q, start)

@@ -26,6 +26,7 @@ Methods
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
@@ -327,7 +328,7 @@ def integrate_free_body(I, omega0, q0, t, *, method="dmv4", h=None, check_body=T
     else:
         kind = {"strang": 0, "yoshida4": 1}.get(method, 2)
         par = _dmv_parameters(I, int(method[-1])) if kind == 2 else (0.0,) * 13
-        runner = _fast.select(fast, _fast.free_body_runner)
+        runner = _fast.select(fast, _compiled_runner)
         if runner is not None:
             out = runner(kind, state, counts, steps, inv, par)
         else:
@@ -372,3 +373,20 @@ def step_free_bodies(I, omega, q, h, *, method="strang"):
     step = {"strang": _strang, "yoshida4": _yoshida4, "rk4": _rk4}[method]
     s = step(s, float(h), inv, None, np.cos, np.sin)
     return np.stack([s[0] * inv[0], s[1] * inv[1], s[2] * inv[2]]), np.stack(s[3:])
+
+
+@lru_cache(maxsize=1)
+def _compiled_runner():
+    """``runner(kind, state, counts, steps, inv, par) -> out`` compiled from :func:`_run_free` (numba, cached on disk)."""
+    import numba
+    from numba.extending import register_jitable
+
+    for fn in (_flow1, _flow2, _flow3, _strang, _yoshida4, _dmv_step):
+        register_jitable(fn)
+    run = numba.njit(cache=True)(_run_free)
+
+    def runner(kind, state, counts, steps, inv, par):
+        return run(kind, np.asarray(state, dtype=np.float64), np.asarray(counts, dtype=np.int64),
+                   np.asarray(steps, dtype=np.float64), tuple(inv), tuple(par), None, None)
+
+    return runner

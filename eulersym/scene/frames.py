@@ -1,21 +1,166 @@
-"""Frames and attitudes of a scene: scalar-first quaternions ↔ scipy rotations, space vectors into the body.
+"""Frames and attitudes of a scene: scalar-first quaternions ↔ rotations, space vectors into the body.
 
-Conventions: q = (q0, q1, q2, q3), scalar first, ``v_space = R(q) v_body``; scipy's quaternions are scalar last.
-The scene's body frame (where the user gives ω, the tensor and the attitude) and the principal frame (where the
-numerics work) relate by ``P``, the principal axes as columns in body components (det P = +1):
-``v_body = P @ v_principal``, ``R_principal = R_body @ P``.
+Conventions: q = (q0, q1, q2, q3), scalar first, ``v_space = R(q) v_body``. :class:`Rotation` is the subset of
+``scipy.spatial.transform.Rotation`` the scene uses (``from_quat`` scalar *last*, as SciPy's, ``from_euler``,
+``from_rotvec``, ``from_matrix``, ``identity``, ``inv``, ``apply``, ``*``, ``as_quat``, ``as_matrix``, ``as_euler``),
+written on NumPy so that a scene imports no ``scipy.spatial`` (a third of a closed-form scene's start-up); only
+``as_euler`` borrows SciPy's, on first use. The scene's body frame (where the user gives ω, the tensor and the
+attitude) and the principal frame (where the numerics work) relate by ``P``, the principal axes as columns in body
+components (det P = +1): ``v_body = P @ v_principal``, ``R_principal = R_body @ P``.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial.transform import Rotation
+
+from eulersym.quaternion import multiply
 
 __all__ = ["quaternion_to_rotation", "rotation_to_quaternion", "rotate_to_body", "Rotation"]
 
+_AXES = {"x": 0, "y": 1, "z": 2}
+
+
+class Rotation:
+    """Unit quaternions (scalar first inside) with SciPy's ``Rotation`` interface for what the scene needs.
+
+    Examples
+    --------
+    >>> from scipy.spatial.transform import Rotation as SciPyRotation
+    >>> angles = [0.3, 1.1, -0.4]
+    >>> bool(np.allclose(Rotation.from_euler("ZXZ", angles).as_matrix(),
+    ...                  SciPyRotation.from_euler("ZXZ", angles).as_matrix()))
+    True
+    >>> Rotation.identity(2).apply([1.0, 0.0, 0.0]).tolist()
+    [[1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]
+    """
+
+    __slots__ = ("_q", "_single")
+
+    def __init__(self, q, single: bool):
+        q = np.asarray(q, dtype=float).reshape(-1, 4)
+        self._q = q / np.linalg.norm(q, axis=1, keepdims=True)
+        self._single = single
+
+    # ---- constructors (SciPy's names) -------------------------------------------------------------------------
+    @classmethod
+    def from_quat(cls, quat) -> "Rotation":
+        """From quaternions written scalar LAST (SciPy's order)."""
+        quat = np.asarray(quat, dtype=float)
+        return cls(quat[..., [3, 0, 1, 2]], quat.ndim == 1)
+
+    @classmethod
+    def identity(cls, num: int | None = None) -> "Rotation":
+        n = 1 if num is None else int(num)
+        q = np.zeros((n, 4))
+        q[:, 0] = 1.0
+        return cls(q, num is None)
+
+    @classmethod
+    def from_rotvec(cls, rotvec) -> "Rotation":
+        v = np.asarray(rotvec, dtype=float)
+        single = v.ndim == 1
+        v = v.reshape(-1, 3)
+        angle = np.linalg.norm(v, axis=1)
+        half = 0.5 * angle
+        small = angle < 1e-3  # sin(x/2)/x by its series where the quotient loses digits
+        scale = np.where(small, 0.5 - angle**2 / 48 + angle**4 / 3840, np.sin(half) / np.where(small, 1.0, angle))
+        return cls(np.column_stack([np.cos(half), scale[:, None] * v]), single)
+
+    @classmethod
+    def from_euler(cls, seq: str, angles) -> "Rotation":
+        """Upper-case ``seq``: intrinsic (body-fixed) axes, R = R_a(α) R_b(β) R_c(γ); lower case: extrinsic."""
+        a = np.asarray(angles, dtype=float)
+        single = a.ndim == 1
+        a = a.reshape(-1, 3)
+        intrinsic = seq.isupper()
+        q = None
+        for k, axis in enumerate(seq.lower()):
+            e = np.zeros((len(a), 4))
+            e[:, 0] = np.cos(0.5 * a[:, k])
+            e[:, 1 + _AXES[axis]] = np.sin(0.5 * a[:, k])
+            q = e if q is None else (multiply(q, e) if intrinsic else multiply(e, q))
+        return cls(q, single)
+
+    @classmethod
+    def from_matrix(cls, matrix) -> "Rotation":
+        """Shepperd's method: the largest of 4 q0², 4 q1², 4 q2², 4 q3² is divided by, so no digits are lost."""
+        m = np.asarray(matrix, dtype=float)
+        single = m.ndim == 2
+        m = m.reshape(-1, 3, 3)
+        tr = np.trace(m, axis1=1, axis2=2)
+        d = np.stack([tr, m[:, 0, 0], m[:, 1, 1], m[:, 2, 2]], axis=1)
+        k = np.argmax(d, axis=1)
+        q = np.empty((len(m), 4))
+        for case in range(4):
+            i = k == case
+            if not np.any(i):
+                continue
+            r = m[i]
+            if case == 0:
+                s = 2.0 * np.sqrt(1.0 + tr[i])
+                q[i] = np.column_stack([0.25 * s, (r[:, 2, 1] - r[:, 1, 2]) / s, (r[:, 0, 2] - r[:, 2, 0]) / s,
+                                        (r[:, 1, 0] - r[:, 0, 1]) / s])
+            else:
+                a = case - 1
+                b, c = (a + 1) % 3, (a + 2) % 3
+                s = 2.0 * np.sqrt(1.0 + r[:, a, a] - r[:, b, b] - r[:, c, c])
+                col = np.empty((int(np.sum(i)), 4))
+                col[:, 0] = (r[:, c, b] - r[:, b, c]) / s
+                col[:, 1 + a] = 0.25 * s
+                col[:, 1 + b] = (r[:, b, a] + r[:, a, b]) / s
+                col[:, 1 + c] = (r[:, c, a] + r[:, a, c]) / s
+                q[i] = col
+        return cls(q, single)
+
+    # ---- operations -------------------------------------------------------------------------------------------
+    def __len__(self) -> int:
+        if self._single:
+            raise TypeError("a single rotation has no len()")
+        return len(self._q)
+
+    def inv(self) -> "Rotation":
+        return Rotation(self._q * np.array([1.0, -1.0, -1.0, -1.0]), self._single)
+
+    def __mul__(self, other: "Rotation") -> "Rotation":
+        return Rotation(multiply(self._q, other._q), self._single and other._single)
+
+    def as_quat(self) -> np.ndarray:
+        """Scalar LAST (SciPy's order)."""
+        q = self._q[:, [1, 2, 3, 0]]
+        return q[0] if self._single else q
+
+    def as_matrix(self) -> np.ndarray:
+        w, x, y, z = self._q.T
+        m = np.empty((len(self._q), 3, 3))
+        m[:, 0, 0] = 1 - 2 * (y * y + z * z)
+        m[:, 0, 1] = 2 * (x * y - w * z)
+        m[:, 0, 2] = 2 * (x * z + w * y)
+        m[:, 1, 0] = 2 * (x * y + w * z)
+        m[:, 1, 1] = 1 - 2 * (x * x + z * z)
+        m[:, 1, 2] = 2 * (y * z - w * x)
+        m[:, 2, 0] = 2 * (x * z - w * y)
+        m[:, 2, 1] = 2 * (y * z + w * x)
+        m[:, 2, 2] = 1 - 2 * (x * x + y * y)
+        return m[0] if self._single else m
+
+    def apply(self, vectors) -> np.ndarray:
+        """``R v`` for each rotation and vector (broadcast as SciPy does)."""
+        v = np.asarray(vectors, dtype=float)
+        single_v = v.ndim == 1
+        v2 = v.reshape(-1, 3)
+        q0, u = self._q[:, :1], self._q[:, 1:]
+        w = np.cross(u, v2) + q0 * v2
+        out = v2 + 2 * np.cross(u, w)
+        return out[0] if (self._single and single_v) else out
+
+    def as_euler(self, seq: str) -> np.ndarray:
+        from scipy.spatial.transform import Rotation as SciPyRotation  # only when Euler angles are asked for
+
+        return SciPyRotation.from_quat(self.as_quat()).as_euler(seq)
+
 
 def quaternion_to_rotation(q) -> Rotation:
-    """scipy Rotation of unit quaternions q = (q0, q1, q2, q3) (scalar first), ``v_space = R(q) v_body``.
+    """The Rotation of unit quaternions q = (q0, q1, q2, q3) (scalar first), ``v_space = R(q) v_body``.
 
     Examples
     --------
@@ -27,7 +172,7 @@ def quaternion_to_rotation(q) -> Rotation:
 
 
 def rotation_to_quaternion(rot: Rotation) -> np.ndarray:
-    """Scalar-first unit quaternions of a scipy Rotation, with q0 >= 0.
+    """Scalar-first unit quaternions of a Rotation, with q0 >= 0.
 
     Examples
     --------

@@ -16,6 +16,7 @@ import numpy as np
 
 from eulersym.errors import InvalidInput
 from eulersym.scene.result import report
+from eulersym.sweeps.summary import largest_tilt
 
 __all__ = ["report", "save", "plot", "figure", "summary", "summary_path", "quantity_label", "clean_leftovers", "check_target",
            "require_matplotlib", "OUTPUT_SUFFIXES", "PLOT_SUFFIXES"]
@@ -209,8 +210,8 @@ def summary(result) -> tuple:
     cols += [np.abs(omega[..., j]).max(axis=1) for j in range(3)]
     if result.gamma is not None:
         gamma = result.gamma if batch > 1 else result.gamma[None]
-        names.append("theta_max_deg")
-        cols.append(_tilt(gamma).max(axis=1))
+        names.append("theta_max_deg")  # as a summary run reduces it (eulersym.sweeps.summary), column for column
+        cols.append(np.degrees(largest_tilt(gamma)))
     for key, values in result.invariants.items():
         v = np.atleast_2d(values)
         ref = v[:, :1]

@@ -11,6 +11,7 @@ Imports nothing of :mod:`eulersym.scene`.
 
 from __future__ import annotations
 
+import dataclasses
 import importlib.util
 import os
 import shutil
@@ -133,6 +134,19 @@ class ModelFacts:
     body: Mapping
     params: tuple
     module: object = field(default=None, repr=False)
+
+    def take(self, lo: int, hi: int) -> "ModelFacts":
+        """The facts of members ``lo:hi`` (parameters and body numbers sliced; the kernel shared) — for running a
+        model sweep in chunks.
+
+        Examples
+        --------
+        >>> f = ModelFacts("m", "0" * 64, "", False, (), ("c",), (), {}, {"M": np.arange(4.0)}, (np.arange(4.0),))
+        >>> f.take(1, 3).params[0].tolist(), f.take(1, 3).body["M"].tolist()
+        ([1.0, 2.0], [1.0, 2.0])
+        """
+        return dataclasses.replace(self, body={k: v[lo:hi] for k, v in self.body.items()},
+                                   params=tuple(p[lo:hi] for p in self.params))
 
     @property
     def tensor(self) -> np.ndarray:

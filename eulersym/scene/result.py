@@ -170,7 +170,7 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
         drift = {name: (_drift(v) if name != "L_space_deviation" else float(np.max(v))) for name, v in invariants.items()}
     else:
         drift = {}
-    polhode = omega_pr if "polhode" in outputs else None
+    polhode = omega_pr if "polhode" in outputs and plan.regime == "torque-free" else None  # Poinsot needs N = 0
     # ---- notes for the report ----------------------------------------------------------------------------------
     theta_min = theta_max = flips = None
     if plan.regime == "heavy top":
