@@ -312,7 +312,8 @@ def check(e: Estimate, *, memory: int | None = None, work: float | None = None, 
             if members_fit:
                 fits.append(f"at most {members_fit} members")
         if not e.summary:
-            small = estimate(**{**request, "summary": True}) if request else None
+            values = request.get("summary_values") or summary_values or 16  # a caller that counted none: ~16
+            small = estimate(**{**request, "summary": True, "summary_values": values}) if request else None
             if small is None or small.peak_bytes <= memory:
                 fits.append('want = ["summary"] (per-member min/max/final, largest tilt, drift'
                             + (f": about {format_bytes(small.peak_bytes)})" if small else ")"))
