@@ -39,7 +39,7 @@ from eulersym import inertia
 from eulersym.errors import InvalidInput
 from eulersym.model.expressions import namespace, parse, to_body
 from eulersym.model.mechanics import Mechanics
-from eulersym.rotation import euler_matrix, from_axis_angle, from_quaternion
+from eulersym.rotation import euler_matrix, from_axis_angle, from_quaternion, to_quaternion
 
 __all__ = ["Assembly", "assemble", "shape_centre", "shape_tensor"]
 
@@ -233,6 +233,19 @@ def _rotation(values: _Values, key: str, orientation) -> sp.Matrix | None:
     return from_axis_angle(list(axis), values.scalar(f"{key}.angle", orientation["angle"])).T
 
 
+def _rational_rotation(R: sp.Matrix) -> sp.Matrix:
+    """An exactly orthogonal rational matrix within round-off of the numeric rotation ``R``.
+
+    A turn by numeric angles carries transcendental constants (cos(3/10), ...) into every tensor entry, and exact
+    proofs over those do not finish. The rotation of the rational quaternion q nearest ``R`` in double precision,
+    ``q ⊗ (0, v) ⊗ q* / |q|²``, is exactly orthogonal with rational entries, so a symmetric part stays exactly
+    symmetric and every later derivation stays in the rationals; it differs from ``R`` by round-off (the angles
+    were doubles to begin with).
+    """
+    q = [sp.Rational(float(c)) for c in to_quaternion(np.array(R.T.evalf(30).tolist(), dtype=float))]
+    return from_quaternion(q).T / sum(c**2 for c in q)
+
+
 def _part(values: _Values, key: str, part: dict):
     """(mass, tensor about its centre of mass in the model frame, position of its centre of mass)."""
     m = values.scalar(f"{key}.mass", part["mass"])
@@ -258,6 +271,8 @@ def _part(values: _Values, key: str, part: dict):
     if R is None:
         return m, I_cm, sp.ImmutableMatrix(position + offset)
     R = sp.Matrix(R)
+    if not R.free_symbols and not all(x.is_Rational for x in R):
+        R = _rational_rotation(R)
     turned = (R * I_cm * R.T).applyfunc(sp.expand)
     return m, sp.ImmutableMatrix(turned), sp.ImmutableMatrix((position + R * offset).applyfunc(sp.expand))
 

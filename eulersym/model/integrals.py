@@ -322,12 +322,23 @@ def prove(mech: Mechanics, expr, *, name: str = "H", seed: int = 0) -> Verdict:
 # Structure: symmetry axis, Kovalevskaya's case
 
 
+def _rational_coefficients(x, symbols) -> bool:
+    """Whether ``x`` is a ratio of polynomials in ``symbols`` with rational coefficients (no cos(3/10), no √2)."""
+    for part in sp.fraction(sp.together(x)):
+        coeffs = sp.Poly(part, *symbols).coeffs() if symbols else [part]
+        if not all(c.is_Rational for c in coeffs):
+            return False
+    return True
+
+
 def symmetry_axis(inertia) -> tuple | None:
     """``(e, A, C)`` when the tensor has two equal principal moments ``A`` and a distinct one ``C`` about ``e``.
 
     Diagonal tensors are read directly; a full tensor through its characteristic polynomial: a double root
     ``A`` (``gcd(p, p′)`` of degree 1) makes ``I − A·1 = (C − A) e eᵀ`` of rank one, and ``e`` is any non-zero
-    column. A spherical tensor (three equal moments) has no distinguished axis: None.
+    column. A spherical tensor (three equal moments) has no distinguished axis: None. So is a tensor whose entries
+    are not rational functions of the parameters (transcendental constants, e.g. a part turned by Euler angles): the
+    exact test would not finish.
 
     Examples
     --------
@@ -351,6 +362,11 @@ def symmetry_axis(inertia) -> tuple | None:
                 e = sp.zeros(3, 1)
                 e[k] = 1
                 return e, d[i], d[k]
+        return None
+    symbols = sorted(I.free_symbols, key=str)
+    if not all(_rational_coefficients(x, symbols) for x in I):
+        # Transcendental constants (a part turned by Euler angles: cos(3/10), ...) admit no exact double-root test in
+        # bounded time (the gcd below does not return); such a body is offered no symmetry-axis momentum.
         return None
     p = I.charpoly()
     g = sp.gcd(p, p.diff())
