@@ -33,6 +33,7 @@ False
 
 from __future__ import annotations
 
+import math
 import random
 from dataclasses import dataclass, field
 from typing import Any
@@ -251,10 +252,33 @@ def zero_exact(expr) -> tuple[bool, str]:
         if sp.nsimplify(expanded) == 0 or sp.simplify(expanded) == 0:
             return True, "simplify"
         return False, ""
-    if sp.count_ops(expanded) <= SIMPLIFY_BUDGET:
+    if sp.count_ops(expanded) <= SIMPLIFY_BUDGET and not _clearly_nonzero(expanded):
         if sp.simplify(expanded) == 0:
             return True, "simplify"
     return False, ""
+
+
+def _clearly_nonzero(expr) -> bool:
+    """True when ``expr`` is far from zero (relative to its terms) at one seeded rational point, 30 digits: then no
+    simplification can prove it zero, and ``simplify`` (slow, and the import of ``sympy.physics.units``) is not
+    tried. Any doubt (a complex, non-finite or failed evaluation, a small value) answers False.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> x = sp.Symbol("x", positive=True)
+    >>> _clearly_nonzero(x + 1), _clearly_nonzero(sp.sqrt(x**2) - x)
+    (True, False)
+    """
+    rng = random.Random(20261123)
+    point = {s: sp.Rational(rng.randint(50, 200), 100) for s in sorted(expr.free_symbols, key=str)}
+    terms = sp.Add.make_args(expr)
+    try:
+        values = [complex(term.xreplace(point).evalf(30)) for term in terms]
+    except (TypeError, ValueError, ZeroDivisionError, OverflowError):
+        return False
+    value, scale = abs(sum(values)), sum(abs(v) for v in values)
+    return math.isfinite(scale) and value > 1e-12 * scale
 
 
 # ----------------------------------------------------------------------------------------------------------------

@@ -722,11 +722,14 @@ def sleeping_top_threshold() -> sp.Expr:
     4*I1*M*g*l/I3**2
     """
     w, f = _upright_cubic()
-    rest = sp.cancel(f / (1 - U) ** 2)
-    u3 = sp.solve(rest, U)
-    if len(u3) != 1:
-        raise CheckFailed(f"unexpected third root(s) {u3}")
-    bound = sp.solve(sp.Eq(u3[0], 1), w)
-    if len(bound) != 1:
-        raise CheckFailed(f"unexpected threshold(s) {bound}")
-    return sp.factor(bound[0] ** 2)
+    rest = sp.Poly(sp.numer(sp.together(sp.cancel(f / (1 - U) ** 2))), U)  # linear in u: its root is u3
+    if rest.degree() != 1:
+        raise CheckFailed(f"unexpected third root(s) of {rest.as_expr()}")
+    c1, c0 = rest.all_coeffs()
+    u3 = sp.cancel(-c0 / c1)
+    W = sp.Dummy("W", positive=True)  # ω3² (u3 holds ω3 only squared): u3 = 1 is linear in it
+    condition = sp.numer(sp.together(u3 - 1)).subs(w**2, W)
+    if condition.has(w) or sp.Poly(condition, W).degree() != 1:
+        raise CheckFailed(f"unexpected threshold condition {condition}")
+    k1, k0 = sp.Poly(condition, W).all_coeffs()
+    return sp.factor(-k0 / k1)
