@@ -269,9 +269,15 @@ def _clearly_nonzero(expr) -> bool:
     >>> x = sp.Symbol("x", positive=True)
     >>> _clearly_nonzero(x + 1), _clearly_nonzero(sp.sqrt(x**2) - x)
     (True, False)
+    >>> n = sp.Symbol("n", negative=True)
+    >>> _clearly_nonzero(sp.sqrt(n**2) + n)  # zero for every negative n: no positive sample may decide it
+    False
     """
+    symbols = sorted(expr.free_symbols, key=str)
+    if any(s.is_integer or s.is_positive is False for s in symbols):  # a positive rational point is outside their domain
+        return False
     rng = random.Random(20261123)
-    point = {s: sp.Rational(rng.randint(50, 200), 100) for s in sorted(expr.free_symbols, key=str)}
+    point = {s: sp.Rational(rng.randint(50, 200), 100) for s in symbols}
     terms = sp.Add.make_args(expr)
     try:
         values = [complex(term.xreplace(point).evalf(30)) for term in terms]
