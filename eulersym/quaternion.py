@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["hamilton", "multiply", "conjugate", "normalize"]
+__all__ = ["hamilton", "multiply", "conjugate", "normalize", "from_matrix"]
 
 
 def hamilton(p, q) -> tuple:
@@ -70,3 +70,27 @@ def normalize(q) -> np.ndarray:
     """
     q = np.asarray(q, dtype=np.float64)
     return q / np.linalg.norm(q, axis=-1, keepdims=True)
+
+
+def from_matrix(R) -> np.ndarray:
+    """Unit quaternions (B, 4), scalar first, with ``R(q) = R`` for proper rotations R (B, 3, 3), or (4,) for one
+    (3, 3) matrix: Shepperd's method, the largest of 4 q_j² chosen so that no component loses digits.
+
+    Examples
+    --------
+    >>> from_matrix([[-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0]])   # half turn about z
+    array([0., 0., 0., 1.])
+    """
+    R = np.asarray(R, dtype=np.float64)
+    if R.shape == (3, 3):
+        return from_matrix(R[None])[0]
+    tr = R[:, 0, 0] + R[:, 1, 1] + R[:, 2, 2]
+    cand = np.stack([
+        np.stack([1 + tr, R[:, 2, 1] - R[:, 1, 2], R[:, 0, 2] - R[:, 2, 0], R[:, 1, 0] - R[:, 0, 1]], axis=1),
+        np.stack([R[:, 2, 1] - R[:, 1, 2], 1 + 2 * R[:, 0, 0] - tr, R[:, 0, 1] + R[:, 1, 0], R[:, 0, 2] + R[:, 2, 0]], axis=1),
+        np.stack([R[:, 0, 2] - R[:, 2, 0], R[:, 0, 1] + R[:, 1, 0], 1 + 2 * R[:, 1, 1] - tr, R[:, 1, 2] + R[:, 2, 1]], axis=1),
+        np.stack([R[:, 1, 0] - R[:, 0, 1], R[:, 0, 2] + R[:, 2, 0], R[:, 1, 2] + R[:, 2, 1], 1 + 2 * R[:, 2, 2] - tr], axis=1),
+    ], axis=1)  # (B, 4 candidates, 4); candidate j has component j = 4 q_j² · (1/…), the largest is the stable one
+    j = np.argmax(np.stack([tr, R[:, 0, 0], R[:, 1, 1], R[:, 2, 2]], axis=1), axis=1)
+    q = cand[np.arange(len(R)), j]
+    return q / np.linalg.norm(q, axis=1, keepdims=True)

@@ -47,7 +47,7 @@ from eulersym.numerics import _fast
 from eulersym.numerics.exact import _unit_quaternion
 from eulersym.numerics.splitting import YOSHIDA_GAMMA, output_steps
 from eulersym.numerics.trajectory import Trajectory
-from eulersym.quaternion import hamilton
+from eulersym.quaternion import from_matrix as quaternion_from_matrix, hamilton
 from eulersym.validation import choice, finite_array
 
 __all__ = [
@@ -211,21 +211,6 @@ def _run_pivoted(state, counts, steps, subs, par, kind):
 # ----------------------------------------------------------------------------------------------------------------
 # Frames, scales and the step rule (NumPy, batch-first)
 # ----------------------------------------------------------------------------------------------------------------
-def _matrix_to_quaternion(R):
-    """Unit quaternions (B, 4), scalar first, of proper rotations R (B, 3, 3) (Shepperd's branch choice)."""
-    R = np.asarray(R, dtype=np.float64)
-    tr = R[:, 0, 0] + R[:, 1, 1] + R[:, 2, 2]
-    cand = np.stack([
-        np.stack([1 + tr, R[:, 2, 1] - R[:, 1, 2], R[:, 0, 2] - R[:, 2, 0], R[:, 1, 0] - R[:, 0, 1]], axis=1),
-        np.stack([R[:, 2, 1] - R[:, 1, 2], 1 + 2 * R[:, 0, 0] - tr, R[:, 0, 1] + R[:, 1, 0], R[:, 0, 2] + R[:, 2, 0]], axis=1),
-        np.stack([R[:, 0, 2] - R[:, 2, 0], R[:, 0, 1] + R[:, 1, 0], 1 + 2 * R[:, 1, 1] - tr, R[:, 1, 2] + R[:, 2, 1]], axis=1),
-        np.stack([R[:, 1, 0] - R[:, 0, 1], R[:, 0, 2] + R[:, 2, 0], R[:, 1, 2] + R[:, 2, 1], 1 + 2 * R[:, 2, 2] - tr], axis=1),
-    ], axis=1)  # (B, 4 candidates, 4); candidate j has component j = 4 q_j² · (1/…), the largest is the stable one
-    j = np.argmax(np.stack([tr, R[:, 0, 0], R[:, 1, 1], R[:, 2, 2]], axis=1), axis=1)
-    q = cand[np.arange(len(R)), j]
-    return q / np.linalg.norm(q, axis=1, keepdims=True)
-
-
 def _as_tensors(argument, inertia):
     """Inertia as (B, 3, 3): a (3, 3) tensor is one member, (3,) the principal moments of a diagonal one."""
     try:
@@ -309,7 +294,7 @@ def principal_frame(inertia, *, free_flow="axes"):
             moments[sel] = moments[sel][:, order]
             P[sel] = P[sel][:, :, order]
         moments[:, 1] = moments[:, 0]  # equal to round-off: exactly equal
-    p = _matrix_to_quaternion(P)
+    p = quaternion_from_matrix(P)
     return moments, P, p
 
 

@@ -13,7 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from eulersym.quaternion import multiply
+from eulersym.numerics.invariants import rotation_matrix
+from eulersym.quaternion import from_matrix, multiply
 
 __all__ = ["quaternion_to_rotation", "rotation_to_quaternion", "rotate_to_body", "Rotation"]
 
@@ -83,34 +84,9 @@ class Rotation:
 
     @classmethod
     def from_matrix(cls, matrix) -> "Rotation":
-        """Shepperd's method: the largest of 4 q0², 4 q1², 4 q2², 4 q3² is divided by, so no digits are lost."""
+        """Shepperd's method (:func:`eulersym.quaternion.from_matrix`)."""
         m = np.asarray(matrix, dtype=float)
-        single = m.ndim == 2
-        m = m.reshape(-1, 3, 3)
-        tr = np.trace(m, axis1=1, axis2=2)
-        d = np.stack([tr, m[:, 0, 0], m[:, 1, 1], m[:, 2, 2]], axis=1)
-        k = np.argmax(d, axis=1)
-        q = np.empty((len(m), 4))
-        for case in range(4):
-            i = k == case
-            if not np.any(i):
-                continue
-            r = m[i]
-            if case == 0:
-                s = 2.0 * np.sqrt(1.0 + tr[i])
-                q[i] = np.column_stack([0.25 * s, (r[:, 2, 1] - r[:, 1, 2]) / s, (r[:, 0, 2] - r[:, 2, 0]) / s,
-                                        (r[:, 1, 0] - r[:, 0, 1]) / s])
-            else:
-                a = case - 1
-                b, c = (a + 1) % 3, (a + 2) % 3
-                s = 2.0 * np.sqrt(1.0 + r[:, a, a] - r[:, b, b] - r[:, c, c])
-                col = np.empty((int(np.sum(i)), 4))
-                col[:, 0] = (r[:, c, b] - r[:, b, c]) / s
-                col[:, 1 + a] = 0.25 * s
-                col[:, 1 + b] = (r[:, b, a] + r[:, a, b]) / s
-                col[:, 1 + c] = (r[:, c, a] + r[:, a, c]) / s
-                q[i] = col
-        return cls(q, single)
+        return cls(from_matrix(m.reshape(-1, 3, 3)), m.ndim == 2)
 
     # ---- operations -------------------------------------------------------------------------------------------
     def __len__(self) -> int:
@@ -130,17 +106,7 @@ class Rotation:
         return q[0] if self._single else q
 
     def as_matrix(self) -> np.ndarray:
-        w, x, y, z = self._q.T
-        m = np.empty((len(self._q), 3, 3))
-        m[:, 0, 0] = 1 - 2 * (y * y + z * z)
-        m[:, 0, 1] = 2 * (x * y - w * z)
-        m[:, 0, 2] = 2 * (x * z + w * y)
-        m[:, 1, 0] = 2 * (x * y + w * z)
-        m[:, 1, 1] = 1 - 2 * (x * x + z * z)
-        m[:, 1, 2] = 2 * (y * z - w * x)
-        m[:, 2, 0] = 2 * (x * z - w * y)
-        m[:, 2, 1] = 2 * (y * z + w * x)
-        m[:, 2, 2] = 1 - 2 * (x * x + y * y)
+        m = rotation_matrix(self._q)
         return m[0] if self._single else m
 
     def apply(self, vectors) -> np.ndarray:
