@@ -143,7 +143,18 @@ def finite_array(argument: str, value: Any, shape: Sequence[int | None] | None =
     Traceback (most recent call last):
     ...
     eulersym.errors.InvalidInput: omega0=[1, nan, 3] is not valid: expected finite numbers (no NaN or infinity)
+    >>> finite_array("angle", ["30", 0, 0])
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: angle=['30', 0, 0] is not valid: expected an array of real numbers, not text (a string is never converted to a number)
     """
+    try:
+        raw = np.asarray(value)
+        text = raw.dtype.kind in "SU" or (raw.dtype.kind == "O" and any(isinstance(x, (str, bytes)) for x in raw.flat))
+    except (TypeError, ValueError):
+        text = False
+    if text:  # "30" is text, never 30 radians: numbers are read by parsers that say so, not by float()
+        raise InvalidInput(argument, value, "an array of real numbers, not text (a string is never converted to a number)")
     try:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError):
