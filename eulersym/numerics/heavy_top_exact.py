@@ -258,11 +258,13 @@ def _roots(A, B, C, D, one_m_w0, one_p_w0, Bn, Bf):
 
 
 def _W_decimal_half(n, one_minus_n, mc):
-    """W(K) = ∫₀ᴷ dx/(1 − n sn² x) = R_F(0, m_c, 1) + (n/3) R_J(0, m_c, 1, 1 − n)."""
-    out = _de.rf_(Decimal(0), mc, Decimal(1))
-    if n != 0:
-        out += n / 3 * _de.rj_(Decimal(0), mc, Decimal(1), one_minus_n)
-    return out
+    """W(K) = Π(n | m) = ∫₀ᴷ dx/(1 − n sn² x): by the AGM (:func:`_decimal_elliptic.third_kind_complete`), or for
+    ``1 − n`` below 1e-20 (a pass within ~1e-10 of a pole, where the AGM's sum cancels) by Carlson's ``R_J``."""
+    if n == 0:
+        return _de.rf_(Decimal(0), mc, Decimal(1))
+    if one_minus_n >= Decimal("1e-20"):
+        return _de.third_kind_complete(n, one_minus_n, mc)
+    return _de.rf_(Decimal(0), mc, Decimal(1)) + n / 3 * _de.rj_(Decimal(0), mc, Decimal(1), one_minus_n)
 
 
 def _W_decimal(s_sq, c_sq, d_sq, n, one_minus_n):
