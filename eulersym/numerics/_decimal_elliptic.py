@@ -27,9 +27,9 @@ Examples
 True
 >>> with decimal.localcontext() as ctx:
 ...     ctx.prec = DIGITS
-...     n, mc = decimal.Decimal("0.3"), decimal.Decimal("0.5")
+...     zero, one, n, mc = (decimal.Decimal(v) for v in ("0", "1", "0.3", "0.5"))
 ...     by_agm = third_kind_complete(n, 1 - n, mc)
-...     by_rj = rf_(0, mc, 1) + n / 3 * rj_(0, mc, 1, 1 - n)
+...     by_rj = rf_(zero, mc, one) + n / 3 * rj_(zero, mc, one, 1 - n)
 >>> abs(by_agm - by_rj) < decimal.Decimal("1e-33")  # Π(0.3 | 1/2) both ways
 True
 """
