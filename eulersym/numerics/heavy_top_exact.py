@@ -157,6 +157,7 @@ class _Pole:
     n: float  # characteristic of W (W = ∫ dx/(1 − n sn²))
     one_minus_n: float
     coef: float  # multiplies W(x) in χ
+    WK: float  # W(K) = Π(n | m), the complete integral (0 where there is no elliptic term)
     W0: float  # W at t = 0 (reduced argument)
     j0: float  # the half period of the argument at t = 0
     rate: tuple  # double-double: the linear rate (per unit time)
@@ -278,37 +279,58 @@ def _W_decimal(s_sq, c_sq, d_sq, n, one_minus_n):
     return out
 
 
-_CHEB_N = 64
+_CHEB_N = 64  # Chebyshev nodes on [−K, K]; W's periodic part is odd: 32 values, odd terms only
+_HALF = _CHEB_N // 2
+_NODES = np.cos(np.pi * (np.arange(_HALF) + 0.5) / _CHEB_N)  # the positive nodes
+_ODD = 2 * np.arange(_HALF) + 1
+_TRANSFORM = (4.0 / _CHEB_N) * np.cos(np.pi * np.outer(_ODD, np.arange(_HALF) + 0.5) / _CHEB_N)
 
 
-@functools.lru_cache(maxsize=256)
-def _W_chebyshev(n, one_minus_n, mc, rootmc, K):
-    """(slope, Chebyshev coefficients) of W on [−K, K]: ``W(x) = slope·x + Σ c_j T_j(x/K)``, the series fitted to
-    the periodic part only (exact Carlson values at 64 nodes). None where 64 terms do not reach round-off (a pole
-    close to the real axis: the start passes near the vertical): then W is evaluated directly."""
-    k = np.arange(_CHEB_N)
-    nodes = np.cos(np.pi * (k + 0.5) / _CHEB_N)
-    slope = float(_W_direct(np.array([K]), n, one_minus_n, mc, rootmc)[0]) / K
-    values = _W_direct(K * nodes, n, one_minus_n, mc, rootmc) - slope * K * nodes
-    coefficients = (2.0 / _CHEB_N) * np.cos(np.pi * np.outer(k, k + 0.5) / _CHEB_N) @ values
-    coefficients[0] *= 0.5
-    scale = max(float(np.max(np.abs(values))), slope * K, 1e-300)
-    if float(np.max(np.abs(coefficients[-6:]))) > 32 * np.finfo(float).eps * scale:  # not yet at the noise floor
-        return None
-    return slope, coefficients
+def _W_chebyshev(poles, mc, rootmc, K):
+    """For each pole ``(n, 1 − n, W(K))``: ``(slope, a)`` with ``W(x) = slope·x + Σ_k a_k T_{2k+1}(x/K)`` on
+    [−K, K] (the periodic part of W is odd: odd terms only), fitted at the 64 Chebyshev nodes (32 Carlson values by
+    symmetry, one Jacobi evaluation shared by the poles) and cut after the last coefficient above an ulp of the
+    scale of W (beyond it the coefficients are the noise of the fitted values: the true ones decay geometrically);
+    or None for a pole whose series does not reach round-off in 32 terms (a pass close to the
+    vertical): W is then evaluated directly."""
+    from scipy.special import elliprf, elliprj
+
+    x = K * _NODES
+    s, c, _ = jacobi_sncndn(x, mc, rootmc=rootmc)
+    c2 = c * c
+    d2 = c2 + mc * s * s
+    first = s * elliprf(c2, d2, 1.0)
+    eps = np.finfo(float).eps
+    fits = []
+    for n, one_minus_n, WK in poles:
+        slope = WK / K
+        values = first + (n / 3.0) * s * s * s * elliprj(c2, d2, 1.0, one_minus_n + n * c2) if n != 0.0 else first
+        values = values - slope * x
+        a = _TRANSFORM @ values
+        scale = max(float(np.max(np.abs(values))), abs(WK), 1e-300)
+        if float(np.max(np.abs(a[-3:]))) > 32 * eps * scale:  # not yet at the noise floor
+            fits.append(None)
+            continue
+        above = np.flatnonzero(np.abs(a) > eps * scale)  # the rest is the fit's own round-off (its noise floor)
+        fits.append((slope, a[:int(above[-1]) + 1] if above.size else a[:1]))
+    return fits
 
 
-def _W(x, n, one_minus_n, mc, rootmc, K=None):
-    """W(x) = ∫₀ˣ dy/(1 − n sn² y) for |x| ≤ K: by its Chebyshev series on [−K, K] where it reaches round-off (64
-    Carlson evaluations per motion instead of one per time; the same values whatever the number of times), directly
-    otherwise."""
-    x = np.asarray(x, dtype=np.float64)
-    if K is not None:
-        fit = _W_chebyshev(float(n), float(one_minus_n), float(mc), float(rootmc), float(K))
-        if fit is not None:
-            slope, coefficients = fit
-            return slope * x + np.polynomial.chebyshev.chebval(x / K, coefficients)
-    return _W_direct(x, n, one_minus_n, mc, rootmc)
+def _clenshaw_odd(y, a):
+    """``Σ_k a[k] T_{2k+1}(y)`` by Clenshaw's recurrence in ``z = T_2(y) = 2y² − 1`` (``T_{2k+3} = 2z T_{2k+1} −
+    T_{2k−1}``): ``y (b_0 − b_1)``. ``a`` of shape (N, ...) broadcasting against y."""
+    z2 = 4.0 * y * y - 2.0
+    b1 = np.zeros_like(z2)
+    b2 = np.zeros_like(z2)
+    for k in range(len(a) - 1, 0, -1):
+        b0 = z2 * b1
+        b0 -= b2
+        b0 += a[k]
+        b1, b2 = b0, b1
+    b0 = z2 * b1
+    b0 -= b2
+    b0 += a[0]
+    return y * (b0 - b1)
 
 
 def _W_direct(x, n, one_minus_n, mc, rootmc):
@@ -401,7 +423,8 @@ def _setup(I1, I3, M, g, l, omega, q):
         near_n = delta / (y2 + delta)
         near_1mn = y2 / (y2 + delta)
         near_coef = Bn / (lam * (y2 + delta))
-        near_per = near_coef * 2 * _W_decimal_half(near_n, near_1mn, mc) if Bn != 0 else Decimal(0)
+        near_WK = _W_decimal_half(near_n, near_1mn, mc) if Bn != 0 else Decimal(0)
+        near_per = near_coef * 2 * near_WK
         # the far pole, after τ = τ' + K: 1 + w = (z1 + Δ)(1 − n' sn² τ')/dn² τ'
         far_n = (z1 * m + delta) / (z1 + delta)
         far_1mn = z1 * mc / (z1 + delta)
@@ -409,7 +432,8 @@ def _setup(I1, I3, M, g, l, omega, q):
         one_m_m_over_n = delta * mc / (z1 * m + delta)
         far_rate = nu_far + Bf * m_over_n / (z1 + delta)
         far_coef = Bf * one_m_m_over_n / (lam * (z1 + delta))
-        far_per = far_coef * 2 * _W_decimal_half(far_n, far_1mn, mc) if Bf != 0 else Decimal(0)
+        far_WK = _W_decimal_half(far_n, far_1mn, mc) if Bf != 0 else Decimal(0)
+        far_per = far_coef * 2 * far_WK
         lam_dd, tau0_dd, per_dd = _dd(lam), _dd(tau0), _dd(2 * K)
         nutation = 2 * K / lam
         turning = tuple(float(sigma * (w0 + x)) for x in (x1, x2))
@@ -432,9 +456,9 @@ def _setup(I1, I3, M, g, l, omega, q):
             W0f = W0f if tau0 < 0 else -W0f
         j0f = -1.0 if tau0 < 0 else 0.0  # τ0 − K in [−2K, 0]: wrapped by 2K when τ0 < 0
         near = dict(base=float(y2), signed=(y2 == 0), at_pole=(one_m_w0 < _THROUGH), B=float(Bn), n=float(near_n), one_minus_n=float(near_1mn),
-                    coef=float(near_coef), rate=_dd(nu_near), per=_dd(near_per))
+                    coef=float(near_coef), rate=_dd(nu_near), per=_dd(near_per), WK=float(near_WK))
         far = dict(base=float(z1), signed=(z1 == 0), at_pole=(one_p_w0 < _THROUGH), B=float(Bf), n=float(far_n), one_minus_n=float(far_1mn),
-                   coef=float(far_coef), rate=_dd(far_rate), per=_dd(far_per))
+                   coef=float(far_coef), rate=_dd(far_rate), per=_dd(far_per), WK=float(far_WK))
         start = {"near": (None if W0n is None else float(W0n), 0.0), "far": (None if W0f is None else float(W0f), j0f)}
     return _finish(motion, near, far, omega, q, start)
 
@@ -449,9 +473,9 @@ def _steady(sigma, w0, one_m_w0, one_p_w0, Bn, Bf, nu_near, nu_far, w, u0):
         turning=(float(u0), float(u0)),
     )
     near = dict(base=float(one_m_w0), signed=False, at_pole=False, B=float(Bn), n=0.0, one_minus_n=1.0, coef=0.0,
-                rate=_dd(rate_near), per=(0.0, 0.0))
+                rate=_dd(rate_near), per=(0.0, 0.0), WK=0.0)
     far = dict(base=float(one_p_w0), signed=False, at_pole=False, B=float(Bf), n=0.0, one_minus_n=1.0, coef=0.0,
-               rate=_dd(rate_far), per=(0.0, 0.0))
+               rate=_dd(rate_far), per=(0.0, 0.0), WK=0.0)
     return motion, near, far
 
 
@@ -499,11 +523,9 @@ def _finish(motion, near, far, omega, q, start=None):
             if not pole["B"]:
                 value = 0.0
             elif exact is None:  # off the poles: W at the reduced argument, in double
-                value = float(_W(x, pole["n"], pole["one_minus_n"], motion["mc"], motion["rootmc"])[0])
+                value = float(_W_direct(x, pole["n"], pole["one_minus_n"], motion["mc"], motion["rootmc"])[0])
             else:  # the decimal value, moved to the branch (half period) the evaluation uses: W(x + 2K) = W(x) + W(2K)
-                w2k = 2.0 * float(_W(np.array([motion["K"]]), pole["n"], pole["one_minus_n"], motion["mc"],
-                                     motion["rootmc"])[0])
-                value = exact + (j_exact - jj) * w2k
+                value = exact + (j_exact - jj) * 2.0 * pole["WK"]
             if key == "n":
                 W0n = value
             else:
@@ -543,56 +565,99 @@ def _amplitudes(mo, near, far, t):
     return rn, rf, ratio_n, ratio_f, dn_sign, df_sign, (r, j, dn)
 
 
+#: From this many output times on, W comes from its Chebyshev series (fitted per call at 32 nodes) rather than from
+#: Carlson's integrals at every time.
+_SERIES_FROM = 48
+
+
+def _chis(mo, t, r, j):
+    """χ_near, χ_far at t (shape (2, n)): the secular part ``rate·t + per·(j − j0)`` reduced modulo 4π in
+    double-double (both poles at once), plus ``coef·(W(x) − W0)`` with x = r (near) and r − K wrapped (far)."""
+    four_pi = _four_pi()
+    near, far = mo.near, mo.far
+    x_far = r - mo.K
+    low = x_far < -mo.K
+    x_far = np.where(low, x_far + mo.period, x_far)
+    jj = np.stack([j - near.j0, np.where(low, j - 1.0, j) - far.j0])
+    col = lambda a, b: np.array([[a], [b]])  # noqa: E731
+    rate = (col(near.rate[0], far.rate[0]), col(near.rate[1], far.rate[1]))
+    per = (col(near.per[0], far.per[0]), col(near.per[1], far.per[1]))
+    chi = _dd_linear(rate, t, per, jj, four_pi) + col(near.chi0, far.chi0)
+    if mo.steady:
+        return chi
+    active = [k for k, pole in enumerate((near, far)) if pole.B != 0.0]
+    if not active:
+        return chi
+    x = (r, x_far)
+    poles = (near, far)
+    fits = [None, None]
+    if t.size >= _SERIES_FROM:
+        found = _W_chebyshev([(poles[k].n, poles[k].one_minus_n, poles[k].WK) for k in active], mo.mc, mo.rootmc,
+                             mo.K)
+        for k, fit in zip(active, found):
+            fits[k] = fit
+    series = [k for k in active if fits[k] is not None]
+    if len(series) == 2:  # one Clenshaw recurrence for both poles
+        length = max(len(fits[0][1]), len(fits[1][1]))
+        a = np.zeros((length, 2, 1))
+        a[:len(fits[0][1]), 0, 0] = fits[0][1]
+        a[:len(fits[1][1]), 1, 0] = fits[1][1]
+        xs = np.stack(x)
+        W = _clenshaw_odd(xs / mo.K, a) + col(fits[0][0], fits[1][0]) * xs
+        chi += col(near.coef, far.coef) * (W - col(near.W0, far.W0))
+        return chi
+    for k in active:
+        pole = poles[k]
+        if fits[k] is not None:
+            W = _clenshaw_odd(x[k] / mo.K, fits[k][1]) + fits[k][0] * x[k]
+        else:
+            W = _W_direct(x[k], pole.n, pole.one_minus_n, mo.mc, mo.rootmc)
+        chi[k] += pole.coef * (W - pole.W0)
+    return chi
+
+
 def _evaluate(mo, t):
     """ω, Γ, q and Euler angles of one motion at the times t."""
-    four_pi = _four_pi()
     rn, rf, ratio_n, ratio_f, _, _, (r, j, dn) = _amplitudes(mo, mo.near, mo.far, t)
-    chis = []
-    for pole, far in ((mo.near, False), (mo.far, True)):
-        x, jj = r, j
-        if far:
-            x = r - mo.K
-            low = x < -mo.K
-            x = np.where(low, x + mo.period, x)
-            jj = np.where(low, j - 1.0, j)
-        secular = _dd_linear(pole.rate, t, pole.per, jj - pole.j0, four_pi)
-        chi = secular + pole.chi0
-        if pole.B != 0.0 and not mo.steady:
-            chi = chi + pole.coef * (_W(x, pole.n, pole.one_minus_n, mo.mc, mo.rootmc, mo.K) - pole.W0)
-        chis.append(chi)
-    chi_near, chi_far = chis
-    half_n, half_f = rn / math.sqrt(2.0), rf / math.sqrt(2.0)
+    chi = _chis(mo, t, r, j)
+    cos_half, sin_half = np.cos(0.5 * chi), np.sin(0.5 * chi)
+    half_n, half_f = rn * math.sqrt(0.5), rf * math.sqrt(0.5)
     q = np.empty(t.shape + (4,))
     pn, pf = _pairs(mo.sigma)
-    q[..., pn[0]] = half_n * np.cos(0.5 * chi_near)
-    q[..., pn[1]] = half_n * np.sin(0.5 * chi_near)
-    q[..., pf[0]] = half_f * np.cos(0.5 * chi_far)
-    q[..., pf[1]] = half_f * np.sin(0.5 * chi_far)
-    q /= np.sqrt(np.sum(q * q, axis=-1, keepdims=True))
-    chi_plus, chi_minus = (chi_far, chi_near) if mo.sigma > 0 else (chi_near, chi_far)
+    q[..., pn[0]] = half_n * cos_half[0]
+    q[..., pn[1]] = half_n * sin_half[0]
+    q[..., pf[0]] = half_f * cos_half[1]
+    q[..., pf[1]] = half_f * sin_half[1]
+    q /= np.sqrt(np.einsum("ij,ij->i", q, q))[:, None]
+    plus, minus = (1, 0) if mo.sigma > 0 else (0, 1)
     # e^{iψ} with ψ = (χ₊ − χ₋)/2
-    cp, sp_ = np.cos(0.5 * chi_plus), np.sin(0.5 * chi_plus)
-    cm, sm = np.cos(0.5 * chi_minus), np.sin(0.5 * chi_minus)
+    cp, sp_, cm, sm = cos_half[plus], sin_half[plus], cos_half[minus], sin_half[minus]
     cos_psi, sin_psi = cp * cm + sp_ * sm, sp_ * cm - cp * sm
-    s_theta = rn * rf  # signed sin θ
     # (b − a u)/sin θ = ½ [B_n R_f/R_n + B_f R_n/R_f];  u̇/sin θ = σ 2λ dn (√Δ cn/R_n)(√Δ sn/R_f)
     A_ = np.zeros_like(t)
     if mo.near.B != 0.0:
-        A_ = A_ + 0.5 * mo.near.B * rf / rn
+        A_ = A_ + (0.5 * mo.near.B) * rf / rn
     if mo.far.B != 0.0:
-        A_ = A_ + 0.5 * mo.far.B * rn / rf
-    B_ = mo.sigma * 2.0 * mo.lam * dn * ratio_n * ratio_f
-    omega = np.stack([A_ * sin_psi - B_ * cos_psi, A_ * cos_psi + B_ * sin_psi, np.full(t.shape, mo.omega3)], axis=-1)
+        A_ = A_ + (0.5 * mo.far.B) * rn / rf
+    B_ = (mo.sigma * 2.0 * mo.lam) * dn * ratio_n * ratio_f
+    omega = np.empty(t.shape + (3,))
+    omega[:, 0] = A_ * sin_psi - B_ * cos_psi
+    omega[:, 1] = A_ * cos_psi + B_ * sin_psi
+    omega[:, 2] = mo.omega3
     rn2, rf2 = rn * rn, rf * rf
-    w = np.where(rn2 < rf2, 1.0 - rn2, rf2 - 1.0)
-    gamma = np.stack([s_theta * sin_psi, s_theta * cos_psi, mo.sigma * w], axis=-1)
+    s_theta = rn * rf  # signed sin θ
+    gamma = np.empty(t.shape + (3,))
+    gamma[:, 0] = s_theta * sin_psi
+    gamma[:, 1] = s_theta * cos_psi
+    gamma[:, 2] = mo.sigma * np.where(rn2 < rf2, 1.0 - rn2, rf2 - 1.0)
     # Euler angles (zxz), θ ≥ 0: a negative signed sin θ/2 or cos θ/2 is absorbed in φ, ψ
     S, Cc = (half_n, half_f) if mo.sigma > 0 else (half_f, half_n)
-    theta = 2.0 * np.arctan2(np.abs(S), np.abs(Cc))
-    phi = 0.5 * (chi_plus + chi_minus) + np.where(S * Cc < 0, math.pi, 0.0)
-    psi = 0.5 * (chi_plus - chi_minus) + np.where(S * Cc < 0, -math.pi, 0.0)
-    wrap = lambda x: np.mod(x + math.pi, 2 * math.pi) - math.pi  # noqa: E731
-    euler = np.stack([wrap(phi), theta, wrap(psi)], axis=-1)
+    euler = np.empty(t.shape + (3,))
+    euler[:, 1] = 2.0 * np.arctan2(np.abs(S), np.abs(Cc))
+    flip = np.where(S * Cc < 0, math.pi, 0.0)
+    two_pi = 2.0 * math.pi
+    euler[:, 0] = np.mod(0.5 * (chi[plus] + chi[minus]) + flip + math.pi, two_pi) - math.pi
+    euler[:, 2] = np.mod(0.5 * (chi[plus] - chi[minus]) - flip + math.pi, two_pi) - math.pi
     return omega, gamma, q, euler
 
 
