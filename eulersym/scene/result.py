@@ -124,23 +124,23 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     attitude = euler_angles = gamma_body = None
     model = problem.model
     if q_pr is not None and ("attitude" in outputs or "euler_angles" in outputs or model is not None):
-        n = q_pr.shape[1]
-        rot_pr = quaternion_to_rotation(q_pr.reshape(-1, 4))
-        rot_body = rot_pr if identity else rot_pr * Rotation.from_matrix(np.repeat(P.T[None], len(rot_pr), axis=0))
-        attitude = rotation_to_quaternion(rot_body).reshape(batch, n, 4)
-        if identity and model is not None:  # the propagated q, as integrated (the model's |q|² invariant reads it)
-            attitude = q_pr
-        if model is not None:  # the vertical, model frame: Γ = R(q)ᵀ ẑ
-            gamma_body = rot_body.inv().apply(np.array([0.0, 0.0, 1.0])).reshape(batch, n, 3)
-            if gamma is not None and identity:
-                gamma_body = gamma
-        if "euler_angles" in outputs:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", UserWarning)  # gimbal lock at θ = 0 is reported as the angles it gives
-                angles = rot_body.as_euler(problem.convention.upper()).reshape(batch, n, 3)
-            angles[..., 0] = np.unwrap(angles[..., 0], axis=1)
-            angles[..., 2] = np.unwrap(angles[..., 2], axis=1)
-            euler_angles = angles
+        if identity and model is None:  # the principal frame is the body frame: q as propagated, canonical sign
+            attitude = _canonical(q_pr)
+            if "euler_angles" in outputs:
+                euler_angles = _euler_angles(problem, traj, attitude)
+        else:
+            n = q_pr.shape[1]
+            rot_pr = quaternion_to_rotation(q_pr.reshape(-1, 4))
+            rot_body = rot_pr if identity else rot_pr * Rotation.from_matrix(np.repeat(P.T[None], len(rot_pr), axis=0))
+            attitude = rotation_to_quaternion(rot_body).reshape(batch, n, 4)
+            if identity and model is not None:  # the propagated q, as integrated (the model's |q|² invariant reads it)
+                attitude = q_pr
+            if model is not None:  # the vertical, model frame: Γ = R(q)ᵀ ẑ
+                gamma_body = rot_body.inv().apply(np.array([0.0, 0.0, 1.0])).reshape(batch, n, 3)
+                if gamma is not None and identity:
+                    gamma_body = gamma
+            if "euler_angles" in outputs:
+                euler_angles = _unwrapped(_rotation_euler(rot_body, problem.convention).reshape(batch, n, 3))
     invariants = {}
     if "invariants" in outputs:
         if model is not None:
@@ -161,8 +161,11 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
             M, g, l = problem.mass, problem.g, problem.l
             n = omega_pr.shape[1]
             y = np.concatenate([omega_pr, gamma, q_pr], axis=-1).reshape(-1, 10).T
-            rep = lambda a: np.repeat(a, n)  # noqa: E731
-            vals = np.asarray(gen.invariants_batched(0.0, y, rep(moments[:, 0]), rep(moments[:, 1]), rep(moments[:, 2]), rep(M), rep(g), rep(l)))
+            if batch == 1:  # the parameters as numbers (the kernel broadcasts them)
+                params = [float(v) for v in (*moments[0], M[0], g[0], l[0])]
+            else:
+                params = [np.repeat(a, n) for a in (moments[:, 0], moments[:, 1], moments[:, 2], M, g, l)]
+            vals = np.asarray(gen.invariants_batched(0.0, y, *params))
             for name, row in zip(("energy", "gamma_norm2", "L_dot_gamma", "q_norm2"), vals):
                 invariants[name] = np.asarray(row).reshape(batch, n)
             if np.allclose(moments[:, 0], moments[:, 1], rtol=1e-12):
@@ -174,8 +177,9 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     # ---- notes for the report ----------------------------------------------------------------------------------
     theta_min = theta_max = flips = None
     if plan.regime == "heavy top":
-        theta = np.degrees(np.arccos(np.clip(gamma[..., 2], -1.0, 1.0)))
-        theta_min, theta_max = theta.min(axis=1), theta.max(axis=1)
+        cos_theta = gamma[..., 2]  # θ decreases with cos θ: the extremes of Γ3 first, one arccos each
+        theta_min = np.degrees(np.arccos(np.clip(cos_theta.max(axis=1), -1.0, 1.0)))
+        theta_max = np.degrees(np.arccos(np.clip(cos_theta.min(axis=1), -1.0, 1.0)))
     elif plan.regime == "torque-free" and plan.body == "asymmetric" and batch == 1:
         k = int(np.argsort(moments[0])[1])
         flips = int(np.count_nonzero(np.diff(np.sign(omega_pr[0, :, k])) != 0))
@@ -192,6 +196,45 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
         "turning_points": turning,
         "gamma": gamma_body,
     }
+
+
+def _canonical(q):
+    """Unit quaternions with q0 ≥ 0 (as :func:`~eulersym.scene.frames.rotation_to_quaternion` gives them)."""
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    return np.where(q[..., :1] < 0, -q, q)
+
+
+def _rotation_euler(rot, convention):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)  # gimbal lock at θ = 0 is reported as the angles it gives
+        return rot.as_euler(convention.upper())
+
+
+def _euler_angles(problem, traj, attitude):
+    """Euler angles of the body frame (= the principal frame), φ and ψ unwrapped: the closed form's own angles
+    where the engine gives them in the scene's convention (zxz), else from the attitude."""
+    if traj.euler is not None and problem.convention == "zxz":
+        return _unwrapped(np.array(traj.euler, dtype=float))
+    batch, n = attitude.shape[:2]
+    return _unwrapped(_rotation_euler(quaternion_to_rotation(attitude.reshape(-1, 4)), problem.convention)
+                      .reshape(batch, n, 3))
+
+
+def _unwrapped(angles):
+    """φ and ψ (columns 0 and 2) made continuous along the times (axis 1) by multiples of 2π, as ``np.unwrap``.
+
+    Examples
+    --------
+    >>> a = np.zeros((1, 3, 3)); a[0, :, 0] = [3.0, -3.0, -2.9]
+    >>> bool(np.allclose(_unwrapped(a)[0, :, 0], [3.0, 2 * np.pi - 3.0, 2 * np.pi - 2.9]))
+    True
+    """
+    two_pi = 2.0 * np.pi
+    for k in (0, 2):
+        jumps = np.round(np.diff(angles[..., k], axis=1) / two_pi)
+        if np.any(jumps):
+            angles[:, 1:, k] -= two_pi * np.cumsum(jumps, axis=1)
+    return angles
 
 
 def report_notes(plan, moments, P, *, theta_min=None, theta_max=None, w3=None, bound=None, turning=None,
