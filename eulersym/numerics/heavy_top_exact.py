@@ -58,7 +58,7 @@ import numpy as np
 
 from eulersym.errors import InvalidInput, SingularConfiguration
 from eulersym.numerics import _decimal_elliptic as _de
-from eulersym.numerics.exact import _phase, _two_prod, jacobi_sncndn
+from eulersym.numerics.exact import _agm_landen, _phase, _sncndn_scalar, _two_prod, jacobi_sncndn
 from eulersym.validation import finite_array, moments
 
 
@@ -484,23 +484,53 @@ def _pairs(sigma):
     return ((1, 2), (0, 3)) if sigma > 0 else ((0, 3), (1, 2))
 
 
+def _W_scalar(x, n, one_minus_n, mc, rootmc, landen):
+    """:func:`_W_direct` for one float x (|x| ≤ K), in ``math`` and SciPy's scalar Carlson integrals."""
+    from scipy.special import elliprf, elliprj
+
+    s, c, _ = _sncndn_scalar(abs(x), rootmc, landen)
+    s = abs(s)
+    c2 = c * c
+    d2 = c2 + mc * s * s
+    val = s * float(elliprf(c2, d2, 1.0))
+    if n != 0.0:
+        val += (n / 3.0) * s * s * s * float(elliprj(c2, d2, 1.0, one_minus_n + n * c2))
+    return math.copysign(val, x) if x != 0.0 else 0.0
+
+
+def _phase0(motion):
+    """:func:`eulersym.numerics.exact._phase` at t = 0 for one motion, in floats: (r0, j0)."""
+    u_hi, u_lo = motion["u0"], motion["u0_lo"]
+    j = float(round((u_hi + u_lo) / motion["period"]))
+    e_hi, e_lo = _two_prod(j, motion["period"])
+    return ((u_hi - e_hi) - e_lo) + (u_lo - j * motion["period_lo"]), j
+
+
 def _finish(motion, near, far, omega, q, start=None):
     """Fix the angles χ0 from q0 (and, where a half angle starts at zero, from the direction q̇0)."""
-    proto = _Motion(near=None, far=None, **motion)
-    qn = np.asarray(q, dtype=np.float64)
-    qn = qn / math.sqrt(float(np.sum(qn * qn)))
-    zero = np.zeros(1)
-    amp_n, amp_f, _, _, dn_sign, df_sign, _ = _amplitudes(proto, _Pole(**near, W0=0.0, j0=0.0, chi0=0.0),
-                                                      _Pole(**far, W0=0.0, j0=0.0, chi0=0.0), zero)
-    qdot = 0.5 * np.array([
-        -qn[1] * omega[0] - qn[2] * omega[1] - qn[3] * omega[2],
-        qn[0] * omega[0] - qn[3] * omega[1] + qn[2] * omega[2],
-        qn[3] * omega[0] + qn[0] * omega[1] - qn[1] * omega[2],
-        -qn[2] * omega[0] + qn[1] * omega[1] + qn[0] * omega[2],
-    ])
+    qn = [float(v) for v in q]
+    norm = math.sqrt(sum(v * v for v in qn))
+    qn = [v / norm for v in qn]
+    w1, w2, w3 = (float(v) for v in omega)
+    qdot = (0.5 * (-qn[1] * w1 - qn[2] * w2 - qn[3] * w3), 0.5 * (qn[0] * w1 - qn[3] * w2 + qn[2] * w3),
+            0.5 * (qn[3] * w1 + qn[0] * w2 - qn[1] * w3), 0.5 * (-qn[2] * w1 + qn[1] * w2 + qn[0] * w3))
+    landen = None
+    if motion["steady"]:
+        amp_n, amp_f, dn_sign, df_sign = math.sqrt(near["base"]), math.sqrt(far["base"]), 1.0, 1.0
+    else:  # the amplitudes at t = 0 as _amplitudes finds them
+        r0, j0 = _phase0(motion)
+        landen = _agm_landen(motion["rootmc"])
+        sn, cn, _ = _sncndn_scalar(r0, motion["rootmc"], landen)
+        parity = 1.0 - 2.0 * (j0 % 2.0)
+        sn, cn = parity * sn, parity * cn
+        sd = math.sqrt(motion["delta"])
+        amp_n = sd * cn if near["signed"] else 1.0
+        amp_f = sd * sn if far["signed"] else 1.0
+        dn_sign = -1.0 if sn >= 0 else 1.0
+        df_sign = 1.0 if cn >= 0 else -1.0
     pn, pf = _pairs(motion["sigma"])
     out = []
-    for pole, pair, amp, dsign in ((near, pn, amp_n[0], dn_sign), (far, pf, amp_f[0], df_sign)):
+    for pole, pair, amp, dsign in ((near, pn, amp_n, dn_sign), (far, pf, amp_f, df_sign)):
         c, s = qn[pair[0]], qn[pair[1]]
         if not (pole["signed"] and pole["at_pole"]):
             half = math.atan2(s, c) if amp >= 0.0 else math.atan2(-s, -c)
@@ -512,18 +542,18 @@ def _finish(motion, near, far, omega, q, start=None):
     W0n = W0f = j0n = j0f = 0.0
     if not motion["steady"]:
         # the half periods and reduced arguments at t = 0 exactly as the evaluation will find them
-        r0, j0 = _phase(proto, zero)
-        x0 = r0 - motion["K"]
-        j0n = float(j0[0])
-        j0f = j0n - 1.0 if x0[0] < -motion["K"] else j0n
-        x0 = np.where(x0 < -motion["K"], x0 + motion["period"], x0)
+        K = motion["K"]
+        x0 = r0 - K
+        j0n = j0
+        j0f = j0n - 1.0 if x0 < -K else j0n
+        x0 = x0 + motion["period"] if x0 < -K else x0
         (exact_n, jn_exact), (exact_f, jf_exact) = start["near"], start["far"]
         for key, pole, x, jj, exact, j_exact in (("n", near, r0, j0n, exact_n, jn_exact),
                                                  ("f", far, x0, j0f, exact_f, jf_exact)):
             if not pole["B"]:
                 value = 0.0
             elif exact is None:  # off the poles: W at the reduced argument, in double
-                value = float(_W_direct(x, pole["n"], pole["one_minus_n"], motion["mc"], motion["rootmc"])[0])
+                value = _W_scalar(x, pole["n"], pole["one_minus_n"], motion["mc"], motion["rootmc"], landen)
             else:  # the decimal value, moved to the branch (half period) the evaluation uses: W(x + 2K) = W(x) + W(2K)
                 value = exact + (j_exact - jj) * 2.0 * pole["WK"]
             if key == "n":
