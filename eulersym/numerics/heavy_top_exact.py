@@ -58,7 +58,8 @@ import numpy as np
 
 from eulersym.errors import InvalidInput, SingularConfiguration
 from eulersym.numerics import _decimal_elliptic as _de
-from eulersym.numerics.exact import _agm_landen, _phase, _sncndn_scalar, _two_prod, jacobi_sncndn
+from eulersym.numerics.exact import (_agm_landen, _phase, _sncndn_reduced, _sncndn_scalar, _two_prod,
+                                     jacobi_sncndn)
 from eulersym.validation import finite_array, moments
 
 
@@ -286,13 +287,14 @@ _ODD = 2 * np.arange(_HALF) + 1
 _TRANSFORM = (4.0 / _CHEB_N) * np.cos(np.pi * np.outer(_ODD, np.arange(_HALF) + 0.5) / _CHEB_N)
 
 
-def _W_chebyshev(poles, mc, rootmc, K):
+def _W_chebyshev(poles, mc, rootmc, K, tolerance=0.0):
     """For each pole ``(n, 1 − n, W(K))``: ``(slope, a)`` with ``W(x) = slope·x + Σ_k a_k T_{2k+1}(x/K)`` on
     [−K, K] (the periodic part of W is odd: odd terms only), fitted at the 64 Chebyshev nodes (32 Carlson values by
     symmetry, one Jacobi evaluation shared by the poles) and cut after the last coefficient above an ulp of the
     scale of W (beyond it the coefficients are the noise of the fitted values: the true ones decay geometrically);
     or None for a pole whose series does not reach round-off in 32 terms (a pass close to the
-    vertical): W is then evaluated directly."""
+    vertical): W is then evaluated directly. ``tolerance`` > 0: cut also where the tail Σ|a_k| falls below
+    ``tolerance / |coef|`` (each pole given as ``(n, 1 − n, W(K), coef)``; coef multiplies W in its angle)."""
     from scipy.special import elliprf, elliprj
 
     x = K * _NODES
@@ -302,7 +304,7 @@ def _W_chebyshev(poles, mc, rootmc, K):
     first = s * elliprf(c2, d2, 1.0)
     eps = np.finfo(float).eps
     fits = []
-    for n, one_minus_n, WK in poles:
+    for n, one_minus_n, WK, coef in poles:
         slope = WK / K
         values = first + (n / 3.0) * s * s * s * elliprj(c2, d2, 1.0, one_minus_n + n * c2) if n != 0.0 else first
         values = values - slope * x
@@ -312,25 +314,28 @@ def _W_chebyshev(poles, mc, rootmc, K):
             fits.append(None)
             continue
         above = np.flatnonzero(np.abs(a) > eps * scale)  # the rest is the fit's own round-off (its noise floor)
-        fits.append((slope, a[:int(above[-1]) + 1] if above.size else a[:1]))
+        keep = int(above[-1]) + 1 if above.size else 1
+        if tolerance > 0.0:
+            tail = np.cumsum(np.abs(a[::-1]))[::-1]  # tail[k] = Σ_{i ≥ k} |a_i|
+            keep = min(keep, max(1, int(np.count_nonzero(tail > tolerance / max(abs(coef), 1e-300)))))
+        fits.append((slope, a[:keep]))
     return fits
 
 
 def _clenshaw_odd(y, a):
     """``Σ_k a[k] T_{2k+1}(y)`` by Clenshaw's recurrence in ``z = T_2(y) = 2y² − 1`` (``T_{2k+3} = 2z T_{2k+1} −
     T_{2k−1}``): ``y (b_0 − b_1)``. ``a`` of shape (N, ...) broadcasting against y."""
-    z2 = 4.0 * y * y - 2.0
+    z2 = 4.0 * y * y
+    z2 -= 2.0
     b1 = np.zeros_like(z2)
     b2 = np.zeros_like(z2)
-    for k in range(len(a) - 1, 0, -1):
-        b0 = z2 * b1
+    b0 = np.empty_like(z2)
+    for k in range(len(a) - 1, -1, -1):
+        np.multiply(z2, b1, out=b0)
         b0 -= b2
         b0 += a[k]
-        b1, b2 = b0, b1
-    b0 = z2 * b1
-    b0 -= b2
-    b0 += a[0]
-    return y * (b0 - b1)
+        b0, b1, b2 = b2, b0, b1
+    return y * (b1 - b2)  # after the last rotation b1 holds b_0 and b2 holds b_1
 
 
 def _W_direct(x, n, one_minus_n, mc, rootmc):
@@ -564,7 +569,33 @@ def _finish(motion, near, far, omega, q, start=None):
                    far=_Pole(**far, W0=W0f, j0=j0f, chi0=chi_far0), **motion)
 
 
-def _amplitudes(mo, near, far, t):
+def _sncndn_half(r, mo):
+    """sn, cn, dn of the reduced phase |r| ≤ K: :func:`eulersym.numerics.exact.jacobi_sncndn` without its
+    reduction modulo 4K (Landen on [0, K/2], the quarter-period reflection above), as new arrays."""
+    landen = _agm_landen(mo.rootmc)
+    K = mo.K
+    x = np.abs(r)
+    np.minimum(x, K, out=x)
+    near = x > 0.5 * K
+    z = np.where(near, K - x, x)
+    sz, cz, dz = _sncndn_reduced(z, *landen)
+    sn = np.where(near, cz / dz, sz)
+    np.copysign(sn, r, out=sn)
+    cn = np.where(near, (mo.rootmc * sz) / dz, cz)
+    dn = np.where(near, mo.rootmc / dz, dz)
+    return sn, cn, dn
+
+
+def _phase_double(mo, t):
+    """``λ t + τ0`` reduced modulo the half period 2K in double: (r, j) with the rounding bound
+    ``4 ε (|λ| max|t| + |τ0| + 2K)`` (the caller checks it against the accuracy asked)."""
+    u = mo.lam * t
+    u += mo.lam_lo * t + mo.u0
+    j = np.rint(u / mo.period)
+    return u - j * mo.period, j
+
+
+def _amplitudes(mo, near, far, t, tolerance=0.0, tmax=0.0):
     """The pole distances' square roots R_n = √(1 − w), R_f = √(1 + w) (signed where a base is 0), the ratios
     √Δ cn/R_n and √Δ sn/R_f, and the signs of dR/dt at t (for a half angle that starts at zero)."""
     if mo.steady:
@@ -572,10 +603,15 @@ def _amplitudes(mo, near, far, t):
         rf = np.full(t.shape, math.sqrt(far.base))
         zero = np.zeros_like(t)
         return rn, rf, zero, zero, 1.0, 1.0, (zero, zero, np.ones_like(t))
-    r, j = _phase(mo, t)
-    sn, cn, dn = jacobi_sncndn(r, mo.mc, rootmc=mo.rootmc)
-    parity = 1.0 - 2.0 * np.mod(j, 2.0)  # sn and cn change sign over each half period 2K
-    sn, cn = parity * sn, parity * cn
+    eps = np.finfo(float).eps
+    if 0.0 < 4.0 * eps * (abs(mo.lam) * tmax + abs(mo.u0) + mo.period) <= 0.5 * tolerance:
+        r, j = _phase_double(mo, t)
+    else:
+        r, j = _phase(mo, t)
+    sn, cn, dn = _sncndn_half(r, mo)
+    odd = (j.astype(np.int64) & 1).astype(bool)  # sn and cn change sign over each half period 2K
+    np.negative(sn, out=sn, where=odd)
+    np.negative(cn, out=cn, where=odd)
     sd = math.sqrt(mo.delta)
     if near.signed:
         rn = sd * cn
@@ -600,9 +636,11 @@ def _amplitudes(mo, near, far, t):
 _SERIES_FROM = 48
 
 
-def _chis(mo, t, r, j):
+def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0):
     """χ_near, χ_far at t (shape (2, n)): the secular part ``rate·t + per·(j − j0)`` reduced modulo 4π in
-    double-double (both poles at once), plus ``coef·(W(x) − W0)`` with x = r (near) and r − K wrapped (far)."""
+    double-double (both poles at once), plus ``coef·(W(x) − W0)`` with x = r (near) and r − K wrapped (far).
+    ``tolerance`` > 0 (radians): the secular part in double where its rounding bound allows, and W's series cut
+    at that tolerance."""
     four_pi = _four_pi()
     near, far = mo.near, mo.far
     x_far = r - mo.K
@@ -612,7 +650,15 @@ def _chis(mo, t, r, j):
     col = lambda a, b: np.array([[a], [b]])  # noqa: E731
     rate = (col(near.rate[0], far.rate[0]), col(near.rate[1], far.rate[1]))
     per = (col(near.per[0], far.per[0]), col(near.per[1], far.per[1]))
-    chi = _dd_linear(rate, t, per, jj, four_pi) + col(near.chi0, far.chi0)
+    eps = np.finfo(float).eps
+    jmax = (abs(mo.lam) * tmax + abs(mo.u0)) / mo.period + 2.0 if not mo.steady else 0.0
+    bound = 4.0 * eps * max(abs(p.rate[0]) * tmax + abs(p.per[0]) * jmax + four_pi[0] for p in (near, far))
+    if 0.0 < bound <= 0.5 * tolerance:  # plain double: the rounding of rate·t, per·j and the reduction
+        secular = rate[0] * t + per[0] * jj
+        secular -= four_pi[0] * np.rint(secular / four_pi[0])
+        chi = secular + col(near.chi0, far.chi0)
+    else:
+        chi = _dd_linear(rate, t, per, jj, four_pi) + col(near.chi0, far.chi0)
     if mo.steady:
         return chi
     active = [k for k, pole in enumerate((near, far)) if pole.B != 0.0]
@@ -622,8 +668,8 @@ def _chis(mo, t, r, j):
     poles = (near, far)
     fits = [None, None]
     if t.size >= _SERIES_FROM:
-        found = _W_chebyshev([(poles[k].n, poles[k].one_minus_n, poles[k].WK) for k in active], mo.mc, mo.rootmc,
-                             mo.K)
+        found = _W_chebyshev([(poles[k].n, poles[k].one_minus_n, poles[k].WK, poles[k].coef) for k in active],
+                             mo.mc, mo.rootmc, mo.K, 0.25 * tolerance)
         for k, fit in zip(active, found):
             fits[k] = fit
     series = [k for k in active if fits[k] is not None]
@@ -646,10 +692,14 @@ def _chis(mo, t, r, j):
     return chi
 
 
-def _evaluate(mo, t):
-    """ω, Γ, q and Euler angles of one motion at the times t."""
-    rn, rf, ratio_n, ratio_f, _, _, (r, j, dn) = _amplitudes(mo, mo.near, mo.far, t)
-    chi = _chis(mo, t, r, j)
+def _evaluate(mo, t, accuracy=None):
+    """ω, Γ, q and Euler angles of one motion at the times t; ``accuracy`` (relative to ω): the phase and the
+    secular angles may be computed in double, and W's series cut, where their error bounds stay below a tenth of
+    it (None: round-off everywhere)."""
+    tolerance = 0.1 * float(accuracy) if accuracy else 0.0
+    tmax = float(np.max(np.abs(t))) if (tolerance and t.size) else 0.0
+    rn, rf, ratio_n, ratio_f, _, _, (r, j, dn) = _amplitudes(mo, mo.near, mo.far, t, tolerance, tmax)
+    chi = _chis(mo, t, r, j, tolerance, tmax)
     cos_half, sin_half = np.cos(0.5 * chi), np.sin(0.5 * chi)
     half_n, half_f = rn * math.sqrt(0.5), rf * math.sqrt(0.5)
     q = np.empty(t.shape + (4,))
@@ -803,7 +853,7 @@ def _batch(batched, nb, Iarr, Mv, gv, lv, w, qq, tt):
     return HeavyTopMotion(t=tt, omega=omega, gamma=gamma, q=q, euler=euler, period=period, turning_points=turning)
 
 
-def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None):
+def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None, accuracy=None):
     """The heavy symmetric top in closed form: ω(t), Γ(t), q(t) and the Euler angles at any times.
 
     Solves ``I ω̇ + ω × I ω = M g l Γ × e3``, ``Γ̇ = Γ × ω``, ``q̇ = ½ q ⊗ (0, ω)`` exactly (see the module
@@ -831,6 +881,11 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None):
         ~10 ms per member). False: all members at once in double precision (error ~1e-16 × the number of
         nutation periods; members at a double root, near a pole or the separatrix still go the precise way).
         None (default): precise up to :data:`BATCH_PRECISE` members.
+    accuracy : float or None, optional
+        Relative accuracy asked (of ω, relative to its scale) for the precise path: the phase and the secular
+        angles are then computed in double, and the Chebyshev series of the third-kind integrals cut, wherever
+        their rounding and truncation bounds stay below a tenth of it (a scene passes its accuracy). None
+        (default): round-off at every t.
 
     Returns
     -------
@@ -859,6 +914,11 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None):
     """
     batched, nb, Iarr, Mv, gv, lv, w, qq = _members(I, M, g, l, omega0, q0)
     tt = finite_array("t", np.atleast_1d(np.asarray(t, dtype=np.float64)) if np.ndim(t) == 0 else t, shape=(None,))
+    if accuracy is not None:
+        if isinstance(accuracy, (bool, str)) or not (isinstance(accuracy, (int, float, np.floating))
+                                                       and math.isfinite(accuracy) and 0.0 < accuracy < 1.0):
+            raise InvalidInput("accuracy", accuracy, "a relative accuracy between 0 and 1 (e.g. 1e-11), or None "
+                               "for round-off")
     if precise is None:
         precise = nb <= BATCH_PRECISE
     if not precise:
@@ -866,7 +926,7 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None):
     outs = ([], [], [], [], [], [])
     for k in range(nb):
         mo = _setup(Iarr[k, 0], Iarr[k, 2], Mv[k], gv[k], lv[k], w[k], _snap_to_poles(qq[k]))
-        omega, gamma, q, euler = _evaluate(mo, tt)
+        omega, gamma, q, euler = _evaluate(mo, tt, accuracy)
         start = tt == 0.0  # the start itself (also where a pass through a pole at t = 0 is below the phase resolution)
         if np.any(start):
             q_start = _snap_to_poles(qq[k]) / math.sqrt(float(np.sum(qq[k] * qq[k])))
