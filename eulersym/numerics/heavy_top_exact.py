@@ -280,38 +280,34 @@ def _W_decimal(s_sq, c_sq, d_sq, n, one_minus_n):
     return out
 
 
-_CHEB_N = 64  # Chebyshev nodes on [−K, K]; W's periodic part is odd: 32 values, odd terms only
+_CHEB_N = 64  # Chebyshev nodes on [−K, K]; W's periodic part is odd, its derivative even: 32 values
 _HALF = _CHEB_N // 2
 _NODES = np.cos(np.pi * (np.arange(_HALF) + 0.5) / _CHEB_N)  # the positive nodes
 _ODD = 2 * np.arange(_HALF) + 1
-_TRANSFORM = (4.0 / _CHEB_N) * np.cos(np.pi * np.outer(_ODD, np.arange(_HALF) + 0.5) / _CHEB_N)
+_TRANSFORM = (4.0 / _CHEB_N) * np.cos(np.pi * np.outer(_ODD - 1, np.arange(_HALF) + 0.5) / _CHEB_N)
 
 
-def _W_chebyshev(poles, mc, rootmc, K, tolerance=0.0):
-    """For each pole ``(n, 1 − n, W(K))``: ``(slope, a)`` with ``W(x) = slope·x + Σ_k a_k T_{2k+1}(x/K)`` on
-    [−K, K] (the periodic part of W is odd: odd terms only), fitted at the 64 Chebyshev nodes (32 Carlson values by
-    symmetry, one Jacobi evaluation shared by the poles) and cut after the last coefficient above an ulp of the
-    scale of W (beyond it the coefficients are the noise of the fitted values: the true ones decay geometrically);
-    or None for a pole whose series does not reach round-off in 32 terms (a pass close to the
-    vertical): W is then evaluated directly. ``tolerance`` > 0: cut also where the tail Σ|a_k| falls below
-    ``tolerance / |coef|`` (each pole given as ``(n, 1 − n, W(K), coef)``; coef multiplies W in its angle)."""
-    from scipy.special import elliprf, elliprj
+def _W_chebyshev(poles, c2, K, tolerance=0.0):
+    """For each pole ``(n, 1 − n, W(K), coef)``: ``(slope, a)`` with ``W(x) = slope·x + Σ_k a_k T_{2k+1}(x/K)``
+    on [−K, K], ``slope = W(K)/K`` (W(K) from the setup, to 36 digits).
 
-    x = K * _NODES
-    s, c, _ = jacobi_sncndn(x, mc, rootmc=rootmc)
-    c2 = c * c
-    d2 = c2 + mc * s * s
-    first = s * elliprf(c2, d2, 1.0)
+    The derivative ``W′(x) − slope = 1/((1 − n) + n cn² x) − slope`` is even: its Chebyshev coefficients
+    ``c_{2k}`` come from 32 values at the positive nodes ``K·_NODES`` of the 64-point grid (``c2``: cn² there,
+    from the Jacobi evaluation of the output times; no elliptic integral), and the series is integrated term by term, ``a_j = K (c_{j−1} − c_{j+1})/(2j)``
+    (c₀ counted twice). Two checks that the series represents W: ``Σ a_k = W(K)/K·K − W(K) = 0`` to round-off,
+    and the last coefficients at the noise floor; where either fails (a pass close to the vertical: a sharp
+    peak of W′), None, and W is evaluated directly. The series is cut after the last coefficient above an ulp of
+    the scale of W, and, for ``tolerance`` > 0, where the tail Σ|a_k| falls below ``tolerance / |coef|`` (coef
+    multiplies W in its angle)."""
     eps = np.finfo(float).eps
     fits = []
     for n, one_minus_n, WK, coef in poles:
         slope = WK / K
-        values = first + (n / 3.0) * s * s * s * elliprj(c2, d2, 1.0, one_minus_n + n * c2) if n != 0.0 else first
-        values = values - slope * x
-        a = _TRANSFORM @ values
-        scale = max(float(np.max(np.abs(values))), abs(WK), 1e-300)
-        if float(np.max(np.abs(a[-3:]))) > 32 * eps * scale:  # not yet at the noise floor
-            fits.append(None)
+        raw = _TRANSFORM @ (1.0 / (one_minus_n + n * c2) - slope)  # raw[0] is twice c₀
+        a = K * (raw - np.append(raw[1:], 0.0)) / (2.0 * _ODD)
+        scale = max(abs(WK), float(np.sum(np.abs(a))), 1e-300)
+        if float(np.max(np.abs(a[-3:]))) > 32 * eps * scale or abs(float(np.sum(a))) > 64 * eps * scale:
+            fits.append(None)  # not at the noise floor in 32 terms, or not consistent with W(K)
             continue
         above = np.flatnonzero(np.abs(a) > eps * scale)  # the rest is the fit's own round-off (its noise floor)
         keep = int(above[-1]) + 1 if above.size else 1
@@ -569,6 +565,11 @@ def _finish(motion, near, far, omega, q, start=None):
                    far=_Pole(**far, W0=W0f, j0=j0f, chi0=chi_far0), **motion)
 
 
+#: From this many output times on, W comes from its Chebyshev series (fitted per call at 32 nodes) rather than from
+#: Carlson's integrals at every time.
+_SERIES_FROM = 48
+
+
 def _sncndn_half(r, mo):
     """sn, cn, dn of the reduced phase |r| ≤ K: :func:`eulersym.numerics.exact.jacobi_sncndn` without its
     reduction modulo 4K (Landen on [0, K/2], the quarter-period reflection above), as new arrays."""
@@ -602,13 +603,20 @@ def _amplitudes(mo, near, far, t, tolerance=0.0, tmax=0.0):
         rn = np.full(t.shape, math.sqrt(near.base))
         rf = np.full(t.shape, math.sqrt(far.base))
         zero = np.zeros_like(t)
-        return rn, rf, zero, zero, 1.0, 1.0, (zero, zero, np.ones_like(t))
+        return rn, rf, zero, zero, 1.0, 1.0, (zero, zero, np.ones_like(t), None)
     eps = np.finfo(float).eps
     if 0.0 < 4.0 * eps * (abs(mo.lam) * tmax + abs(mo.u0) + mo.period) <= 0.5 * tolerance:
         r, j = _phase_double(mo, t)
     else:
         r, j = _phase(mo, t)
-    sn, cn, dn = _sncndn_half(r, mo)
+    nodes = t.size >= _SERIES_FROM and not (near.B == 0.0 and far.B == 0.0)
+    if nodes:  # the Chebyshev nodes of W's series ride along (one Jacobi evaluation)
+        sn, cn, dn = _sncndn_half(np.concatenate([r, mo.K * _NODES]), mo)
+        node_c2 = cn[t.size:] ** 2
+        sn, cn, dn = sn[:t.size], cn[:t.size], dn[:t.size]
+    else:
+        sn, cn, dn = _sncndn_half(r, mo)
+        node_c2 = None
     odd = (j.astype(np.int64) & 1).astype(bool)  # sn and cn change sign over each half period 2K
     np.negative(sn, out=sn, where=odd)
     np.negative(cn, out=cn, where=odd)
@@ -628,15 +636,10 @@ def _amplitudes(mo, near, far, t, tolerance=0.0, tmax=0.0):
     # d(√Δ cn)/dτ = −√Δ sn dn, d(√Δ sn)/dτ = √Δ cn dn: the direction a zero amplitude leaves in
     dn_sign = -1.0 if float(sn.ravel()[0]) >= 0 else 1.0
     df_sign = 1.0 if float(cn.ravel()[0]) >= 0 else -1.0
-    return rn, rf, ratio_n, ratio_f, dn_sign, df_sign, (r, j, dn)
+    return rn, rf, ratio_n, ratio_f, dn_sign, df_sign, (r, j, dn, node_c2)
 
 
-#: From this many output times on, W comes from its Chebyshev series (fitted per call at 32 nodes) rather than from
-#: Carlson's integrals at every time.
-_SERIES_FROM = 48
-
-
-def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0):
+def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0, node_c2=None):
     """χ_near, χ_far at t (shape (2, n)): the secular part ``rate·t + per·(j − j0)`` reduced modulo 4π in
     double-double (both poles at once), plus ``coef·(W(x) − W0)`` with x = r (near) and r − K wrapped (far).
     ``tolerance`` > 0 (radians): the secular part in double where its rounding bound allows, and W's series cut
@@ -667,9 +670,9 @@ def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0):
     x = (r, x_far)
     poles = (near, far)
     fits = [None, None]
-    if t.size >= _SERIES_FROM:
+    if node_c2 is not None:
         found = _W_chebyshev([(poles[k].n, poles[k].one_minus_n, poles[k].WK, poles[k].coef) for k in active],
-                             mo.mc, mo.rootmc, mo.K, 0.25 * tolerance)
+                             node_c2, mo.K, 0.25 * tolerance)
         for k, fit in zip(active, found):
             fits[k] = fit
     series = [k for k in active if fits[k] is not None]
@@ -698,8 +701,8 @@ def _evaluate(mo, t, accuracy=None):
     it (None: round-off everywhere)."""
     tolerance = 0.1 * float(accuracy) if accuracy else 0.0
     tmax = float(np.max(np.abs(t))) if (tolerance and t.size) else 0.0
-    rn, rf, ratio_n, ratio_f, _, _, (r, j, dn) = _amplitudes(mo, mo.near, mo.far, t, tolerance, tmax)
-    chi = _chis(mo, t, r, j, tolerance, tmax)
+    rn, rf, ratio_n, ratio_f, _, _, (r, j, dn, node_c2) = _amplitudes(mo, mo.near, mo.far, t, tolerance, tmax)
+    chi = _chis(mo, t, r, j, tolerance, tmax, node_c2)
     cos_half, sin_half = np.cos(0.5 * chi), np.sin(0.5 * chi)
     half_n, half_f = rn * math.sqrt(0.5), rf * math.sqrt(0.5)
     q = np.empty(t.shape + (4,))
