@@ -58,7 +58,7 @@ import numpy as np
 
 from eulersym.errors import InvalidInput, SingularConfiguration
 from eulersym.numerics import _decimal_elliptic as _de
-from eulersym.numerics.exact import (_agm_landen, _phase, _sncndn_reduced, _sncndn_scalar, _two_prod,
+from eulersym.numerics.exact import (_agm_landen, _carlson_rf, _phase, _sncndn_reduced, _sncndn_scalar, _two_prod,
                                      jacobi_sncndn)
 from eulersym.validation import finite_array, moments
 
@@ -189,7 +189,8 @@ class _Motion:
 
 
 _FOUR_PI = None
-_THROUGH = Decimal("1e-26")  # 1 ∓ w below this at a turning point: the motion passes through the pole
+_THROUGH = Decimal("1e-26")
+_MC_DOUBLE = Decimal("1e-6")  # above it, the start's phase τ0 in double  # 1 ∓ w below this at a turning point: the motion passes through the pole
 
 
 def _four_pi():
@@ -417,7 +418,12 @@ def _setup(I1, I3, M, g, l, omega, q):
         K = _de.pi() / (2 * _de.agm(Decimal(1), rootmc))
         # τ0: sn² τ0 = −x1/Δ, sign of sn = sign of ẇ0 (on [−K, K], cn ≥ 0 and dn > 0)
         s_sq, c_sq, d_sq = -x1 / delta, x2 / delta, x3 / span
-        F = s_sq.sqrt() * _de.rf_(c_sq, d_sq, Decimal(1)) if s_sq > 0 else Decimal(0)
+        if s_sq <= 0:
+            F = Decimal(0)
+        elif mc > _MC_DOUBLE:  # K < 8: Carlson's R_F in double keeps τ0 to a few ulp of K (no growth with t)
+            F = Decimal(math.sqrt(float(s_sq)) * _carlson_rf(float(c_sq), float(d_sq), 1.0))
+        else:  # near the separatrix (K large): to 36 digits
+            F = s_sq.sqrt() * _de.rf_(c_sq, d_sq, Decimal(1))
         wdot0 = sigma * wperp
         tau0 = -F if wdot0 < 0 else F
         # the near pole: 1 − w = (y2 + Δ)(1 − n sn² τ)
