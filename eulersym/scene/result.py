@@ -246,13 +246,21 @@ def report_notes(plan, moments, P, *, theta_min=None, theta_max=None, w3=None, b
     notes = []
     batch = len(moments)
     if plan.regime == "heavy top":
+        axis = np.asarray(P, dtype=float)[:, 2]
+        off = not np.allclose(axis, (0.0, 0.0, 1.0), rtol=0, atol=1e-12)  # the heavy-top frame's e3 is not the body's
+        line = f"({axis[0]:.3g}, {axis[1]:.3g}, {axis[2]:.3g})"
+        which = (f"θ of the pivot → centre-of-mass line {line} of the body (model) frame from the vertical, the "
+                 f"heavy-top frame's e3 — not the θ of the body's e3 in the Euler angles" if off else "")
         if batch == 1:
-            notes.append(f"θ between θ1 = {theta_min[0]:.4g}° and θ2 = {theta_max[0]:.4g}° (from Γ3 = cos θ)")
+            notes.append(f"θ between θ1 = {theta_min[0]:.4g}° and θ2 = {theta_max[0]:.4g}° "
+                         + (f"({which}; cos θ = Γ·{line})" if off else "(from Γ3 = cos θ)"))
         if turning is not None:
             notes.append("turning points derived from the effective potential: "
-                         f"θ1 = {np.degrees(turning[0]):.4g}°, θ2 = {np.degrees(turning[1]):.4g}°")
+                         f"θ1 = {np.degrees(turning[0]):.4g}°, θ2 = {np.degrees(turning[1]):.4g}°"
+                         + (f" ({which})" if off else ""))
         else:
-            notes.append(f"largest tilt per member: {theta_max.min():.4g}° … {theta_max.max():.4g}°")
+            notes.append(f"largest tilt per member: {theta_max.min():.4g}° … {theta_max.max():.4g}°"
+                         + (f" ({which})" if off else ""))
         if "top.sleeping_top_threshold" in plan.derive:
             if bound is not None:
                 ratio = w3**2 / bound
