@@ -576,6 +576,42 @@ def _finish(motion, near, far, omega, q, start=None):
 _SERIES_FROM = 48
 
 
+def _landen(z, avals, bvals, agm):
+    """:func:`eulersym.numerics.exact._sncndn_reduced` (sn, cn, dn for 0 ≤ z ≤ K/2 by Bulirsch's descending
+    Landen recurrence) with the same operations in the same order, into fewer temporaries."""
+    v = z * agm
+    s = np.sin(v)
+    a = np.cos(v)
+    tiny = v < 1e-150  # sn z = z, cn z = dn z = 1 to within z² (and cot v would overflow)
+    anytiny = bool(tiny.any())
+    if anytiny:
+        s[tiny] = 1.0
+    a /= s
+    c = a * agm
+    dn = None
+    tmp = np.empty_like(a)
+    for ai, bi in zip(reversed(avals), reversed(bvals)):
+        a *= c
+        if dn is not None:
+            c *= dn
+        else:
+            dn = np.empty_like(a)
+        np.add(a, bi, out=dn)
+        np.add(a, ai, out=tmp)
+        dn /= tmp
+        np.divide(c, ai, out=a)
+    if dn is None:
+        dn = np.ones_like(a)
+    np.multiply(c, c, out=tmp)
+    tmp += 1.0
+    np.sqrt(tmp, out=tmp)
+    sn = np.divide(1.0, tmp, out=tmp)
+    cn = c * sn
+    if anytiny:
+        sn[tiny], cn[tiny], dn[tiny] = z[tiny], 1.0, 1.0
+    return sn, cn, dn
+
+
 def _sncndn_half(r, mo):
     """sn, cn, dn of the reduced phase |r| ≤ K: :func:`eulersym.numerics.exact.jacobi_sncndn` without its
     reduction modulo 4K (Landen on [0, K/2], the quarter-period reflection above), as new arrays."""
@@ -585,7 +621,7 @@ def _sncndn_half(r, mo):
     np.minimum(x, K, out=x)
     near = x > 0.5 * K
     z = np.where(near, K - x, x)
-    sz, cz, dz = _sncndn_reduced(z, *landen)
+    sz, cz, dz = _landen(z, *landen)
     sn = np.where(near, cz / dz, sz)
     np.copysign(sn, r, out=sn)
     cn = np.where(near, (mo.rootmc * sz) / dz, cz)
@@ -602,20 +638,15 @@ def _phase_double(mo, t):
     return u - j * mo.period, j
 
 
-def _amplitudes(mo, near, far, t, tolerance=0.0, tmax=0.0):
-    """The pole distances' square roots R_n = √(1 − w), R_f = √(1 + w) (signed where a base is 0), the ratios
-    √Δ cn/R_n and √Δ sn/R_f, and the signs of dR/dt at t (for a half angle that starts at zero)."""
-    if mo.steady:
-        rn = np.full(t.shape, math.sqrt(near.base))
-        rf = np.full(t.shape, math.sqrt(far.base))
-        zero = np.zeros_like(t)
-        return rn, rf, zero, zero, 1.0, 1.0, (zero, zero, np.ones_like(t), None)
+def _phase_and_jacobi(mo, t, tolerance, tmax):
+    """The reduced phase r (|r| ≤ K) and half-period index j at t, sn, cn (with the sign of the half period), dn,
+    and cn² at W's Chebyshev nodes when its series will be used (else None)."""
     eps = np.finfo(float).eps
     if 0.0 < 4.0 * eps * (abs(mo.lam) * tmax + abs(mo.u0) + mo.period) <= 0.5 * tolerance:
         r, j = _phase_double(mo, t)
     else:
         r, j = _phase(mo, t)
-    nodes = t.size >= _SERIES_FROM and not (near.B == 0.0 and far.B == 0.0)
+    nodes = t.size >= _SERIES_FROM and not (mo.near.B == 0.0 and mo.far.B == 0.0)
     if nodes:  # the Chebyshev nodes of W's series ride along (one Jacobi evaluation)
         sn, cn, dn = _sncndn_half(np.concatenate([r, mo.K * _NODES]), mo)
         node_c2 = cn[t.size:] ** 2
@@ -626,36 +657,21 @@ def _amplitudes(mo, near, far, t, tolerance=0.0, tmax=0.0):
     odd = (j.astype(np.int64) & 1).astype(bool)  # sn and cn change sign over each half period 2K
     np.negative(sn, out=sn, where=odd)
     np.negative(cn, out=cn, where=odd)
-    sd = math.sqrt(mo.delta)
-    if near.signed:
-        rn = sd * cn
-        ratio_n = np.ones_like(t)
-    else:
-        rn = np.sqrt(near.base + mo.delta * cn * cn)
-        ratio_n = sd * cn / rn
-    if far.signed:
-        rf = sd * sn
-        ratio_f = np.ones_like(t)
-    else:
-        rf = np.sqrt(far.base + mo.delta * sn * sn)
-        ratio_f = sd * sn / rf
-    # d(√Δ cn)/dτ = −√Δ sn dn, d(√Δ sn)/dτ = √Δ cn dn: the direction a zero amplitude leaves in
-    dn_sign = -1.0 if float(sn.ravel()[0]) >= 0 else 1.0
-    df_sign = 1.0 if float(cn.ravel()[0]) >= 0 else -1.0
-    return rn, rf, ratio_n, ratio_f, dn_sign, df_sign, (r, j, dn, node_c2)
+    return r, j, sn, cn, dn, node_c2
 
 
 def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0, node_c2=None):
     """χ_near, χ_far at t (shape (2, n)): the secular part ``rate·t + per·(j − j0)`` reduced modulo 4π in
-    double-double (both poles at once), plus ``coef·(W(x) − W0)`` with x = r (near) and r − K wrapped (far).
-    ``tolerance`` > 0 (radians): the secular part in double where its rounding bound allows, and W's series cut
-    at that tolerance."""
+    double-double (both poles at once), plus ``coef·(W(x) − W0)`` with x = r (near) and x = r ∓ K (far: r − K
+    wrapped into [−K, K], a half period back where r < 0). ``tolerance`` > 0 (radians): the secular part in double
+    where its rounding bound allows, and W's series cut at that tolerance."""
     four_pi = _four_pi()
     near, far = mo.near, mo.far
-    x_far = r - mo.K
-    low = x_far < -mo.K
-    x_far = np.where(low, x_far + mo.period, x_far)
-    jj = np.stack([j - near.j0, np.where(low, j - 1.0, j) - far.j0])
+    back = r < 0.0
+    jj = np.empty((2,) + t.shape)
+    np.subtract(j, near.j0, out=jj[0])
+    np.subtract(j, back, out=jj[1])
+    jj[1] -= far.j0
     col = lambda a, b: np.array([[a], [b]])  # noqa: E731
     rate = (col(near.rate[0], far.rate[0]), col(near.rate[1], far.rate[1]))
     per = (col(near.per[0], far.per[0]), col(near.per[1], far.per[1]))
@@ -663,33 +679,37 @@ def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0, node_c2=None):
     jmax = (abs(mo.lam) * tmax + abs(mo.u0)) / mo.period + 2.0 if not mo.steady else 0.0
     bound = 4.0 * eps * max(abs(p.rate[0]) * tmax + abs(p.per[0]) * jmax + four_pi[0] for p in (near, far))
     if 0.0 < bound <= 0.5 * tolerance:  # plain double: the rounding of rate·t, per·j and the reduction
-        secular = rate[0] * t + per[0] * jj
-        secular -= four_pi[0] * np.rint(secular / four_pi[0])
-        chi = secular + col(near.chi0, far.chi0)
+        chi = per[0] * jj
+        chi += rate[0] * t
+        chi -= four_pi[0] * np.rint(chi * (1.0 / four_pi[0]))
     else:
-        chi = _dd_linear(rate, t, per, jj, four_pi) + col(near.chi0, far.chi0)
+        chi = _dd_linear(rate, t, per, jj, four_pi)
     if mo.steady:
+        chi += col(near.chi0, far.chi0)
         return chi
-    active = [k for k, pole in enumerate((near, far)) if pole.B != 0.0]
+    poles = (near, far)
+    active = [k for k, pole in enumerate(poles) if pole.B != 0.0]
+    chi += col(near.chi0 - near.coef * near.W0 * (near.B != 0.0), far.chi0 - far.coef * far.W0 * (far.B != 0.0))
     if not active:
         return chi
-    x = (r, x_far)
-    poles = (near, far)
+    x = np.empty((2,) + t.shape)
+    x[0] = r
+    np.subtract(r, np.copysign(mo.K, r), out=x[1])
     fits = [None, None]
     if node_c2 is not None:
         found = _W_chebyshev([(poles[k].n, poles[k].one_minus_n, poles[k].WK, poles[k].coef) for k in active],
                              node_c2, mo.K, 0.25 * tolerance)
         for k, fit in zip(active, found):
             fits[k] = fit
-    series = [k for k in active if fits[k] is not None]
-    if len(series) == 2:  # one Clenshaw recurrence for both poles
-        length = max(len(fits[0][1]), len(fits[1][1]))
+    if all(fits[k] is not None for k in active):  # one Clenshaw recurrence for both poles: coef·W as one series
+        length = max(len(fits[k][1]) for k in active)
         a = np.zeros((length, 2, 1))
-        a[:len(fits[0][1]), 0, 0] = fits[0][1]
-        a[:len(fits[1][1]), 1, 0] = fits[1][1]
-        xs = np.stack(x)
-        W = _clenshaw_odd(xs / mo.K, a) + col(fits[0][0], fits[1][0]) * xs
-        chi += col(near.coef, far.coef) * (W - col(near.W0, far.W0))
+        for k in active:
+            slope, series = fits[k]
+            a[:len(series), k, 0] = poles[k].coef * series
+            a[0, k, 0] += poles[k].coef * slope * mo.K  # slope·x = slope·K·T₁(x/K)
+        x *= 1.0 / mo.K
+        chi += _clenshaw_odd(x, a)
         return chi
     for k in active:
         pole = poles[k]
@@ -697,7 +717,7 @@ def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0, node_c2=None):
             W = _clenshaw_odd(x[k] / mo.K, fits[k][1]) + fits[k][0] * x[k]
         else:
             W = _W_direct(x[k], pole.n, pole.one_minus_n, mo.mc, mo.rootmc)
-        chi[k] += pole.coef * (W - pole.W0)
+        chi[k] += pole.coef * W
     return chi
 
 
@@ -707,46 +727,80 @@ def _evaluate(mo, t, accuracy=None):
     it (None: round-off everywhere)."""
     tolerance = 0.1 * float(accuracy) if accuracy else 0.0
     tmax = float(np.max(np.abs(t))) if (tolerance and t.size) else 0.0
-    rn, rf, ratio_n, ratio_f, _, _, (r, j, dn, node_c2) = _amplitudes(mo, mo.near, mo.far, t, tolerance, tmax)
-    chi = _chis(mo, t, r, j, tolerance, tmax, node_c2)
+    near, far = mo.near, mo.far
+    if mo.steady:
+        rn2, rf2 = np.full(t.shape, near.base), np.full(t.shape, far.base)
+        rn, rf = np.sqrt(rn2), np.sqrt(rf2)
+        chi = _chis(mo, t, np.zeros_like(t), np.zeros_like(t), tolerance, tmax)
+        B_ = None
+    else:
+        r, j, sn, cn, dn, node_c2 = _phase_and_jacobi(mo, t, tolerance, tmax)
+        chi = _chis(mo, t, r, j, tolerance, tmax, node_c2)
+        sd = math.sqrt(mo.delta)
+        # the pole distances 1 ∓ w = R² (R signed where its base is 0: the top passes through that pole)
+        rn2 = cn * cn
+        rn2 *= mo.delta
+        rn2 += near.base
+        rf2 = sn * sn
+        rf2 *= mo.delta
+        rf2 += far.base
+        rn = sd * cn if near.signed else np.sqrt(rn2)
+        rf = sd * sn if far.signed else np.sqrt(rf2)
+        # u̇/sin θ = σ 2λ dn (√Δ cn/R_n)(√Δ sn/R_f), each ratio 1 where R is signed
+        B_ = (mo.sigma * 2.0 * mo.lam) * dn
+        if not near.signed:
+            B_ *= sd * cn / rn
+        if not far.signed:
+            B_ *= sd * sn / rf
+    s_theta = rn * rf  # signed sin θ
     cos_half, sin_half = np.cos(0.5 * chi), np.sin(0.5 * chi)
     half_n, half_f = rn * math.sqrt(0.5), rf * math.sqrt(0.5)
     q = np.empty(t.shape + (4,))
     pn, pf = _pairs(mo.sigma)
-    q[..., pn[0]] = half_n * cos_half[0]
-    q[..., pn[1]] = half_n * sin_half[0]
-    q[..., pf[0]] = half_f * cos_half[1]
-    q[..., pf[1]] = half_f * sin_half[1]
+    np.multiply(half_n, cos_half[0], out=q[:, pn[0]])
+    np.multiply(half_n, sin_half[0], out=q[:, pn[1]])
+    np.multiply(half_f, cos_half[1], out=q[:, pf[0]])
+    np.multiply(half_f, sin_half[1], out=q[:, pf[1]])
     q /= np.sqrt(np.einsum("ij,ij->i", q, q))[:, None]
     plus, minus = (1, 0) if mo.sigma > 0 else (0, 1)
     # e^{iψ} with ψ = (χ₊ − χ₋)/2
     cp, sp_, cm, sm = cos_half[plus], sin_half[plus], cos_half[minus], sin_half[minus]
-    cos_psi, sin_psi = cp * cm + sp_ * sm, sp_ * cm - cp * sm
-    # (b − a u)/sin θ = ½ [B_n R_f/R_n + B_f R_n/R_f];  u̇/sin θ = σ 2λ dn (√Δ cn/R_n)(√Δ sn/R_f)
+    cos_psi = cp * cm
+    cos_psi += sp_ * sm
+    sin_psi = sp_ * cm
+    sin_psi -= cp * sm
+    # (b − a u)/sin θ = ½ [B_n R_f/R_n + B_f R_n/R_f] (a term whose B is 0 vanishes, also where its R does)
     A_ = np.zeros_like(t)
-    if mo.near.B != 0.0:
-        A_ = A_ + (0.5 * mo.near.B) * rf / rn
-    if mo.far.B != 0.0:
-        A_ = A_ + (0.5 * mo.far.B) * rn / rf
-    B_ = (mo.sigma * 2.0 * mo.lam) * dn * ratio_n * ratio_f
+    if near.B != 0.0:
+        A_ += (0.5 * near.B) * (rf / rn)
+    if far.B != 0.0:
+        A_ += (0.5 * far.B) * (rn / rf)
     omega = np.empty(t.shape + (3,))
-    omega[:, 0] = A_ * sin_psi - B_ * cos_psi
-    omega[:, 1] = A_ * cos_psi + B_ * sin_psi
+    if B_ is None:
+        np.multiply(A_, sin_psi, out=omega[:, 0])
+        np.multiply(A_, cos_psi, out=omega[:, 1])
+    else:
+        omega[:, 0] = A_ * sin_psi - B_ * cos_psi
+        omega[:, 1] = A_ * cos_psi + B_ * sin_psi
     omega[:, 2] = mo.omega3
-    rn2, rf2 = rn * rn, rf * rf
-    s_theta = rn * rf  # signed sin θ
     gamma = np.empty(t.shape + (3,))
-    gamma[:, 0] = s_theta * sin_psi
-    gamma[:, 1] = s_theta * cos_psi
-    gamma[:, 2] = mo.sigma * np.where(rn2 < rf2, 1.0 - rn2, rf2 - 1.0)
+    np.multiply(s_theta, sin_psi, out=gamma[:, 0])
+    np.multiply(s_theta, cos_psi, out=gamma[:, 1])
+    gamma[:, 2] = np.where(rn2 < rf2, 1.0 - rn2, rf2 - 1.0)
+    if mo.sigma < 0:
+        gamma[:, 2] *= -1.0
     # Euler angles (zxz), θ ≥ 0: a negative signed sin θ/2 or cos θ/2 is absorbed in φ, ψ
     S, Cc = (half_n, half_f) if mo.sigma > 0 else (half_f, half_n)
     euler = np.empty(t.shape + (3,))
     euler[:, 1] = 2.0 * np.arctan2(np.abs(S), np.abs(Cc))
     flip = np.where(S * Cc < 0, math.pi, 0.0)
-    two_pi = 2.0 * math.pi
-    euler[:, 0] = np.mod(0.5 * (chi[plus] + chi[minus]) + flip + math.pi, two_pi) - math.pi
-    euler[:, 2] = np.mod(0.5 * (chi[plus] - chi[minus]) - flip + math.pi, two_pi) - math.pi
+    for k, sign in ((0, 1.0), (2, -1.0)):  # φ, ψ = (χ₊ ± χ₋)/2 ± flip, wrapped to [−π, π]
+        angle = chi[minus] * sign
+        angle += chi[plus]
+        angle *= 0.5
+        angle += sign * flip
+        angle -= (2.0 * math.pi) * np.rint(angle * (0.5 / math.pi))
+        euler[:, k] = angle
     return omega, gamma, q, euler
 
 
