@@ -301,22 +301,26 @@ def _W_chebyshev(poles, c2, K, tolerance=0.0):
     the scale of W, and, for ``tolerance`` > 0, where the tail Σ|a_k| falls below ``tolerance / |coef|`` (coef
     multiplies W in its angle)."""
     eps = np.finfo(float).eps
-    fits = []
-    for n, one_minus_n, WK, coef in poles:
-        slope = WK / K
-        raw = _TRANSFORM @ (1.0 / (one_minus_n + n * c2) - slope)  # raw[0] is twice c₀
-        a = K * (raw - np.append(raw[1:], 0.0)) / (2.0 * _ODD)
-        scale = max(abs(WK), float(np.sum(np.abs(a))), 1e-300)
-        if float(np.max(np.abs(a[-3:]))) > 32 * eps * scale or abs(float(np.sum(a))) > 64 * eps * scale:
-            fits.append(None)  # not at the noise floor in 32 terms, or not consistent with W(K)
-            continue
-        above = np.flatnonzero(np.abs(a) > eps * scale)  # the rest is the fit's own round-off (its noise floor)
-        keep = int(above[-1]) + 1 if above.size else 1
-        if tolerance > 0.0:
-            tail = np.cumsum(np.abs(a[::-1]))[::-1]  # tail[k] = Σ_{i ≥ k} |a_i|
-            keep = min(keep, max(1, int(np.count_nonzero(tail > tolerance / max(abs(coef), 1e-300)))))
-        fits.append((slope, a[:keep]))
-    return fits
+    n, one_minus_n, WK, coef = (np.array(v, dtype=float)[:, None] for v in zip(*poles))
+    slope = WK / K
+    values = one_minus_n + n * c2
+    np.divide(1.0, values, out=values)
+    values -= slope
+    raw = values @ _TRANSFORM.T  # raw[:, 0] is twice c₀
+    a = raw.copy()
+    a[:, :-1] -= raw[:, 1:]
+    a *= K / (2.0 * _ODD)
+    absa = np.abs(a)
+    scale = np.maximum(np.maximum(np.abs(WK[:, 0]), absa.sum(axis=1)), 1e-300)
+    bad = (absa[:, -3:].max(axis=1) > 32 * eps * scale) | (np.abs(a.sum(axis=1)) > 64 * eps * scale)
+    # the last coefficient above an ulp of the scale (beyond: the fit's own round-off), and the tolerance's cut
+    above = absa > (eps * scale)[:, None]
+    keep = np.where(above.any(axis=1), _HALF - np.argmax(above[:, ::-1], axis=1), 1)
+    if tolerance > 0.0:
+        tail = np.cumsum(absa[:, ::-1], axis=1)[:, ::-1]  # tail[k] = Σ_{i ≥ k} |a_i|
+        need = np.count_nonzero(tail > (tolerance / np.maximum(np.abs(coef), 1e-300)), axis=1)
+        keep = np.minimum(keep, np.maximum(need, 1))
+    return [None if bad[k] else (float(slope[k, 0]), a[k, :int(keep[k])]) for k in range(len(poles))]
 
 
 def _clenshaw_odd(y, a):
