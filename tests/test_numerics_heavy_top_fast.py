@@ -110,18 +110,14 @@ def test_the_closed_form_scenes_euler_angles_are_those_of_its_attitude():
     assert np.ptp(r.euler_angles[:, 2]) > 2 * np.pi  # ψ spins over many turns: it was unwrapped
 
 
-def test_an_off_axis_heavy_top_says_which_theta_its_range_is():
+def test_an_off_axis_heavy_top_says_which_theta_its_range_is(tmp_path, monkeypatch):
+    from test_scene_models import HEAVY  # the centre of mass along x: the heavy-top frame's e3 is the model's x
+
     from eulersym.scene import Scene, simulate
 
-    heavy_x = {
-        "name": "heavy-x",
-        "parameters": {"a": 0.04},
-        "body": {"moments": [4e-4, 1.2e-3, 1.2e-3], "mass": 0.5},
-        "pivot": {"centre_of_mass": ["a", 0, 0], "g": 9.81},
-        "initial": {"omega": [150.0, 0.0, 0.0], "euler": [0.0, 1.2, 0.3]},
-        "time": {"end": 0.05, "points": 11},
-        "output": {"want": ["omega", "euler_angles"]},
-    }
+    monkeypatch.setenv("EULERSYM_CACHE", str(tmp_path / "cache"))
+
+    heavy_x = {**HEAVY, "time": {"end": 0.05, "points": 11}, "output": {"want": ["omega", "euler_angles"]}}
     r = simulate(Scene.from_dict(heavy_x))
     line = next(n for n in r.notes if n.startswith("θ between"))
     assert "pivot → centre-of-mass line (1, 0, 0)" in line and "not the θ of the body's e3" in line

@@ -330,7 +330,7 @@ def _W_chebyshev(poles, c2, K, tolerance=0.0):
 
 def _clenshaw_odd(y, a):
     """``Σ_k a[k] T_{2k+1}(y)`` by Clenshaw's recurrence in ``z = T_2(y) = 2y² − 1`` (``T_{2k+3} = 2z T_{2k+1} −
-    T_{2k−1}``): ``y (b_0 − b_1)``. ``a`` of shape (N, ...) broadcasting against y."""
+    T_{2k−1}``): ``y (b_0 − b_1)``. ``a``: numbers (or arrays broadcasting against y)."""
     z2 = 4.0 * y * y
     z2 -= 2.0
     b1 = np.zeros_like(z2)
@@ -585,41 +585,6 @@ def _finish(motion, near, far, omega, q, start=None):
 _SERIES_FROM = 48
 
 
-def _landen(z, avals, bvals, agm):
-    """:func:`eulersym.numerics.exact._sncndn_reduced` (sn, cn, dn for 0 ≤ z ≤ K/2 by Bulirsch's descending
-    Landen recurrence) with the same recurrence, cot v as 1/tan v, into fewer temporaries."""
-    v = z * agm
-    tan = np.tan(v)  # cot v = 1/tan v (NumPy's tan is vectorised; sin and cos are not: a fifth of the time)
-    tiny = v < 1e-150  # sn z = z, cn z = dn z = 1 to within z² (and cot v would overflow)
-    anytiny = bool(tiny.any())
-    if anytiny:
-        tan[tiny] = 1.0
-    a = np.divide(1.0, tan, out=tan)
-    c = a * agm
-    dn = None
-    tmp = np.empty_like(a)
-    for ai, bi in zip(reversed(avals), reversed(bvals)):
-        a *= c
-        if dn is not None:
-            c *= dn
-        else:
-            dn = np.empty_like(a)
-        np.add(a, bi, out=dn)
-        np.add(a, ai, out=tmp)
-        dn /= tmp
-        np.divide(c, ai, out=a)
-    if dn is None:
-        dn = np.ones_like(a)
-    np.multiply(c, c, out=tmp)
-    tmp += 1.0
-    np.sqrt(tmp, out=tmp)
-    sn = np.divide(1.0, tmp, out=tmp)
-    cn = c * sn
-    if anytiny:
-        sn[tiny], cn[tiny], dn[tiny] = z[tiny], 1.0, 1.0
-    return sn, cn, dn
-
-
 def _sncndn_half(r, mo):
     """sn, cn, dn of the reduced phase |r| ≤ K: :func:`eulersym.numerics.exact.jacobi_sncndn` without its
     reduction modulo 4K (Landen on [0, K/2], the quarter-period reflection above), as new arrays."""
@@ -629,7 +594,7 @@ def _sncndn_half(r, mo):
     np.minimum(x, K, out=x)
     near = x > 0.5 * K
     z = np.where(near, K - x, x)
-    sz, cz, dz = _landen(z, *landen)
+    sz, cz, dz = _sncndn_reduced(z, *landen)
     sn = np.where(near, cz / dz, sz)
     np.copysign(sn, r, out=sn)
     cn = np.where(near, (mo.rootmc * sz) / dz, cz)
@@ -709,23 +674,16 @@ def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0, node_c2=None):
                              node_c2, mo.K, 0.25 * tolerance)
         for k, fit in zip(active, found):
             fits[k] = fit
-    if all(fits[k] is not None for k in active):  # one Clenshaw recurrence for both poles: coef·W as one series
-        length = max(len(fits[k][1]) for k in active)
-        a = np.zeros((length, 2, 1))
-        for k in active:
-            slope, series = fits[k]
-            a[:len(series), k, 0] = poles[k].coef * series
-            a[0, k, 0] += poles[k].coef * slope * mo.K  # slope·x = slope·K·T₁(x/K)
-        x *= 1.0 / mo.K
-        chi += _clenshaw_odd(x, a)
-        return chi
     for k in active:
         pole = poles[k]
-        if fits[k] is not None:
-            W = _clenshaw_odd(x[k] / mo.K, fits[k][1]) + fits[k][0] * x[k]
+        if fits[k] is not None:  # coef·W as one series: slope·x = slope·K·T₁(x/K) joins the first term
+            slope, series = fits[k]
+            a = [float(v) for v in pole.coef * series]
+            a[0] += pole.coef * slope * mo.K
+            x[k] *= 1.0 / mo.K
+            chi[k] += _clenshaw_odd(x[k], a)
         else:
-            W = _W_direct(x[k], pole.n, pole.one_minus_n, mo.mc, mo.rootmc)
-        chi[k] += pole.coef * W
+            chi[k] += pole.coef * _W_direct(x[k], pole.n, pole.one_minus_n, mo.mc, mo.rootmc)
     return chi
 
 
