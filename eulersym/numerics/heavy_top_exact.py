@@ -54,7 +54,6 @@ pass lasting less than ~1e8 ulps of the phase) ω is only as accurate as the pha
 from __future__ import annotations
 
 import decimal
-import functools
 import math
 from dataclasses import dataclass
 from decimal import Decimal
