@@ -339,6 +339,29 @@ def test_a_chunked_heavy_top_model_sweep_equals_the_single_pass(cache):
     assert np.array_equal(summary.summary["gamma3.final"], whole.gamma[:, -1, 2])
 
 
+def test_a_streamed_model_sweep_holds_its_outputs_and_a_chunk(cache):
+    """Peak traced memory of a model sweep in 3 chunks: near the estimate (outputs + the chunks in flight), well
+    below what the single pass would hold."""
+    scene = _damped(3 * 4096, want=["summary"])
+    simulate(_damped(5, want=["summary"]))  # the kernel, imports: not the sweep's memory
+    from eulersym.scene.plan import make_plan
+
+    facts = scene.cached_model_facts()
+    plan = make_plan(scene, model=facts)
+    budget = _chunked_budget(scene, plan, 4096)
+    e = cost.check(scene, plan, memory=budget, facts=facts)
+    whole = cost.estimate(scene, plan, facts=facts, chunk=scene.batch)
+    tracemalloc.start()
+    try:
+        result = simulate(scene, memory=budget)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert e.chunk == 4096 and result.summary["omega1.final"].shape == (scene.batch,)
+    assert e.peak_bytes / 3 < peak < 3 * e.peak_bytes, (peak, str(e))
+    assert peak < whole.peak_bytes / 2, (peak, str(whole))
+
+
 def test_model_facts_travel_by_their_kernel_path(cache):
     scene = _damped(3)
     simulate(scene)
