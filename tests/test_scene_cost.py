@@ -406,8 +406,8 @@ def test_a_sweep_member_on_the_separatrix_is_integrated_and_reported(outputs):
               accuracy=1e-10, outputs=outputs)
     swept = simulate(Scene(**kw, omega=([0.5, 1e-80, 0.3], 0.0, 3.0)))
     note = [n for n in swept.notes if "singular for the closed form" in n]
-    assert len(note) == 1 and "1 of 3 members (member 1)" in note[0] and "separatrix" in note[0]
-    assert "DOP853" in note[0]
+    assert len(note) == 1 and "1 of 3 members (member 1)" in note[0] and "separatrix" in note[0]  # today's closed
+    assert "DOP853" in note[0]  # form refuses it (eulersym.numerics.heavy_top_exact: m_c below 1e-150)
     if "summary" in outputs:
         assert all(np.all(np.isfinite(v)) for v in swept.summary.values())
         return
@@ -437,3 +437,36 @@ def test_a_chunked_sweep_reports_the_singular_members_of_every_chunk():
     chunked = simulate(scene, memory=e.output_bytes + e.per_member_working * 2 * cost.threads(whole.plan))
     assert np.array_equal(whole.omega, chunked.omega) and whole.notes == chunked.notes
     assert any("2 of 7 members (members 1, 4)" in n for n in whole.notes)
+
+
+def test_only_the_members_the_closed_form_refuses_are_integrated(monkeypatch):
+    """The mechanism, whatever the closed form refuses: an engine that refuses members with ω1 = 0.25 (as the
+    heavy top's does at the separatrix) leaves those to DOP853, the others bit for bit its own, in order, in chunks."""
+    from eulersym.errors import SingularConfiguration
+    from eulersym.scene.engines import heavy_top_exact as engine
+
+    original = engine.run
+
+    def picky(problem, *, progress=None):
+        if np.any(problem.omega0[:, 0] == 0.25):
+            raise SingularConfiguration("omega0", problem.omega0.tolist(), "a start the closed form can represent")
+        return original(problem, progress=progress)
+
+    kw = dict(moments=(1.0, 1.0, 0.5), mass=1.0, l=0.1, euler=(0.0, 0.4, 0.0), t_end=0.5, points=6, accuracy=1e-10)
+    values = [0.1, 0.25, 0.2, 0.3, 0.25, 0.0, 0.25]
+    scene = Scene(**kw, omega=(values, 0.0, 20.0))
+    clean = simulate(scene)
+    assert not any("singular" in n for n in clean.notes) and clean.n_rhs_calls == 0
+    monkeypatch.setattr(engine, "run", picky)
+    mixed = simulate(scene)
+    e = cost.estimate(scene, mixed.plan)
+    chunked = simulate(scene, memory=e.output_bytes + e.per_member_working * 2 * cost.threads(mixed.plan))
+    for r in (mixed, chunked):
+        assert any("3 of 7 members (members 1, 4, 6)" in n for n in r.notes) and r.n_rhs_calls > 0
+        for k, w1 in enumerate(values):
+            if w1 == 0.25:  # DOP853 at rtol 1e-11 against the exact motion
+                assert np.allclose(r.omega[k], clean.omega[k], rtol=0, atol=1e-8) and not np.array_equal(
+                    r.omega[k], clean.omega[k])
+            else:
+                assert np.array_equal(r.omega[k], clean.omega[k]) and np.array_equal(r.gamma[k], clean.gamma[k])
+    assert np.array_equal(mixed.omega, chunked.omega)

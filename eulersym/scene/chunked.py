@@ -97,11 +97,17 @@ def motion(problem, plan, *, progress=None) -> tuple:
     if len(pieces) == 1:
         return pieces[0][2], singular
     joined = {}
-    for name in ("omega", "q", "gamma"):
-        arrays = [getattr(traj, name) for _, _, traj, _ in pieces]
-        joined[name] = None if any(a is None for a in arrays) else np.concatenate(arrays, axis=0)
-    calls = sum(int(traj.n_calls) for _, _, traj, _ in pieces)
-    return Trajectory(joined["omega"], joined["q"], joined["gamma"], calls), singular
+    for f in dataclasses.fields(Trajectory):  # every per-member field; one that an engine alone gives is dropped
+        values = [getattr(traj, f.name) for _, _, traj, _ in pieces]
+        if f.name == "n_calls":
+            joined[f.name] = sum(int(v) for v in values)
+        elif all(isinstance(v, np.ndarray) for v in values):
+            joined[f.name] = np.concatenate(values, axis=0)
+        elif all(v is None for v in values) or f.default is None:
+            joined[f.name] = None
+        else:
+            raise TypeError(f"Trajectory.{f.name}: cannot join {type(values[0]).__name__} across members")
+    return Trajectory(**joined), singular
 
 
 def _closed_form_or_integrated(problem, lo: int, hi: int, *, failed: bool = False) -> list:
