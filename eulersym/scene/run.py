@@ -32,9 +32,18 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     client : dask.distributed.Client, optional
         Run a sweep's chunks on the client's workers (the ``dask`` extra); the result is the in-process one.
     memory, work : optional
-        Budgets overriding the scene's (``"2 GiB"``; kernel evaluations). The cost is estimated before anything is
-        allocated (:mod:`eulersym.scene.cost`); beyond a budget the scene is refused with the estimate. Sweeps
-        larger than one chunk, summary scenes and Dask runs stream members in chunks sized to the memory budget.
+        Budgets overriding the scene's (``"2 GiB"``; kernel evaluations; default 1e9 for one member, 5e10 for a
+        sweep). The cost is estimated before anything is allocated — for a model scene from below before its
+        kernel is derived, then with its kernel's numbers — by :func:`eulersym.scene.cost.check`, the one check
+        ``eulersym simulate`` makes too: beyond a budget, or past 2**52 rad turned by ``t_end``, the scene is
+        refused (:class:`~eulersym.errors.InvalidInput` naming ``scene`` or ``t_end``) with the estimate, the budget
+        and what would fit. Sweeps larger than one chunk, summary scenes and Dask runs stream members in chunks
+        sized to the memory budget (model scenes too).
+
+    Notes
+    -----
+    A heavy-top member whose start the closed form cannot represent (on the separatrix of the upright top) is
+    integrated by DOP853 on the Euler–Poisson kernel instead; the result's notes name such members and why.
 
     Examples
     --------
