@@ -221,6 +221,28 @@ def test_a_model_sweep_too_big_is_refused_before_deriving_or_allocating(tmp_path
     assert not cache.exists() or not any(cache.rglob("*.py"))  # nothing derived
 
 
+def test_an_endless_torqued_model_is_refused_before_deriving(tmp_path, cache, capsys):
+    """A torque means the model's own kernel is integrated (certain from its sections): 1e12 time units are
+    refused for their work before anything is derived."""
+    path = _toml(tmp_path / "endless.toml", """
+        name = "endless-damped"
+        [parameters]
+        c = 0.1
+        [body]
+        moments = [1.0, 2.0, 3.0]
+        mass = 1.0
+        [torque]
+        body = "-c*omega"
+        [initial]
+        omega = [0.1, 1.0, 0.2]
+        [time]
+        end = 1e12
+    """)
+    err = _cli_error(capsys, path)
+    assert "work budget of 1e+09" in err and "a lower bound" in err and "scene=" in err
+    assert not cache.exists() or not any(cache.rglob("*.py"))
+
+
 def test_explain_of_an_uncached_model_says_what_it_will_do_without_sympy(tmp_path, cache):
     path = _toml(tmp_path / "damped.toml", """
         name = "damped"

@@ -37,7 +37,7 @@ from eulersym.sweeps import cost as model
 from eulersym.sweeps.summary import summary_names
 
 __all__ = ["ENGINE_COST", "ONE_MEMBER_WORK_BUDGET", "PHASE_LIMIT", "rate_bound", "inertia_range", "largest",
-           "refuse_phase", "estimate", "check", "budgets", "describe", "summary_layout", "wants_summary", "threads"]
+           "refuse_phase", "model_torqued", "estimate", "check", "budgets", "describe", "summary_layout", "wants_summary", "threads"]
 
 #: Scene engine module → the cost model's engine.
 ENGINE_COST = {
@@ -284,7 +284,22 @@ def _candidates(scene, plan, facts) -> list:
     if scene.model is None:
         return _candidates(scene, scene.plan(), facts)
     state = _state(("omega", "gamma", "attitude") if facts is not None and "gamma1" in facts.state else ("omega", "attitude"))
-    return [(engine, state, "model", 1) for engine in _MODEL_ENGINES]
+    engines = ("dop853",) if model_torqued(scene.model) else _MODEL_ENGINES
+    return [(engine, state, "model", 1) for engine in engines]
+
+
+def model_torqued(model) -> bool:
+    """True when a model has a torque or a potential beyond gravity (read from its sections, SymPy-free): no closed
+    form, its own kernel is integrated — certain before the kernel exists.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> model_torqued(NS(to_dict=lambda: {"torque": {"body": "-c*omega"}})), model_torqued(NS(to_dict=lambda: {}))
+    (True, False)
+    """
+    torque = model.to_dict().get("torque") or {}
+    return any(torque.get(k) is not None for k in ("body", "space", "potential"))
 
 
 def _one(scene, engine, state, regime, *, memory, chunk, facts, n_threads) -> model.Estimate:

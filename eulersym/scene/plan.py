@@ -20,6 +20,7 @@ import numpy as np
 
 from eulersym.errors import InvalidInput
 from eulersym.scene import model_kernel
+from eulersym.scene.cost import model_torqued
 from eulersym.scene.values import values_of as _values
 
 __all__ = [
@@ -597,11 +598,10 @@ def predict_model_engine(scene) -> str:
     the model's own kernel integrated by batched DOP853 (a sweep of 4 members): a torque or a potential beyond gravity...
     """
     data = scene.model.to_dict()
-    torque = data.get("torque") or {}
     batch, method = scene.batch, scene.method
     integrator = (f"batched DOP853 (a sweep of {batch} members)" if batch > 1 else
                   f"solve_ivp {'DOP853' if method in ('auto', 'closed-form') else method} (one member)")
-    if any(torque.get(k) is not None for k in ("body", "space", "potential")):
+    if model_torqued(scene.model):
         return (f"the model's own kernel integrated by {integrator}: a torque or a potential beyond gravity has no "
                 "closed form (certain from the model's sections)")
     rotor = (data.get("rotor") or {}).get("h")
