@@ -111,8 +111,9 @@ def _count(text: str) -> int:
 def cli(argv: list) -> int:
     """``eulersym simulate SCENE [--explain] [-o out.npz|out.csv] [--plot out.png] [--list] [--template]``.
 
-    ``--explain`` prints the plan and writes nothing (it says so when ``-o``/``--plot`` are given too); an
-    integration whose work estimate passes :data:`WORK_LIMIT` is refused with the estimate.
+    ``--explain`` prints the plan and writes nothing (it says so when ``-o``/``--plot`` are given too); a
+    scene beyond its budgets is refused by :func:`simulate` with the one estimate (:func:`eulersym.scene.cost.check`),
+    exit 2 and the same message a Python caller gets.
 
     Examples
     --------
