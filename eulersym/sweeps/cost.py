@@ -385,9 +385,9 @@ def parse_size(argument: str, value) -> int:
     >>> parse_size("--memory-budget", "lots")
     Traceback (most recent call last):
     ...
-    eulersym.errors.InvalidInput: --memory-budget='lots' is not valid: expected a size such as "2 GiB", "500 MB" or a number of bytes (> 0)
+    eulersym.errors.InvalidInput: --memory-budget='lots' is not valid: expected a size such as "2 GiB", "500 MB" or a number of bytes (at least 1)
     """
-    expected = 'a size such as "2 GiB", "500 MB" or a number of bytes (> 0)'
+    expected = 'a size such as "2 GiB", "500 MB" or a number of bytes (at least 1)'
     if isinstance(value, bool):
         raise InvalidInput(argument, value, expected)
     if isinstance(value, (int, float)):
@@ -396,7 +396,7 @@ def parse_size(argument: str, value) -> int:
         number, unit = float(match.group(1)), match.group(2).lower()
     else:
         raise InvalidInput(argument, value, expected)
-    if unit not in _UNITS or not math.isfinite(number) or number <= 0:
+    if unit not in _UNITS or not math.isfinite(number) or number * _UNITS[unit] < 1:  # at least one byte
         raise InvalidInput(argument, value, expected)
     return int(number * _UNITS[unit])
 
