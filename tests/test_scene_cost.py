@@ -130,8 +130,8 @@ def test_the_rate_bound_bounds_every_members_spin_and_pendulum(w, moments, pivot
         assert math.sqrt(mass * 9.81 * l / min(moments)) <= rate * (1 + 1e-12)
 
 
-@settings(max_examples=40, deadline=None)
-@given(text=st.text(max_size=12))
+@settings(max_examples=80, deadline=None)
+@given(text=st.text(max_size=12) | st.from_regex(r"\s*[0-9.eE+-]{1,8}\s*[kKmMgGtTiIbB]{0,3}\s*", fullmatch=True))
 def test_budgets_from_any_text_are_parsed_or_refused_naming_the_argument(text):
     scene = Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1)
     for kw, argument in (("memory", "--memory-budget"), ("work", "--work-budget")):
