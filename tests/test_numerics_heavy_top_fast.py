@@ -15,14 +15,17 @@ from __future__ import annotations
 import decimal
 import importlib
 import json
+import math
 import pathlib
 
 import mpmath
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from eulersym.errors import InvalidInput
-from eulersym.numerics import heavy_top_exact
+from eulersym.numerics import euler_to_quaternion, heavy_top_exact
 
 HT = importlib.import_module("eulersym.numerics.heavy_top_exact")
 DE = importlib.import_module("eulersym.numerics._decimal_elliptic")
@@ -124,3 +127,24 @@ def test_an_off_axis_heavy_top_says_which_theta_its_range_is(tmp_path, monkeypat
     plain = simulate(Scene(moments=(1.2e-3, 1.2e-3, 4e-4), mass=0.5, l=0.04, euler=(0.0, 0.5, 0.0),
                            omega=(0.0, 0.0, 150.0), t_end=0.05, points=11))
     assert any(n.endswith("(from Γ3 = cos θ)") for n in plain.notes)
+
+
+@settings(max_examples=30, deadline=None, derandomize=True)
+@given(theta=st.floats(0.05, math.pi - 0.05), psi=st.floats(-3.0, 3.0),
+       w=st.lists(st.floats(-5.0, 5.0), min_size=2, max_size=2), spin=st.floats(-50.0, 50.0),
+       l=st.sampled_from([0.3, -0.3]), t_end=st.sampled_from([1.0, 30.0, 1e3]),
+       accuracy=st.sampled_from([1e-11, 1e-9, 1e-6]))
+def test_any_start_at_an_accuracy_stays_within_it_of_the_round_off_path(theta, psi, w, spin, l, t_end, accuracy):
+    """Random starts (hanging or not, any tilt and spin), 200 times (the series path): the cheaper evaluation is
+    within the accuracy asked of the round-off one, and keeps |q| = 1 and |Γ| = 1 to a few ulp."""
+    I = (1.0, 1.0, 0.6)
+    omega0 = np.array([w[0], w[1], spin])
+    q0 = euler_to_quaternion((0.2, theta, psi))
+    t = np.linspace(0.0, t_end, 200)
+    fast = heavy_top_exact(I, 1.0, 9.81, l, omega0, q0, t, accuracy=accuracy)
+    exact = heavy_top_exact(I, 1.0, 9.81, l, omega0, q0, t)
+    scale = float(np.max(np.abs(exact.omega)))
+    assert np.max(np.abs(fast.omega - exact.omega)) <= accuracy * scale
+    assert np.max(np.abs(fast.gamma - exact.gamma)) <= accuracy
+    assert np.max(np.abs(np.sum(fast.q**2, axis=1) - 1)) <= 1e-15
+    assert np.max(np.abs(np.sum(fast.gamma**2, axis=1) - 1)) <= 2e-15  # rn² + rf² = 2 to a few ulp

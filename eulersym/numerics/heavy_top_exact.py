@@ -748,6 +748,11 @@ def _evaluate(mo, t, accuracy=None):
     cos_psi += sp_ * sm
     sin_psi = sp_ * cm
     sin_psi -= cp * sm
+    unit = cos_psi * cos_psi  # cos² + sin² = 1 to round-off again (the half angles' tan formulas leave a few ulp)
+    unit += sin_psi * sin_psi
+    np.sqrt(unit, out=unit)
+    cos_psi /= unit
+    sin_psi /= unit
     # (b − a u)/sin θ = ½ [B_n R_f/R_n + B_f R_n/R_f] (a term whose B is 0 vanishes, also where its R does)
     A_ = np.zeros_like(t)
     if near.B != 0.0:
