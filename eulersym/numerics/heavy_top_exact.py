@@ -990,7 +990,7 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None, accuracy=None):
             gamma[start] = _gamma_of(q_start)
         for lst, val in zip(outs, (omega, gamma, q, euler, mo.nutation_period, mo.turning)):
             lst.append(val)
-    arrays = [np.stack(x) for x in outs]
+    arrays = [np.stack(x) if len(x) > 1 else np.asarray(x[0])[None] for x in outs]  # one member: views
     if not batched:
         arrays = [x[0] for x in arrays]
         arrays[4] = float(arrays[4])
