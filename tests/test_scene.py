@@ -566,7 +566,8 @@ def test_torque_free_run_imports_no_sympy_and_nothing_of_the_top():
 def test_heavy_top_conserves_invariants_and_nutates():
     r = simulate(Scene(**TOP, outputs=("omega", "euler_angles", "invariants"), accuracy=1e-10))
     assert r.plan.regime == "heavy top" and "gamma" in r.propagated
-    assert r.derivations == ("top.turning_points",)  # not near upright: no threshold; θ(t) asked: turning points
+    # not near upright: no threshold; θ(t) asked: the turning points, the roots the closed form solved (no SymPy)
+    assert r.plan.engine.startswith("closed form") and r.derivations == ()
     for name in ("energy", "gamma_norm2", "L_dot_gamma"):
         assert r.drift[name] < 1e-7, (name, r.drift[name])
     theta = r.euler_angles[:, 1]
@@ -576,6 +577,21 @@ def test_heavy_top_conserves_invariants_and_nutates():
     # the integrated θ(t) touches the turning points derived from the effective potential
     theta1, theta2 = r.turning_points
     assert theta1 == pytest.approx(theta.min(), abs=1e-6) and theta2 == pytest.approx(theta.max(), abs=1e-5)
+    # the closed form's roots are eulersym.top's (the cubic's roots bracketed by its critical points, bisected)
+    from eulersym.scene import derive
+
+    record = []
+    by_top = derive.turning_points(r.moments, TOP["mass"], 9.81, TOP["l"], r.omega[0], r.gamma[0], r.attitude[0], record)
+    assert record == ["top.turning_points"] and np.allclose(r.turning_points, by_top, rtol=0, atol=1e-12)
+
+
+def test_heavy_top_turning_points_integrated_are_derived():
+    """An integrating plan has no closed form's roots: the turning points are derived by eulersym.top, and agree."""
+    r = simulate(Scene(**TOP, outputs=("omega", "euler_angles"), accuracy=1e-10, method="DOP853"))
+    closed = simulate(Scene(**TOP, outputs=("omega", "euler_angles"), accuracy=1e-10))
+    assert "DOP853" in r.plan.engine and r.derivations == ("top.turning_points",) and "turning" not in r.plan.options
+    assert closed.plan.options["turning"] == "closed form" and "turning points θ1, θ2" in str(closed.plan)
+    assert np.allclose(r.turning_points, closed.turning_points, rtol=0, atol=1e-12)
 
 
 def test_heavy_top_splitting_agrees_with_dop853():

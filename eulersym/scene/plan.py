@@ -348,6 +348,9 @@ def make_plan(scene, moments=None, model=None) -> Plan:
             steps.append(Step("compute", "attitude", "propagated: the gravity torque M g l Γ × e3 depends on the vertical Γ"))
         if is_model:
             skipped.append(Step("skip", "eulersym.top derivations (turning points, sleeping-top threshold)", "a model scene reports what it integrated; those derivations need SymPy"))
+        elif batch == 1 and symmetric and "euler_angles" in outputs and no_closed_form is None:
+            options["turning"] = "closed form"  # its cubic's roots u1 ≤ u2, already solved (no SymPy, no bisection)
+            steps.append(Step("compute", "turning points θ1, θ2", "θ(t) is reported against the roots u1 ≤ u2 of the effective-potential cubic that the closed form solves (36 digits, exact at double roots), θ = arccos u"))
         elif batch == 1 and symmetric and "euler_angles" in outputs:
             derive.append("top.turning_points")
             steps.append(Step("derive", "turning points θ1, θ2", "θ(t) is reported against the roots of the effective-potential cubic (eulersym.top), from E, p_φ, p_ψ"))

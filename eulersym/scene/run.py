@@ -76,7 +76,8 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     else:
         derived, P = derive.principal_frame(scene, record)
         moments = member_moments(scene, members) if derived is None else np.repeat(derived, batch, axis=0)
-        plan = make_plan(scene, moments=moments)
+        # given moments: the plan already made from them (the same rows); derived ones may resolve the body kind
+        plan = first if derived is None and scene.moments is not None else make_plan(scene, moments=moments)
         if plan.options["engine"] != first.options["engine"]:  # derived moments chose another engine
             estimate = cost.check(scene, plan, memory=mem, work=wk)
     problem = prepare(scene, plan, moments, P, model=facts)
@@ -99,7 +100,10 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     bar.stage("integrated", 0.9)
 
     turning = None
-    if "top.turning_points" in plan.derive:  # needs the start's E, p_φ, p_ψ: derived once the state is known
+    if plan.options.get("turning") == "closed form" and traj is not None and traj.turning is not None:
+        turning = _turning_angles(traj.turning[0])  # the roots the closed form solved: no SymPy, no bisection
+    elif "top.turning_points" in plan.derive or plan.options.get("turning") == "closed form":
+        # needs the start's E, p_φ, p_ψ: derived once the state is known (also for a member the closed form left)
         clock = time.perf_counter()
         start = (traj.omega[0, 0], traj.gamma[0, 0], traj.q[0, 0]) if traj is not None else (
             problem.omega0[0], problem.gamma0[0], problem.q0[0])
@@ -147,6 +151,18 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         gamma=_gamma(scene, plan, traj, out, squeeze),
         summary=out.get("summary", {}),
     )
+
+
+def _turning_angles(u) -> tuple:
+    """(θ1, θ2) = (arccos u2, arccos u1) in radians from the turning points ``u = (u1, u2)``, u1 ≤ u2, clipped to
+    [−1, 1] as :func:`eulersym.scene.derive.turning_points` clips them.
+
+    Examples
+    --------
+    >>> _turning_angles((0.0, 1.0))
+    (0.0, 1.5707963267948966)
+    """
+    return float(np.arccos(min(1.0, float(u[1])))), float(np.arccos(max(-1.0, float(u[0]))))
 
 
 def _gamma(scene, plan, traj, out, squeeze):

@@ -25,6 +25,8 @@ class Trajectory:
         Kernel (right-hand side or sub-flow) evaluations; 0 for a closed form.
     euler : ndarray (batch, n, 3) or None
         zxz Euler angles (φ, θ, ψ) of the principal frame where a closed form gives them (φ, ψ in (−π, π]).
+    turning : ndarray (batch, 2) or None
+        The heavy top's turning points ``(u1, u2)``, ``u = cos θ``, where the closed form solved its cubic.
 
     Examples
     --------
@@ -37,3 +39,4 @@ class Trajectory:
     gamma: np.ndarray | None = None
     n_calls: int = 0
     euler: np.ndarray | None = None
+    turning: np.ndarray | None = None

@@ -33,4 +33,5 @@ def run(problem, *, progress=None) -> Trajectory:
                                       accuracy=problem.accuracy)  # below a tenth of it: double where it suffices
     if progress is not None:
         progress(1.0)
-    return Trajectory(motion.omega, motion.q, motion.gamma, 0, euler=motion.euler)
+    return Trajectory(motion.omega, motion.q, motion.gamma, 0, euler=motion.euler,
+                      turning=np.reshape(motion.turning_points, (-1, 2)))
