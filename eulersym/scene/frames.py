@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from eulersym.numerics.invariants import rotation_matrix
-from eulersym.quaternion import from_matrix, multiply
+from eulersym.quaternion import from_matrix, hamilton
 
 __all__ = ["quaternion_to_rotation", "rotation_to_quaternion", "rotate_to_body", "Rotation"]
 
@@ -79,7 +79,7 @@ class Rotation:
             e = np.zeros((len(a), 4))
             e[:, 0] = np.cos(0.5 * a[:, k])
             e[:, 1 + _AXES[axis]] = np.sin(0.5 * a[:, k])
-            q = e if q is None else (multiply(q, e) if intrinsic else multiply(e, q))
+            q = e if q is None else (_multiply(q, e) if intrinsic else _multiply(e, q))
         return cls(q, single)
 
     @classmethod
@@ -98,7 +98,10 @@ class Rotation:
         return Rotation(self._q * np.array([1.0, -1.0, -1.0, -1.0]), self._single)
 
     def __mul__(self, other: "Rotation") -> "Rotation":
-        return Rotation(multiply(self._q, other._q), self._single and other._single)
+        p, q = self._q, other._q
+        if len(p) != len(q):  # one rotation times many (SciPy's broadcasting)
+            p, q = np.broadcast_arrays(p, q)
+        return Rotation(_multiply(p, q), self._single and other._single)
 
     def as_quat(self) -> np.ndarray:
         """Scalar LAST (SciPy's order)."""
@@ -123,6 +126,11 @@ class Rotation:
         from scipy.spatial.transform import Rotation as SciPyRotation  # only when Euler angles are asked for
 
         return SciPyRotation.from_quat(self.as_quat()).as_euler(seq)
+
+
+def _multiply(p, q):
+    """Row-wise Hamilton product of (m, 4) arrays (:func:`eulersym.quaternion.hamilton` on their columns)."""
+    return np.stack(hamilton(p.T, q.T), axis=1)
 
 
 def _cross(a, b):
@@ -152,7 +160,10 @@ def rotation_to_quaternion(rot: Rotation) -> np.ndarray:
     >>> rotation_to_quaternion(Rotation.identity()).tolist()
     [1.0, 0.0, 0.0, 0.0]
     """
-    q = rot.as_quat()[..., [3, 0, 1, 2]]
+    if isinstance(rot, Rotation):  # scalar first inside (unit)
+        q = rot._q[0] if rot._single else rot._q
+    else:  # SciPy's Rotation: scalar last
+        q = rot.as_quat()[..., [3, 0, 1, 2]]
     return np.where(q[..., :1] < 0, -q, q)
 
 

@@ -102,6 +102,9 @@ class Problem:
         return "attitude" in self.propagate
 
 
+_EYE = np.eye(3)
+
+
 def _field(scene, members: Mapping, name: str, batch: int) -> np.ndarray:
     """A scalar field's value per member, shape (batch,)."""
     if name in members:
@@ -112,6 +115,8 @@ def _field(scene, members: Mapping, name: str, batch: int) -> np.ndarray:
 
 def _vector(scene, members: Mapping, name: str, batch: int) -> np.ndarray:
     """A 3-vector field per member, shape (batch, 3)."""
+    if not members:  # nothing swept: one member, the numbers as given
+        return np.array([[float(item) for item in getattr(scene, name)]]).repeat(batch, axis=0)
     cols = []
     for k, item in enumerate(getattr(scene, name)):
         label = f"{name}[{k}]"
@@ -157,9 +162,11 @@ def prepare(scene, plan, moments: np.ndarray, axes: np.ndarray, *, model=None, *
     rot0 = _initial_rotation(scene, members, batch)
     if scene.omega_frame == "space":
         omega0 = rot0.inv().apply(omega0)
-    rot0_pr = rot0 * Rotation.from_matrix(P)
+    identity = bool((P == _EYE).all())  # given principal moments: the body frame is the principal frame
+    rot0_pr = rot0 if identity else rot0 * Rotation.from_matrix(P)
     q0 = np.atleast_2d(rotation_to_quaternion(rot0_pr))
-    gamma0 = np.atleast_2d(rot0_pr.inv().apply(np.array([0.0, 0.0, 1.0])))  # Γ = R(q)ᵀ ẑ
+    a, b, c, d = q0.T  # Γ = R(q)ᵀ ẑ, the third row of R(q)
+    gamma0 = np.stack([2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d], axis=1)
     heavy = plan.regime == "heavy top"
     frame = plan.options.get("frame") if model is not None else None
     if heavy and frame is not None:
