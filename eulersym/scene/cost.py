@@ -27,6 +27,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+import time
 from typing import Mapping
 
 import numpy as np
@@ -72,7 +73,28 @@ def _fields(scene_or_values) -> Mapping:
     """A scene's keyword values: the mapping itself, or the dataclass fields of a Scene."""
     if isinstance(scene_or_values, Mapping):
         return scene_or_values
-    return {f.name: getattr(scene_or_values, f.name) for f in dataclasses.fields(scene_or_values)}
+    return _SceneFields(scene_or_values)
+
+
+class _SceneFields(Mapping):
+    """A Scene's dataclass fields read as a mapping, on demand (no dict of every field per estimate)."""
+
+    __slots__ = ("_scene",)
+
+    def __init__(self, scene):
+        self._scene = scene
+
+    def __getitem__(self, name):
+        try:
+            return getattr(self._scene, name)
+        except AttributeError:
+            raise KeyError(name) from None
+
+    def __iter__(self):
+        return (f.name for f in dataclasses.fields(self._scene))
+
+    def __len__(self) -> int:
+        return len(dataclasses.fields(self._scene))
 
 
 def largest(x) -> float:
@@ -85,6 +107,8 @@ def largest(x) -> float:
     """
     if x is None:
         return 0.0
+    if isinstance(x, (int, float)):  # a plain number (the common case)
+        return abs(float(x))
     if isinstance(x, tuple):
         return max((largest(c) for c in x), default=0.0)
     return float(np.max(np.abs(values_of(x))))
@@ -105,6 +129,8 @@ def inertia_range(values: Mapping) -> tuple:
     (1.0, 3.0)
     """
     if values.get("moments") is not None:
+        if all(isinstance(m, (int, float)) for m in values["moments"]):  # given as numbers
+            return float(min(values["moments"])), float(max(values["moments"]))
         moments = np.concatenate([np.ravel(values_of(m)) for m in values["moments"]])
         return float(moments.min()), float(moments.max())
     if values.get("tensor") is not None:
@@ -235,9 +261,24 @@ def _output_values(scene, regime: str) -> int:
     return n
 
 
+#: Seconds for which :func:`budgets` reuses the default memory budget it read (the memory available changes slowly).
+MEMORY_READ_INTERVAL = 1.0
+_memory_read = [-math.inf, 0]  # (when, bytes): the last default memory budget read
+
+
+def _default_memory() -> int:
+    now = time.monotonic()
+    if now - _memory_read[0] > MEMORY_READ_INTERVAL:
+        _memory_read[:] = [now, model.default_memory_budget()]
+    return _memory_read[1]
+
+
 def budgets(scene, memory=None, work=None) -> tuple:
     """``(memory bytes, work evaluations)``: the command line's, else the scene's, else the defaults (work:
-    :data:`ONE_MEMBER_WORK_BUDGET` for one member, :data:`eulersym.sweeps.cost.DEFAULT_WORK_BUDGET` for a sweep).
+    :data:`ONE_MEMBER_WORK_BUDGET` for one member, :data:`eulersym.sweeps.cost.DEFAULT_WORK_BUDGET` for a sweep;
+    memory: :func:`eulersym.sweeps.cost.default_memory_budget`, half the memory available, read at most once per
+    :data:`MEMORY_READ_INTERVAL` seconds in a process — a run of many small scenes does not read ``/proc/meminfo``
+    each time).
 
     Examples
     --------
@@ -248,7 +289,7 @@ def budgets(scene, memory=None, work=None) -> tuple:
     (1000000000.0, 50000000000.0)
     """
     mem = memory if memory is not None else scene.memory
-    mem = model.default_memory_budget() if mem is None else model.parse_size("--memory-budget", mem)
+    mem = _default_memory() if mem is None else model.parse_size("--memory-budget", mem)
     wk = work if work is not None else scene.work
     default = ONE_MEMBER_WORK_BUDGET if scene.batch == 1 else model.DEFAULT_WORK_BUDGET
     wk = default if wk is None else model.parse_work("--work-budget", wk)
@@ -302,7 +343,7 @@ def model_torqued(model) -> bool:
     return any(torque.get(k) is not None for k in ("body", "space", "potential"))
 
 
-def _one(scene, engine, state, regime, *, memory, chunk, facts, n_threads) -> model.Estimate:
+def _one(scene, engine, state, regime, *, memory, chunk, facts, n_threads, rate=None) -> model.Estimate:
     quantities, invariants, tilt = summary_layout(scene, regime, facts)
     summary = wants_summary(scene)
     n_summary = len(summary_names(quantities, invariants=invariants, tilt=tilt)) if summary else 0
@@ -310,7 +351,7 @@ def _one(scene, engine, state, regime, *, memory, chunk, facts, n_threads) -> mo
     if scene.model is not None:  # the kernel's body numbers and parameters per member (ModelFacts)
         inputs += _MODEL_BODY + (len(facts.parameters) if facts is not None else len(scene.parameters or ()))
     low, high = _spread(scene, facts)
-    rate = model.body_rate(rate_bound(scene, facts), max(low, 1e-300), high)
+    rate = model.body_rate(rate_bound(scene, facts) if rate is None else rate, max(low, 1e-300), high)
     return model.estimate(members=scene.batch, points=scene.points, state=state,
                           output_values=_output_values(scene, regime), engine=engine, rate=rate,
                           t_end=float(scene.t_end), accuracy=float(scene.accuracy), summary_values=n_summary,
@@ -365,7 +406,7 @@ def check(scene, plan=None, *, memory=None, work=None, facts=None) -> model.Esti
              scene.model is not None else ")")
     refusals = []
     for engine, state, regime, n_threads in _candidates(scene, plan, facts):
-        e = _one(scene, engine, state, regime, memory=mem, chunk=None, facts=facts, n_threads=n_threads)
+        e = _one(scene, engine, state, regime, memory=mem, chunk=None, facts=facts, n_threads=n_threads, rate=rate)
         quantities, invariants, tilt = summary_layout(scene, regime, facts)
         try:
             return model.check(e, memory=mem, work=wk, argument="scene", label=_label(scene), note=note,
