@@ -242,6 +242,13 @@ def test_classify_moments():
     assert classify_moments([(1, 2, 3), (2, 2, 1)]) == "mixed"
 
 
+@settings(max_examples=200, deadline=None)
+@given(st.tuples(*[st.sampled_from([1.0, 1.0 + 1e-13, 1.0 + 1e-9, 2.0, 0.5, 3.0])] * 3))
+def test_classify_one_body_as_rows(m):
+    """One body's comparisons on floats agree with the rows' (two equal rows: the array path)."""
+    assert classify_moments(m) == classify_moments([m, m])
+
+
 def test_plan_torque_free_omega_only_is_closed_form_and_skips_top_and_attitude():
     plan = Scene(**{**FREE, "outputs": ("omega",)}).plan()
     assert plan.engine == "closed form: elliptic"

@@ -143,6 +143,11 @@ def classify_moments(moments) -> str:
     ('symmetric', 'asymmetric', 'spherical')
     """
     m = np.atleast_2d(np.asarray(moments, dtype=float))
+    if len(m) == 1:  # one body: the same comparisons on floats
+        a, b, c = (float(x) for x in m[0])
+        scale = max(a, b, c) * SYMMETRY_RTOL
+        e12, e23, e13 = abs(a - b) <= scale, abs(b - c) <= scale, abs(a - c) <= scale
+        return "spherical" if e12 and e23 else ("symmetric" if e12 or e23 or e13 else "asymmetric")
     scale = np.max(m, axis=1) * SYMMETRY_RTOL
     e12 = np.abs(m[:, 0] - m[:, 1]) <= scale
     e23 = np.abs(m[:, 1] - m[:, 2]) <= scale
@@ -155,6 +160,8 @@ def classify_moments(moments) -> str:
 def _member_moments(scene) -> np.ndarray | None:
     """(batch_of_moments, 3) when the moments are known without a derivation, else None."""
     if scene.moments is not None:
+        if all(isinstance(m, (int, float)) for m in scene.moments):  # one body, given as numbers
+            return np.array([[float(m) for m in scene.moments]])
         grids = np.meshgrid(*[_values(m) for m in scene.moments], indexing="ij")
         return np.stack([g.ravel() for g in grids], axis=1)
     if scene.tensor is not None:
