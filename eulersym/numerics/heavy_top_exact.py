@@ -64,7 +64,7 @@ from eulersym.errors import InvalidInput, SingularConfiguration
 from eulersym.numerics import _decimal_elliptic as _de
 from eulersym.numerics.exact import (_agm_landen, _carlson_rf, _phase, _sncndn_reduced, _sncndn_scalar, _two_prod,
                                      jacobi_sncndn)
-from eulersym.validation import finite_array, moments
+from eulersym.validation import TRIANGLE_SLACK, finite_array, moments
 
 
 def elliprf(x, y, z):  # scipy.special on first use: importing this module (and eulersym.numerics) stays light
@@ -329,18 +329,30 @@ def _W_chebyshev(poles, c2, K, tolerance=0.0):
 
 def _clenshaw_odd(y, a):
     """``Σ_k a[k] T_{2k+1}(y)`` by Clenshaw's recurrence in ``z = T_2(y) = 2y² − 1`` (``T_{2k+3} = 2z T_{2k+1} −
-    T_{2k−1}``): ``y (b_0 − b_1)``. ``a``: numbers (or arrays broadcasting against y)."""
+    T_{2k−1}``): ``y (b_0 − b_1)``. ``a``: numbers (or columns broadcasting against y: several series at once, one
+    per row of y). The two highest terms start the recurrence without arrays of zeros (b_{N−1} = a_{N−1})."""
+    N = len(a)
     z2 = 4.0 * y * y
     z2 -= 2.0
-    b1 = np.zeros_like(z2)
-    b2 = np.zeros_like(z2)
+    if N == 1:
+        np.multiply(y, a[0], out=z2)
+        return z2
+    b1 = z2 * a[N - 1]
+    b1 += a[N - 2]  # b_{N−2}
+    b2 = a[N - 1]  # b_{N−1}, a number (or a column) until the first rotation
     b0 = np.empty_like(z2)
-    for k in range(len(a) - 1, -1, -1):
+    for k in range(N - 3, -1, -1):
         np.multiply(z2, b1, out=b0)
-        b0 -= b2
-        b0 += a[k]
-        b0, b1, b2 = b2, b0, b1
-    return y * (b1 - b2)  # after the last rotation b1 holds b_0 and b2 holds b_1
+        if k == N - 3:
+            b0 += a[k] - b2
+            b0, b1, b2 = z2 if k == 0 else np.empty_like(z2), b0, b1  # z2 is free once b_0 is formed
+        else:
+            b0 -= b2
+            b0 += a[k]
+            b0, b1, b2 = b2, b0, b1
+    np.subtract(b1, b2, out=b1)  # after the last rotation b1 holds b_0 and b2 holds b_1
+    b1 *= y
+    return b1
 
 
 def _W_direct(x, n, one_minus_n, mc, rootmc):
@@ -673,15 +685,21 @@ def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0, node_c2=None):
                              node_c2, mo.K, 0.25 * tolerance)
         for k, fit in zip(active, found):
             fits[k] = fit
+    series = [k for k in active if fits[k] is not None]
+    if series:  # coef·W as one series: slope·x = slope·K·T₁(x/K) joins the first term; both poles' at once
+        length = max(len(fits[k][1]) for k in series)
+        a = np.zeros((len(series), length))  # the shorter series padded with zeros (exact: they add nothing)
+        for row, k in enumerate(series):
+            slope, coefficients = fits[k]
+            a[row, :len(coefficients)] = poles[k].coef * coefficients
+            a[row, 0] += poles[k].coef * slope * mo.K
+        rows = slice(None) if len(series) == 2 else series[0]
+        y = x[rows]
+        y *= 1.0 / mo.K
+        chi[rows] += _clenshaw_odd(y, list(a.T[:, :, None]) if len(series) == 2 else [float(v) for v in a[0]])
     for k in active:
-        pole = poles[k]
-        if fits[k] is not None:  # coef·W as one series: slope·x = slope·K·T₁(x/K) joins the first term
-            slope, series = fits[k]
-            a = [float(v) for v in pole.coef * series]
-            a[0] += pole.coef * slope * mo.K
-            x[k] *= 1.0 / mo.K
-            chi[k] += _clenshaw_odd(x[k], a)
-        else:
+        if fits[k] is None:
+            pole = poles[k]
             chi[k] += pole.coef * _W_direct(x[k], pole.n, pole.one_minus_n, mo.mc, mo.rootmc)
     return chi
 
@@ -813,8 +831,32 @@ def euler_to_quaternion(euler):
     return np.stack([c * np.cos(sp_), s * np.cos(dm), s * np.sin(dm), c * np.sin(sp_)], axis=-1)
 
 
+def _one_member(I, M, g, l, omega0, q0):
+    """:func:`_members` for one member given as float64 arrays (as a scene passes them), accepted by the same checks
+    on floats; None for anything else, and wherever a check fails (the general path then decides and names it)."""
+    shapes = ((I, ((3,), (1, 3))), (omega0, ((3,), (1, 3))), (q0, ((4,), (1, 4))), (M, ((), (1,))), (g, ((), (1,))),
+              (l, ((), (1,))))
+    if not all(type(a) is np.ndarray and a.dtype == np.float64 and a.shape in ok for a, ok in shapes):
+        return None
+    I1, I2, I3, w1, w2, w3, a, b, c, d, Mf, gf, lf = (*I.ravel().tolist(), *omega0.ravel().tolist(),
+                                                       *q0.ravel().tolist(), M.item(), g.item(), l.item())
+    values = (I1, I2, I3, w1, w2, w3, a, b, c, d, Mf, gf, lf)
+    if not all(map(math.isfinite, values)) or not (I1 == I2 and I1 > 0.0 and I3 > 0.0 and Mf > 0.0):
+        return None
+    if gf == 0.0 or lf == 0.0 or 2.0 * I1 < I3 - TRIANGLE_SLACK * max(I1, I3):
+        return None
+    if abs(math.sqrt(a * a + b * b + c * c + d * d) - 1.0) > 1e-6:
+        return None
+    batched = I.ndim == 2 or omega0.ndim == 2 or q0.ndim == 2 or M.ndim == 1 or g.ndim == 1 or l.ndim == 1
+    return (batched, 1, I.reshape(1, 3), M.reshape(1), g.reshape(1), l.reshape(1), omega0.reshape(1, 3),
+            q0.reshape(1, 4))
+
+
 def _members(I, M, g, l, omega0, q0):
     """Validate and broadcast the inputs to B members."""
+    one = _one_member(I, M, g, l, omega0, q0)
+    if one is not None:
+        return one
     Iarr = finite_array("I", I)
     if Iarr.shape[-1:] != (3,) or Iarr.ndim > 2:
         raise InvalidInput("I", I, "moments (I1, I1, I3), or an array of them of shape (B, 3)")
@@ -968,7 +1010,10 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None, accuracy=None):
     True
     """
     batched, nb, Iarr, Mv, gv, lv, w, qq = _members(I, M, g, l, omega0, q0)
-    tt = finite_array("t", np.atleast_1d(np.asarray(t, dtype=np.float64)) if np.ndim(t) == 0 else t, shape=(None,))
+    if type(t) is np.ndarray and t.dtype == np.float64 and t.ndim == 1 and np.isfinite(t).all():
+        tt = t  # float times as a scene passes them: finite_array's checks, without its conversions
+    else:
+        tt = finite_array("t", np.atleast_1d(np.asarray(t, dtype=np.float64)) if np.ndim(t) == 0 else t, shape=(None,))
     if accuracy is not None:
         if isinstance(accuracy, (bool, str)) or not (isinstance(accuracy, (int, float, np.floating))
                                                        and math.isfinite(accuracy) and 0.0 < accuracy < 1.0):
@@ -980,11 +1025,12 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None, accuracy=None):
         return _batch(batched, nb, Iarr, Mv, gv, lv, w, qq, tt)
     outs = ([], [], [], [], [], [])
     for k in range(nb):
-        mo = _setup(Iarr[k, 0], Iarr[k, 2], Mv[k], gv[k], lv[k], w[k], _snap_to_poles(qq[k]))
+        snapped = _snap_to_poles(qq[k])
+        mo = _setup(Iarr[k, 0], Iarr[k, 2], Mv[k], gv[k], lv[k], w[k], snapped)
         omega, gamma, q, euler = _evaluate(mo, tt, accuracy)
         start = tt == 0.0  # the start itself (also where a pass through a pole at t = 0 is below the phase resolution)
-        if np.any(start):
-            q_start = _snap_to_poles(qq[k]) / math.sqrt(float(np.sum(qq[k] * qq[k])))
+        if start.any():
+            q_start = snapped / math.sqrt(float(np.sum(qq[k] * qq[k])))
             omega[start] = w[k]
             q[start] = q_start
             gamma[start] = _gamma_of(q_start)

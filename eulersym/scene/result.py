@@ -135,7 +135,7 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     model = problem.model
     if q_pr is not None and ("attitude" in outputs or "euler_angles" in outputs or model is not None):
         if identity and model is None:  # the principal frame is the body frame: q as propagated, canonical sign
-            attitude = _canonical(q_pr)
+            attitude = _canonical(q_pr, unit=traj.turning is not None)  # the closed form's q
             if "euler_angles" in outputs:
                 euler_angles = _euler_angles(problem, traj, attitude)
         else:
@@ -170,7 +170,11 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
             gen = importlib.import_module("eulersym.generated.heavy_top_euler_poisson")
             M, g, l = problem.mass, problem.g, problem.l
             n = omega_pr.shape[1]
-            y = np.concatenate([omega_pr, gamma, q_pr], axis=-1).reshape(-1, 10).T
+            y = np.empty((10, batch, n))  # the kernel's layout, components first (contiguous rows)
+            y[0:3] = np.moveaxis(omega_pr, -1, 0)
+            y[3:6] = np.moveaxis(gamma, -1, 0)
+            y[6:10] = np.moveaxis(q_pr, -1, 0)
+            y = y.reshape(10, -1)
             if batch == 1:  # the parameters as numbers (the kernel broadcasts them)
                 params = [float(v) for v in (*moments[0], M[0], g[0], l[0])]
             else:
@@ -212,9 +216,10 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     }
 
 
-def _canonical(q):
-    """Unit quaternions with q0 ≥ 0 (as :func:`~eulersym.scene.frames.rotation_to_quaternion` gives them)."""
-    q = q / np.sqrt(np.einsum("...i,...i->...", q, q))[..., None]
+def _canonical(q, unit=False):
+    """Unit quaternions with q0 ≥ 0 (as :func:`~eulersym.scene.frames.rotation_to_quaternion` gives them);
+    ``unit``: q is unit already (the heavy top's closed form normalises its own), only the sign is set (a copy)."""
+    q = q.copy() if unit else q / np.sqrt(np.einsum("...i,...i->...", q, q))[..., None]
     np.negative(q, out=q, where=q[..., :1] < 0)
     return q
 
