@@ -55,7 +55,7 @@ from __future__ import annotations
 
 import decimal
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from decimal import Decimal
 
 import numpy as np
@@ -104,6 +104,10 @@ class HeavyTopMotion:
         The nutation period (``inf`` for a steady motion: steady precession, the sleeping top).
     turning_points : ndarray, shape ([B,] 2)
         ``(u1, u2)``: ``cos θ`` between them.
+    rows : ndarray, shape ([1,] 13, n) or None
+        One member's ω, Γ, q and Euler angles as rows, components first: the memory that ``omega``, ``gamma``, ``q``
+        and ``euler`` view (rows 0:3, 3:6, 6:10, 10:13), e.g. the state ``(ω, Γ, q)`` for a generated kernel
+        without a copy; None for several members.
 
     Examples
     --------
@@ -119,6 +123,7 @@ class HeavyTopMotion:
     euler: np.ndarray
     period: object
     turning_points: np.ndarray
+    rows: np.ndarray | None = field(default=None, repr=False, compare=False)
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -719,7 +724,8 @@ def _cos_sin(x):
 
 
 def _evaluate(mo, t, accuracy=None):
-    """ω, Γ, q and Euler angles of one motion at the times t; ``accuracy`` (relative to ω): the phase and the
+    """ω, Γ, q and Euler angles of one motion at the times t, as the rows of one (13, n) block (components first:
+    ω 0:3, Γ 3:6, q 6:10, the angles 10:13); ``accuracy`` (relative to ω): the phase and the
     secular angles may be computed in double, and W's series cut, where their error bounds stay below a tenth of
     it (None: round-off everywhere)."""
     tolerance = 0.1 * float(accuracy) if accuracy else 0.0
@@ -752,13 +758,16 @@ def _evaluate(mo, t, accuracy=None):
     s_theta = rn * rf  # signed sin θ
     cos_half, sin_half = _cos_sin(0.5 * chi)
     half_n, half_f = rn * math.sqrt(0.5), rf * math.sqrt(0.5)
-    q = np.empty(t.shape + (4,))
+    # every output as rows of one block, components first: ω (0:3), Γ (3:6), q (6:10), the Euler angles (10:13);
+    # the arrays returned are its transposed views (n, 3), (n, 4) — contiguous writes, one state for the kernels
+    block = np.empty((13,) + t.shape)
+    qr = block[6:10]
     pn, pf = _pairs(mo.sigma)
-    np.multiply(half_n, cos_half[0], out=q[:, pn[0]])
-    np.multiply(half_n, sin_half[0], out=q[:, pn[1]])
-    np.multiply(half_f, cos_half[1], out=q[:, pf[0]])
-    np.multiply(half_f, sin_half[1], out=q[:, pf[1]])
-    q /= np.sqrt(np.einsum("ij,ij->i", q, q))[:, None]
+    np.multiply(half_n, cos_half[0], out=qr[pn[0]])
+    np.multiply(half_n, sin_half[0], out=qr[pn[1]])
+    np.multiply(half_f, cos_half[1], out=qr[pf[0]])
+    np.multiply(half_f, sin_half[1], out=qr[pf[1]])
+    qr /= np.sqrt(np.einsum("ij,ij->j", qr, qr))
     plus, minus = (1, 0) if mo.sigma > 0 else (0, 1)
     # e^{iψ} with ψ = (χ₊ − χ₋)/2
     cp, sp_, cm, sm = cos_half[plus], sin_half[plus], cos_half[minus], sin_half[minus]
@@ -777,33 +786,35 @@ def _evaluate(mo, t, accuracy=None):
         A_ += (0.5 * near.B) * (rf / rn)
     if far.B != 0.0:
         A_ += (0.5 * far.B) * (rn / rf)
-    omega = np.empty(t.shape + (3,))
+    omega, gamma, euler = block[0:3], block[3:6], block[10:13]
     if B_ is None:
-        np.multiply(A_, sin_psi, out=omega[:, 0])
-        np.multiply(A_, cos_psi, out=omega[:, 1])
+        np.multiply(A_, sin_psi, out=omega[0])
+        np.multiply(A_, cos_psi, out=omega[1])
     else:
-        omega[:, 0] = A_ * sin_psi - B_ * cos_psi
-        omega[:, 1] = A_ * cos_psi + B_ * sin_psi
-    omega[:, 2] = mo.omega3
-    gamma = np.empty(t.shape + (3,))
-    np.multiply(s_theta, sin_psi, out=gamma[:, 0])
-    np.multiply(s_theta, cos_psi, out=gamma[:, 1])
-    gamma[:, 2] = np.where(rn2 < rf2, 1.0 - rn2, rf2 - 1.0)
+        np.multiply(A_, sin_psi, out=omega[0])
+        omega[0] -= B_ * cos_psi
+        np.multiply(A_, cos_psi, out=omega[1])
+        omega[1] += B_ * sin_psi
+    omega[2] = mo.omega3
+    np.multiply(s_theta, sin_psi, out=gamma[0])
+    np.multiply(s_theta, cos_psi, out=gamma[1])
+    np.subtract(1.0, rn2, out=gamma[2])
+    np.subtract(rf2, 1.0, out=gamma[2], where=rn2 >= rf2)
     if mo.sigma < 0:
-        gamma[:, 2] *= -1.0
+        gamma[2] *= -1.0
     # Euler angles (zxz), θ ≥ 0: a negative signed sin θ/2 or cos θ/2 is absorbed in φ, ψ
     S, Cc = (half_n, half_f) if mo.sigma > 0 else (half_f, half_n)
-    euler = np.empty(t.shape + (3,))
-    euler[:, 1] = 2.0 * np.arctan2(np.abs(S), np.abs(Cc))
-    flip = np.where(S * Cc < 0, math.pi, 0.0)
+    np.arctan2(np.abs(S), np.abs(Cc), out=euler[1])
+    euler[1] *= 2.0
+    flip = S * Cc < 0
     for k, sign in ((0, 1.0), (2, -1.0)):  # φ, ψ = (χ₊ ± χ₋)/2 ± flip, wrapped to [−π, π]
-        angle = chi[minus] * sign
+        angle = euler[k]
+        np.multiply(chi[minus], sign, out=angle)
         angle += chi[plus]
         angle *= 0.5
-        angle += sign * flip
+        np.add(angle, sign * math.pi, out=angle, where=flip)
         angle -= (2.0 * math.pi) * np.rint(angle * (0.5 / math.pi))
-        euler[:, k] = angle
-    return omega, gamma, q, euler
+    return block
 
 
 def euler_to_quaternion(euler):
@@ -1024,10 +1035,12 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None, accuracy=None):
     if not precise:
         return _batch(batched, nb, Iarr, Mv, gv, lv, w, qq, tt)
     outs = ([], [], [], [], [], [])
+    block = None
     for k in range(nb):
         snapped = _snap_to_poles(qq[k])
         mo = _setup(Iarr[k, 0], Iarr[k, 2], Mv[k], gv[k], lv[k], w[k], snapped)
-        omega, gamma, q, euler = _evaluate(mo, tt, accuracy)
+        block = _evaluate(mo, tt, accuracy)
+        omega, gamma, q, euler = block[0:3].T, block[3:6].T, block[6:10].T, block[10:13].T
         start = tt == 0.0  # the start itself (also where a pass through a pole at t = 0 is below the phase resolution)
         if start.any():
             q_start = snapped / math.sqrt(float(np.sum(qq[k] * qq[k])))
@@ -1037,8 +1050,11 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None, accuracy=None):
         for lst, val in zip(outs, (omega, gamma, q, euler, mo.nutation_period, mo.turning)):
             lst.append(val)
     arrays = [np.stack(x) if len(x) > 1 else np.asarray(x[0])[None] for x in outs]  # one member: views
+    rows = block[None] if nb == 1 else None
     if not batched:
         arrays = [x[0] for x in arrays]
         arrays[4] = float(arrays[4])
+        rows = block
     omega, gamma, q, euler, period, turning = arrays
-    return HeavyTopMotion(t=tt, omega=omega, gamma=gamma, q=q, euler=euler, period=period, turning_points=turning)
+    return HeavyTopMotion(t=tt, omega=omega, gamma=gamma, q=q, euler=euler, period=period, turning_points=turning,
+                          rows=rows)

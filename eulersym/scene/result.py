@@ -115,12 +115,13 @@ def _drift(values: np.ndarray) -> float:
 
 def _drifts(rows: np.ndarray) -> list:
     """:func:`_drift` of each of ``rows`` (k, batch, n) in one pass."""
-    ref = rows[:, :, :1]
+    ref = rows[:, :, 0]
     denom = np.abs(ref)
     denom[denom == 0] = 1.0
-    dev = np.abs(rows - ref)
+    # max |x − x0| = max(max x − x0, x0 − min x): the same roundings (x − x0 is monotone in x), no (k, batch, n) temporary
+    dev = np.maximum(rows.max(axis=2) - ref, ref - rows.min(axis=2))
     dev /= denom
-    return [float(v) for v in dev.reshape(len(rows), -1).max(axis=1)]
+    return [float(v) for v in dev.max(axis=1)]
 
 
 def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False) -> dict:
@@ -170,11 +171,14 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
             gen = importlib.import_module("eulersym.generated.heavy_top_euler_poisson")
             M, g, l = problem.mass, problem.g, problem.l
             n = omega_pr.shape[1]
-            y = np.empty((10, batch, n))  # the kernel's layout, components first (contiguous rows)
-            y[0:3] = np.moveaxis(omega_pr, -1, 0)
-            y[3:6] = np.moveaxis(gamma, -1, 0)
-            y[6:10] = np.moveaxis(q_pr, -1, 0)
-            y = y.reshape(10, -1)
+            if traj.state is not None:  # the engine's own rows (one member: no copy)
+                y = np.moveaxis(traj.state, 1, 0).reshape(10, -1)
+            else:  # the kernel's layout, components first (contiguous rows)
+                y = np.empty((10, batch, n))
+                y[0:3] = np.moveaxis(omega_pr, -1, 0)
+                y[3:6] = np.moveaxis(gamma, -1, 0)
+                y[6:10] = np.moveaxis(q_pr, -1, 0)
+                y = y.reshape(10, -1)
             if batch == 1:  # the parameters as numbers (the kernel broadcasts them)
                 params = [float(v) for v in (*moments[0], M[0], g[0], l[0])]
             else:
@@ -233,8 +237,8 @@ def _rotation_euler(rot, convention):
 def _euler_angles(problem, traj, attitude):
     """Euler angles of the body frame (= the principal frame), φ and ψ unwrapped: the closed form's own angles
     where the engine gives them in the scene's convention (zxz), else from the attitude."""
-    if traj.euler is not None and problem.convention == "zxz":
-        return _unwrapped(np.array(traj.euler, dtype=float))
+    if traj.euler is not None and problem.convention == "zxz":  # the engine's own array, unwrapped in place
+        return _unwrapped(traj.euler)
     batch, n = attitude.shape[:2]
     return _unwrapped(_rotation_euler(quaternion_to_rotation(attitude.reshape(-1, 4)), problem.convention)
                       .reshape(batch, n, 3))
@@ -250,10 +254,14 @@ def _unwrapped(angles):
     True
     """
     two_pi = 2.0 * np.pi
-    for k in (0, 2):
-        jumps = np.rint(np.diff(angles[..., k], axis=1) * (1.0 / two_pi))
-        if np.any(jumps):
-            angles[:, 1:, k] -= two_pi * np.cumsum(jumps, axis=1)
+    ends = angles[..., ::2]  # φ and ψ together
+    jumps = np.diff(ends, axis=1)
+    jumps *= 1.0 / two_pi
+    np.rint(jumps, out=jumps)
+    if jumps.any():
+        np.cumsum(jumps, axis=1, out=jumps)
+        jumps *= two_pi
+        ends[:, 1:] -= jumps
     return angles
 
 

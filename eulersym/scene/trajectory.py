@@ -27,6 +27,9 @@ class Trajectory:
         zxz Euler angles (φ, θ, ψ) of the principal frame where a closed form gives them (φ, ψ in (−π, π]).
     turning : ndarray (batch, 2) or None
         The heavy top's turning points ``(u1, u2)``, ``u = cos θ``, where the closed form solved its cubic.
+    state : ndarray (batch, 10, n) or None
+        The heavy top's state (ω, Γ, q) components first, where the engine keeps it so (the memory ``omega``,
+        ``gamma`` and ``q`` view): the generated kernels' layout, without a copy.
 
     Examples
     --------
@@ -40,3 +43,4 @@ class Trajectory:
     n_calls: int = 0
     euler: np.ndarray | None = None
     turning: np.ndarray | None = None
+    state: np.ndarray | None = None

@@ -33,5 +33,6 @@ def run(problem, *, progress=None) -> Trajectory:
                                       accuracy=problem.accuracy)  # below a tenth of it: double where it suffices
     if progress is not None:
         progress(1.0)
+    state = None if motion.rows is None else motion.rows.reshape(-1, 13, len(problem.t))[:, :10]
     return Trajectory(motion.omega, motion.q, motion.gamma, 0, euler=motion.euler,
-                      turning=np.reshape(motion.turning_points, (-1, 2)))
+                      turning=np.reshape(motion.turning_points, (-1, 2)), state=state)
