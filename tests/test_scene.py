@@ -714,3 +714,15 @@ def test_sweep_csv_has_member_columns(tmp_path):
 def test_outputs_constant_lists_the_contract():
     assert OUTPUTS == ("omega", "attitude", "euler_angles", "invariants", "polhode", "summary")
     assert math.isclose(Scene(**FREE).times[-1], FREE["t_end"])
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.sampled_from(["ZXZ", "zxz", "XYZ", "zyx", "ZYZ"]), st.lists(st.floats(-7, 7), min_size=3, max_size=3))
+def test_frames_one_euler_rotation_as_the_rows(seq, angles):
+    """One rotation from Euler angles (products on floats) is the rows' (products on arrays), to round-off."""
+    from eulersym.scene.frames import Rotation as Frames
+
+    one = Frames.from_euler(seq, angles).as_quat()
+    rows = Frames.from_euler(seq, [angles, angles]).as_quat()
+    assert np.allclose(rows, one, rtol=0, atol=4e-16)
+    assert np.allclose(Frames.from_euler(seq, angles).as_matrix(), Rotation.from_euler(seq, angles).as_matrix(), atol=1e-14)

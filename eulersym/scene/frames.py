@@ -11,6 +11,8 @@ components (det P = +1): ``v_body = P @ v_principal``, ``R_principal = R_body @ 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from eulersym.numerics.invariants import rotation_matrix
@@ -75,6 +77,13 @@ class Rotation:
         a = a.reshape(-1, 3)
         intrinsic = seq.isupper()
         q = None
+        if len(a) == 1:  # one rotation: the same products on floats (no arrays of four)
+            for k, axis in enumerate(seq.lower()):
+                half = 0.5 * float(a[0, k])
+                e = [math.cos(half), 0.0, 0.0, 0.0]
+                e[1 + _AXES[axis]] = math.sin(half)
+                q = e if q is None else (hamilton(q, e) if intrinsic else hamilton(e, q))
+            return cls(np.array([q]), single)
         for k, axis in enumerate(seq.lower()):
             e = np.zeros((len(a), 4))
             e[:, 0] = np.cos(0.5 * a[:, k])

@@ -165,8 +165,9 @@ def prepare(scene, plan, moments: np.ndarray, axes: np.ndarray, *, model=None, *
     identity = bool((P == _EYE).all())  # given principal moments: the body frame is the principal frame
     rot0_pr = rot0 if identity else rot0 * Rotation.from_matrix(P)
     q0 = np.atleast_2d(rotation_to_quaternion(rot0_pr))
-    a, b, c, d = q0.T  # Γ = R(q)ᵀ ẑ, the third row of R(q)
-    gamma0 = np.stack([2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d], axis=1)
+    a, b, c, d = q0[0].tolist() if batch == 1 else q0.T  # Γ = R(q)ᵀ ẑ, the third row of R(q)
+    gamma0 = (np.array([[2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d]]) if batch == 1 else
+              np.stack([2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d], axis=1))
     heavy = plan.regime == "heavy top"
     frame = plan.options.get("frame") if model is not None else None
     if heavy and frame is not None:
