@@ -130,13 +130,13 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     outputs = problem.outputs
     t, moments, P, batch = problem.t, problem.moments, problem.axes, problem.batch
     omega_pr, q_pr, gamma = traj.omega, traj.q, traj.gamma
-    identity = np.array_equal(P, np.eye(3))
+    identity = bool((P == _EYE).all())
     omega_body = omega_pr if identity else omega_pr @ P.T
     attitude = euler_angles = gamma_body = None
     model = problem.model
     if q_pr is not None and ("attitude" in outputs or "euler_angles" in outputs or model is not None):
         if identity and model is None:  # the principal frame is the body frame: q as propagated, canonical sign
-            attitude = _canonical(q_pr, unit=traj.turning is not None)  # the closed form's q
+            attitude = _canonical(q_pr, unit=traj.turning is not None)  # the closed form's q: its own array
             if "euler_angles" in outputs:
                 euler_angles = _euler_angles(problem, traj, attitude)
         else:
@@ -220,10 +220,13 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     }
 
 
+_EYE = np.eye(3)
+
+
 def _canonical(q, unit=False):
     """Unit quaternions with q0 ≥ 0 (as :func:`~eulersym.scene.frames.rotation_to_quaternion` gives them);
-    ``unit``: q is unit already (the heavy top's closed form normalises its own), only the sign is set (a copy)."""
-    q = q.copy() if unit else q / np.sqrt(np.einsum("...i,...i->...", q, q))[..., None]
+    ``unit``: q is unit already (the heavy top's closed form normalises its own), only the sign is set, in place."""
+    q = q if unit else q / np.sqrt(np.einsum("...i,...i->...", q, q))[..., None]
     np.negative(q, out=q, where=q[..., :1] < 0)
     return q
 
@@ -254,14 +257,15 @@ def _unwrapped(angles):
     True
     """
     two_pi = 2.0 * np.pi
-    ends = angles[..., ::2]  # φ and ψ together
-    jumps = np.diff(ends, axis=1)
-    jumps *= 1.0 / two_pi
-    np.rint(jumps, out=jumps)
-    if jumps.any():
-        np.cumsum(jumps, axis=1, out=jumps)
-        jumps *= two_pi
-        ends[:, 1:] -= jumps
+    for k in (0, 2):
+        angle = angles[..., k]
+        jumps = np.diff(angle, axis=1)
+        jumps *= 1.0 / two_pi
+        np.rint(jumps, out=jumps)
+        if jumps.any():
+            np.cumsum(jumps, axis=1, out=jumps)
+            jumps *= two_pi
+            angle[:, 1:] -= jumps
     return angles
 
 
