@@ -197,7 +197,10 @@ def heavy_top_frame(tensor) -> tuple:
 def _upright_start(scene) -> bool:
     """True when the symmetry axis e3 starts (for some member) within 0.2 rad of the upward vertical."""
     if scene.euler is not None and scene.convention == "zxz":
-        return bool(np.min(np.abs(_values(scene.euler[1]))) < 0.2)
+        theta = scene.euler[1]
+        if isinstance(theta, (int, float)):  # one start
+            return abs(theta) < 0.2
+        return bool(np.min(np.abs(_values(theta))) < 0.2)
     if scene.euler is None and scene.quaternion is None and scene.axis is None:
         return True
     return False
@@ -442,6 +445,8 @@ def _no_heavy_top_closed_form(scene, known, symmetric) -> str | None:
                 "(Lagrange's top needs I1 = I2 with the centre of mass on the axis)")
     if scene.torque is not None and any(np.any(_values(c) != 0) for c in scene.torque):
         return "a torque besides gravity: only the heavy top under gravity alone is integrable"
+    if isinstance(scene.mass, (int, float)) and scene.mass > 0:  # one positive mass
+        return None
     if scene.mass is None or np.any(_values(scene.mass) <= 0):
         return "the closed form needs a positive mass"
     return None
@@ -476,6 +481,9 @@ ENGINE_OF_CALL = {
 
 def _axis3_symmetric(known: np.ndarray) -> bool:
     m = np.atleast_2d(known)
+    if len(m) == 1:  # one body: the same comparison on floats
+        a, b, c = (float(x) for x in m[0])
+        return abs(a - b) <= SYMMETRY_RTOL * max(a, b, c)
     return bool(np.all(np.abs(m[:, 0] - m[:, 1]) <= SYMMETRY_RTOL * np.max(m, axis=1)))
 
 
