@@ -598,6 +598,11 @@ def test_heavy_top_turning_points_integrated_are_derived():
     closed = simulate(Scene(**TOP, outputs=("omega", "euler_angles"), accuracy=1e-10))
     assert "DOP853" in r.plan.engine and r.derivations == ("top.turning_points",) and "turning" not in r.plan.options
     assert closed.plan.options["turning"] == "closed form" and "turning points θ1, θ2" in str(closed.plan)
+    # the Euler angles: the closed form's own (zxz), the integrator's from its quaternion
+    assert "from the closed form's θ and φ ± ψ" in str(closed.plan) and "from the quaternion" not in str(closed.plan)
+    assert "from the quaternion" in str(r.plan)
+    zyz = simulate(Scene(**{**TOP, "euler": (0.0, 0.5, 0.0)}, convention="zyz", outputs=("euler_angles",), accuracy=1e-10))
+    assert zyz.plan.engine.startswith("closed form") and "from the quaternion" in str(zyz.plan)
     assert np.allclose(r.turning_points, closed.turning_points, rtol=0, atol=1e-12)
 
 

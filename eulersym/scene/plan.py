@@ -401,7 +401,10 @@ def make_plan(scene, moments=None, model=None) -> Plan:
         for name in dict.fromkeys(kernels)
     ] + rest
     if "euler_angles" in outputs:
-        steps.append(Step("compute", f"Euler angles ({scene.convention})", "from the quaternion, φ and ψ unwrapped"))
+        direct = options.get("call") == "heavy_top_exact" and scene.convention == "zxz"  # the closed form's own angles
+        steps.append(Step("compute", f"Euler angles ({scene.convention})",
+                          "from the closed form's θ and φ ± ψ (no quaternion round trip), φ and ψ unwrapped" if direct
+                          else "from the quaternion, φ and ψ unwrapped"))
     else:
         skipped.append(Step("skip", "Euler angles", "not asked for"))
     if "invariants" in outputs and is_model:
