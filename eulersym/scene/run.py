@@ -20,6 +20,8 @@ from eulersym.scene.spec import Scene
 
 __all__ = ["simulate"]
 
+_EYE = np.eye(3)
+
 
 def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, work=None) -> Result:
     """Run a scene's plan and return its :class:`Result`.
@@ -111,7 +113,7 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         timings["derive"] += time.perf_counter() - clock
 
     clock = time.perf_counter()
-    tensor_given = scene.tensor is not None or scene.shape is not None or not np.array_equal(P, np.eye(3))
+    tensor_given = scene.tensor is not None or scene.shape is not None or not bool((P == _EYE).all())
     if streamed:
         out = chunked.run(problem, plan, chunk=chunk, layout=layout, bound=bound, turning=turning,
                           tensor_given=tensor_given, client=client, progress=bar.fraction if bar.enabled else None,
