@@ -332,6 +332,72 @@ def _W_chebyshev(poles, c2, K, tolerance=0.0):
     return [None if bad[k] else (float(slope[k, 0]), a[k, :int(keep[k])]) for k in range(len(poles))]
 
 
+#: Longest odd series :func:`_odd_monomial` rewrites in powers (the integer coefficients of T_{2k+1}/y, k < 18, stay
+#: below 2**53: exact in double).
+_MONOMIAL_MAX = 18
+_monomial = []  # (the matrix Q[k, j]: T_{2k+1}(y) = y Σ_j Q[k, j] y^{2j}, the row sums Σ_j |Q[k, j]|), made on first use
+
+
+def _odd_monomial(a, tolerance):
+    """The odd Chebyshev series ``Σ_k a[r, k] T_{2k+1}(y)`` (rows r) in powers, ``y Σ_j b[r, j] y^{2j}``, when the
+    rounding of that form stays below a twentieth of ``tolerance`` (absolute, the series' unit) for |y| ≤ 1; else
+    None (Clenshaw's recurrence, stable for any coefficients, is used instead).
+
+    The bound counts the change of basis (``N ε Σ_k |a_k| Σ_j |Q_kj|``), Horner's recurrence (``2N ε Σ|b_j|``) and
+    the rounding of y² (``ε Σ j |b_j|``): a series that decays fast (W's, away from the poles) passes, one whose
+    powers would cancel does not.
+
+    Examples
+    --------
+    >>> b = _odd_monomial(np.array([[1.0, 0.5]]), 1e-9)   # T₁ + ½ T₃ = y + ½ (4y³ − 3y) = −½ y + 2 y³
+    >>> b.tolist()
+    [[-0.5, 2.0]]
+    >>> _odd_monomial(np.array([[1.0] * 17]), 1e-9) is None  # slowly decaying: its powers cancel
+    True
+    """
+    N = a.shape[1]
+    if N > _MONOMIAL_MAX:
+        return None
+    if not _monomial:
+        rows = [[1], [-3, 4]]  # Q_0 = 1, Q_1 = 4w − 3; Q_{k+1} = 2(2w − 1) Q_k − Q_{k−1} (T_{2k+3} = 2 T_2 T_{2k+1} − T_{2k−1})
+        while len(rows) < _MONOMIAL_MAX:
+            q, p = rows[-1], rows[-2]
+            nxt = [0] * (len(q) + 1)
+            for j, c in enumerate(q):
+                nxt[j] -= 2 * c
+                nxt[j + 1] += 4 * c
+            for j, c in enumerate(p):
+                nxt[j] -= c
+            rows.append(nxt)
+        Q = np.zeros((_MONOMIAL_MAX, _MONOMIAL_MAX))
+        for k, row in enumerate(rows):
+            Q[k, :len(row)] = row
+        _monomial[:] = [Q, np.abs(Q).sum(axis=1)]
+    Q, sums = _monomial
+    b = a @ Q[:N, :N]
+    absb = np.abs(b)
+    eps = np.finfo(float).eps
+    bound = eps * (N * (np.abs(a) @ sums[:N]) + 2 * N * absb.sum(axis=1) + absb @ np.arange(N))
+    return b if float(bound.max()) <= 0.05 * tolerance else None
+
+
+def _horner_odd(y, b):
+    """``y Σ_j b[..., j] y^{2j}`` by Horner's rule in w = y² (``b``: one row of numbers, or rows for the rows of y)."""
+    col = (lambda j: b[:, j:j + 1]) if b.ndim == 2 else (lambda j: float(b[j]))  # noqa: E731
+    N = b.shape[-1]
+    w = y * y
+    if N == 1:
+        np.multiply(y, col(0), out=w)
+        return w
+    acc = w * col(N - 1)
+    acc += col(N - 2)
+    for j in range(N - 3, -1, -1):
+        acc *= w
+        acc += col(j)
+    acc *= y
+    return acc
+
+
 def _clenshaw_odd(y, a):
     """``Σ_k a[k] T_{2k+1}(y)`` by Clenshaw's recurrence in ``z = T_2(y) = 2y² − 1`` (``T_{2k+3} = 2z T_{2k+1} −
     T_{2k−1}``): ``y (b_0 − b_1)``. ``a``: numbers (or columns broadcasting against y: several series at once, one
@@ -701,7 +767,11 @@ def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0, node_c2=None):
         rows = slice(None) if len(series) == 2 else series[0]
         y = x[rows]
         y *= 1.0 / mo.K
-        chi[rows] += _clenshaw_odd(y, list(a.T[:, :, None]) if len(series) == 2 else [float(v) for v in a[0]])
+        b = _odd_monomial(a, tolerance) if tolerance > 0.0 else None
+        if b is not None:  # y·Σ b_j y^{2j} by Horner: two operations a term where Clenshaw takes three
+            chi[rows] += _horner_odd(y, b if len(series) == 2 else b[0])
+        else:
+            chi[rows] += _clenshaw_odd(y, list(a.T[:, :, None]) if len(series) == 2 else [float(v) for v in a[0]])
     for k in active:
         if fits[k] is None:
             pole = poles[k]
