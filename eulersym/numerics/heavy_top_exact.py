@@ -290,6 +290,7 @@ def _W_decimal(s_sq, c_sq, d_sq, n, one_minus_n):
     return out
 
 
+_EPS = float(np.finfo(float).eps)
 _CHEB_N = 64  # Chebyshev nodes on [−K, K]; W's periodic part is odd, its derivative even: 32 values
 _HALF = _CHEB_N // 2
 _NODES = np.cos(np.pi * (np.arange(_HALF) + 0.5) / _CHEB_N)  # the positive nodes
@@ -309,7 +310,7 @@ def _W_chebyshev(poles, c2, K, tolerance=0.0):
     peak of W′), None, and W is evaluated directly. The series is cut after the last coefficient above an ulp of
     the scale of W, and, for ``tolerance`` > 0, where the tail Σ|a_k| falls below ``tolerance / |coef|`` (coef
     multiplies W in its angle)."""
-    eps = np.finfo(float).eps
+    eps = _EPS
     n, one_minus_n, WK, coef = (np.array(v, dtype=float)[:, None] for v in zip(*poles))
     slope = WK / K
     values = one_minus_n + n * c2
@@ -376,24 +377,30 @@ def _odd_monomial(a, tolerance):
     Q, sums = _monomial
     b = a @ Q[:N, :N]
     absb = np.abs(b)
-    eps = np.finfo(float).eps
+    eps = _EPS
     bound = eps * (N * (np.abs(a) @ sums[:N]) + 2 * N * absb.sum(axis=1) + absb @ np.arange(N))
     return b if float(bound.max()) <= 0.05 * tolerance else None
 
 
 def _horner_odd(y, b):
     """``y Σ_j b[..., j] y^{2j}`` by Horner's rule in w = y² (``b``: one row of numbers, or rows for the rows of y)."""
-    col = (lambda j: b[:, j:j + 1]) if b.ndim == 2 else (lambda j: float(b[j]))  # noqa: E731
     N = b.shape[-1]
     w = y * y
-    if N == 1:
-        np.multiply(y, col(0), out=w)
-        return w
-    acc = w * col(N - 1)
-    acc += col(N - 2)
+    acc = np.empty_like(y)
+    # row by row, the coefficients as numbers: a number added to a row is NumPy's fast loop, a column broadcast
+    # over the rows is not
+    one = b.ndim == 1
+    parts = list(zip([acc] if one else list(acc), [w] if one else list(w), [b.tolist()] if one else b.tolist()))
+    for view, w_row, c in parts:
+        if N == 1:
+            view[...] = c[0]
+        else:
+            np.multiply(w_row, c[N - 1], out=view)
+            view += c[N - 2]
     for j in range(N - 3, -1, -1):
         acc *= w
-        acc += col(j)
+        for view, _, c in parts:
+            view += c[j]
     acc *= y
     return acc
 
@@ -696,7 +703,7 @@ def _phase_double(mo, t):
 def _phase_and_jacobi(mo, t, tolerance, tmax):
     """The reduced phase r (|r| ≤ K) and half-period index j at t, sn, cn (with the sign of the half period), dn,
     and cn² at W's Chebyshev nodes when its series will be used (else None)."""
-    eps = np.finfo(float).eps
+    eps = _EPS
     if 0.0 < 4.0 * eps * (abs(mo.lam) * tmax + abs(mo.u0) + mo.period) <= 0.5 * tolerance:
         r, j = _phase_double(mo, t)
     else:
@@ -730,12 +737,14 @@ def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0, node_c2=None):
     col = lambda a, b: np.array([[a], [b]])  # noqa: E731
     rate = (col(near.rate[0], far.rate[0]), col(near.rate[1], far.rate[1]))
     per = (col(near.per[0], far.per[0]), col(near.per[1], far.per[1]))
-    eps = np.finfo(float).eps
+    eps = _EPS
     jmax = (abs(mo.lam) * tmax + abs(mo.u0)) / mo.period + 2.0 if not mo.steady else 0.0
     bound = 4.0 * eps * max(abs(p.rate[0]) * tmax + abs(p.per[0]) * jmax + four_pi[0] for p in (near, far))
     if 0.0 < bound <= 0.5 * tolerance:  # plain double: the rounding of rate·t, per·j and the reduction
-        chi = per[0] * jj
-        chi += rate[0] * t
+        chi = np.empty_like(jj)
+        for k, pole in enumerate((near, far)):  # row by row with numbers (NumPy's fast loops; no column broadcast)
+            np.multiply(jj[k], pole.per[0], out=chi[k])
+            chi[k] += pole.rate[0] * t
         chi -= four_pi[0] * np.rint(chi * (1.0 / four_pi[0]))
     else:
         chi = _dd_linear(rate, t, per, jj, four_pi)
@@ -744,7 +753,8 @@ def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0, node_c2=None):
         return chi
     poles = (near, far)
     active = [k for k, pole in enumerate(poles) if pole.B != 0.0]
-    chi += col(near.chi0 - near.coef * near.W0 * (near.B != 0.0), far.chi0 - far.coef * far.W0 * (far.B != 0.0))
+    chi[0] += near.chi0 - near.coef * near.W0 * (near.B != 0.0)
+    chi[1] += far.chi0 - far.coef * far.W0 * (far.B != 0.0)
     if not active:
         return chi
     x = np.empty((2,) + t.shape)
