@@ -847,7 +847,11 @@ def _evaluate(mo, t, accuracy=None):
     np.multiply(half_n, sin_half[0], out=qr[pn[1]])
     np.multiply(half_f, cos_half[1], out=qr[pf[0]])
     np.multiply(half_f, sin_half[1], out=qr[pf[1]])
-    qr /= np.sqrt(np.einsum("ij,ij->j", qr, qr))
+    norm = qr[0] * qr[0]  # |q|² row by row (einsum over the leading axis takes NumPy's slow path)
+    for k in (1, 2, 3):
+        norm += qr[k] * qr[k]
+    np.sqrt(norm, out=norm)
+    qr /= norm
     plus, minus = (1, 0) if mo.sigma > 0 else (0, 1)
     # e^{iψ} with ψ = (χ₊ − χ₋)/2
     cp, sp_, cm, sm = cos_half[plus], sin_half[plus], cos_half[minus], sin_half[minus]
@@ -861,9 +865,7 @@ def _evaluate(mo, t, accuracy=None):
     cos_psi /= unit
     sin_psi /= unit
     # (b − a u)/sin θ = ½ [B_n R_f/R_n + B_f R_n/R_f] (a term whose B is 0 vanishes, also where its R does)
-    A_ = np.zeros_like(t)
-    if near.B != 0.0:
-        A_ += (0.5 * near.B) * (rf / rn)
+    A_ = np.multiply(rf / rn, 0.5 * near.B) if near.B != 0.0 else np.zeros_like(t)
     if far.B != 0.0:
         A_ += (0.5 * far.B) * (rn / rf)
     omega, gamma, euler = block[0:3], block[3:6], block[10:13]
