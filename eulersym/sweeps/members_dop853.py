@@ -65,10 +65,10 @@ E_COLS = np.flatnonzero((E5 != 0) | (E3 != 0)).astype(np.int64)
 #: (on a given CPU: one with FMA rounds the products once instead of twice).
 FASTMATH = {"contract"}
 
-_rhs = numba.njit(inline="always", fastmath=FASTMATH)(_kernel.rhs_flat)
+_rhs = numba.njit(inline="always", fastmath=FASTMATH, error_model="numpy")(_kernel.rhs_flat)
 
 
-@numba.njit(inline="always", fastmath=FASTMATH)
+@numba.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
 def _stage_sum(K, weights, cols, count):
     """Σ_j weights[j] K[j] over the non-zero weights (their columns ``cols[:count]``), as a tuple of ten floats."""
     a0 = a1 = a2 = a3 = a4 = a5 = a6 = a7 = a8 = a9 = 0.0
@@ -88,7 +88,7 @@ def _stage_sum(K, weights, cols, count):
     return (a0, a1, a2, a3, a4, a5, a6, a7, a8, a9)
 
 
-@numba.njit(inline="always", fastmath=FASTMATH)
+@numba.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
 def _f(t, y, h, a, p, K, s):
     """K[s] = f(t, y + h a) by the generated kernel (``y``, ``a``: tuples of ten floats; ``p``: six)."""
     r = _rhs(t, y[0] + h * a[0], y[1] + h * a[1], y[2] + h * a[2], y[3] + h * a[3], y[4] + h * a[4],
@@ -98,7 +98,7 @@ def _f(t, y, h, a, p, K, s):
         K[s, i] = r[i]
 
 
-@numba.njit(cache=True, fastmath=FASTMATH)
+@numba.njit(cache=True, fastmath=FASTMATH, error_model="numpy")
 def _member(y0, params, t_eval, rtol, atol, out, K):
     n = N
     p = (params[0], params[1], params[2], params[3], params[4], params[5])
@@ -132,6 +132,11 @@ def _member(y0, params, t_eval, rtol, atol, out, K):
     else:
         h1 = (0.01 / max(d1, d2)) ** (1.0 / 9.0)
     h = min(100 * h0, h1, t_eval[-1] - t_eval[0])
+    for i in range(n):
+        if not np.isfinite(K[0, i]):  # the start overflows the kernel
+            return -1
+    if not h > 0.0:  # the tolerance scales |y| / (atol + |y| rtol) overflow: nothing can meet them
+        return -2
     for k in range(1, t_eval.shape[0]):
         target = t_eval[k]
         while t < target:
@@ -149,13 +154,15 @@ def _member(y0, params, t_eval, rtol, atol, out, K):
             v3 = _stage_sum(K, E3, E_COLS, E_COLS.shape[0])
             e5 = 0.0
             e3 = 0.0
+            largest = 0.0
             for i in range(n):
                 sc = atol + max(abs(y[i]), abs(y_new[i])) * rtol
+                largest = max(largest, sc)
                 e5 += (v5[i] / sc) ** 2
                 e3 += (v3[i] / sc) ** 2
             denom = e5 + 0.01 * e3
-            err = h_use * e5 / np.sqrt(denom * n) if denom > 0 else 0.0
-            if not np.isfinite(err):
+            err = h_use * e5 / np.sqrt(denom * n) if denom > 0 else (0.0 if denom == 0 else np.nan)
+            if not (np.isfinite(err) and np.isfinite(largest)):  # NaN or ∞ in the stages or the new state
                 return -1
             if err < 1.0:
                 factor = 10.0 if err == 0.0 else min(10.0, 0.9 * err ** exponent)
@@ -173,7 +180,7 @@ def _member(y0, params, t_eval, rtol, atol, out, K):
     return calls
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=True, cache=True, error_model="numpy")
 def members(y0, params, t_eval, rtol, atol, out):
     """Every member (rows of ``y0`` (B, 10), ``params`` (B, 6): I1, I2, I3, M, g, l) over ``t_eval`` into
     ``out`` (B, n, 10); returns the kernel calls per member (−1: overflow, −2: step underflow)."""
