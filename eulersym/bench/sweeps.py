@@ -319,7 +319,7 @@ def main(argv) -> int:
                           f"p99 {d['p99']:.1e}, max {d['max']:.1e}")
         print(f"  every member against the sweep at accuracy {_WHOLE_SWEEP_ACCURACY:g} (itself within "
               f"{w['reference_error']:.1e} of the samples' rtol 1e-12 runs):\n    default {line(w['default'])}\n"
-              f"    DOP853  {line(w['DOP853'])}")
+              f"    DOP853  {line(w['DOP853'])}\n  ({load_text()} at the end)")
     if "refusal" in only:
         r = bench_refusal()
         print(f"refusal: {r['case']}\n  exit {r['rc']} in {r['seconds']:.2f} s, {r['cpu']:.2f} CPU-s, imports included "
