@@ -198,7 +198,8 @@ def _member(y0, params, t_eval, rtol, atol, out):
 @numba.njit(parallel=True, cache=True, error_model="numpy")
 def members(y0, params, t_eval, rtol, atol, out):
     """Every member (rows of ``y0`` (B, 10), ``params`` (B, 6): I1, I2, I3, M, g, l) over ``t_eval`` into
-    ``out`` (B, n, 10); returns the kernel calls per member (−1: overflow, −2: step underflow)."""
+    ``out`` (B, n, 10); returns the kernel calls per member as scipy counts them, 12 per step tried (one fewer is
+    made for a rejected step), or −1 (overflow) or −2 (step underflow)."""
     B_ = y0.shape[0]
     calls = np.zeros(B_, dtype=np.int64)
     for b in numba.prange(B_):
