@@ -185,6 +185,7 @@ def bench_default_vs_dop853(members: int = 100_000, *, samples: int = 4, accurac
                 "median": float(np.median(e))}
     return {
         "case": f"asymmetric heavy top, {fast_scene.batch} members, T = {fast_scene.t_end:g}, accuracy {accuracy:g}",
+        "members": fast_scene.batch,
         "engine": fast.plan.engine,
         "baseline_engine": slow.plan.engine,
         "seconds": t_fast,
@@ -193,6 +194,7 @@ def bench_default_vs_dop853(members: int = 100_000, *, samples: int = 4, accurac
         "error": err_fast,
         "baseline_error": err_slow,
         "accuracy": accuracy,
+        "calls": int(fast.n_rhs_calls),
         "cpu": float(np.median(fast_cpu)),
         "baseline_cpu": float(np.median(slow_cpu)),
         "repeats": len(fast_times),
@@ -311,7 +313,9 @@ def main(argv) -> int:
               f"{r['baseline_seconds']:.2f} s   (medians of {r['repeats']} alternating runs)   "
               f"{ratio_text(r['baseline_seconds'], r['seconds'])} (floor ≥ 5×: {verdict(r['ratio'] >= 5)})\n"
               f"  CPU time (all threads): default {r['cpu']:.2f} s, DOP853 {r['baseline_cpu']:.2f} s (the default's 2 "
-              f"threads need both cores: under load its wall time suffers first)\n"
+              f"threads need both cores: under load its wall time suffers first); kernel calls per member: default "
+              f"{r['calls'] / max(r['members'], 1):.0f} ({1e9 * r['cpu'] / max(r['calls'], 1):.0f} CPU-ns each, "
+              f"simulate's overhead included)\n"
               f"  max relative ω error of {r['samples']} sampled members against rtol 1e-12: default {r['error']:.1e} "
               f"(≤ accuracy {r['accuracy']:g}: {verdict(r['error'] <= r['accuracy'])}), DOP853 {r['baseline_error']:.1e}")
         w = r["whole"]
