@@ -96,3 +96,32 @@ def test_property_rewrites_stay_equal_and_perturbations_differ(coeffs, rewrite):
     e = a * sp.sin(x) ** 2 + b * sp.cos(x) * sp.sin(y) + c * x**2 + d * sp.cos(2 * x)
     assert compare(e, rewrite(e)).equal
     assert not compare(e, e + sp.sin(x) / 7).equal
+
+
+def test_numeric_test_alone_still_finds_a_difference():
+    e = sp.sin(x) ** 2 * sp.cos(y) + x**3 / 7
+    assert compare(e, e + sp.Rational(1, 10**20), exact=False).exact is False  # far above the 1e-25 tolerance
+    assert compare(e, e + sp.Rational(1, 10**28), exact=False).equal  # below it
+
+
+def test_functions_the_fast_evaluator_does_not_know_are_evaluated_by_evalf():
+    assert compare(sp.sign(x) * x * sp.atan2(y, 2), sp.Abs(x) * sp.atan2(y, 2), exact=False).equal
+    assert not compare(sp.Abs(x) * sp.atan2(y, 2), x * sp.atan2(y, 2), exact=False).equal  # x < 0 at some points
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.integers(-4, 4), min_size=5, max_size=5), st.integers(0, 10**6))
+def test_property_fast_evaluation_matches_evalf(coeffs, seed):
+    import mpmath
+    import random
+
+    from eulersym.compare import _evaluate, _evaluate_fast, _random_point
+
+    a, b, c, d, k = coeffs
+    e = (a * sp.sin(x) ** 2 * sp.cos(y) + b * sp.sqrt(x**2 + 1) / (3 + sp.cos(x)) + c * sp.exp(y) / 5
+         + d * sp.tan(x / 2) + sp.Rational(k, 3) * x**3 * y + sp.pi * sp.log(2 + y**2))
+    point = _random_point([x, y], random.Random(seed))
+    with mpmath.workdps(50):
+        fast = _evaluate_fast(e, {s: mpmath.mpf(repr(v)) for s, v in point.items()}, mpmath.mp)
+    slow = _evaluate(e, point, 30)
+    assert abs(fast - slow) <= 1e-35 * max(1, abs(slow))
