@@ -33,7 +33,7 @@ import sympy as sp
 
 from eulersym.errors import CheckFailed, InvalidInput, SingularConfiguration
 from eulersym.inertia import kinetic_energy as _kinetic_energy
-from eulersym.kinematics import omega_body
+from eulersym.kinematics import _reduce_sin_squares, omega_body
 from eulersym.symbols import I1, I3, M, g, l, omega3, phi, psi, t, theta
 from eulersym.validation import is_symbolic, moments, positive
 
@@ -73,18 +73,6 @@ _QDOT = tuple(q.diff(t) for q in _Q)
 _PARAMETERS = (I1, I3, M, g, l)
 _THETA = theta
 _OMEGA3 = omega3
-
-
-def _reduce_sin_squares(expr, angles) -> sp.Expr:
-    """Expand and write even powers of ``sin(a)`` through ``cos(a)`` (``sin² = 1 − cos²``), then expand."""
-    expr = sp.expand(expr)
-    for a in angles:
-        s = sp.sin(a)
-        expr = expr.replace(
-            lambda e, s=s: e.is_Pow and e.base == s and e.exp.is_Integer and e.exp >= 2,
-            lambda e, a=a: sp.sin(a) ** (e.exp % 2) * (1 - sp.cos(a) ** 2) ** (e.exp // 2),
-        )
-    return sp.expand(expr)
 
 
 @functools.lru_cache(maxsize=1)
