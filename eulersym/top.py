@@ -597,7 +597,13 @@ def precession_limits(theta=theta, omega3=omega3) -> tuple:
 
 @functools.lru_cache(maxsize=32)
 def _precession_limits(value) -> tuple:
-    """The series of :func:`precession_limits` for one θ (a pure derivation, cached)."""
+    """The leading terms of :func:`precession_limits` for one θ (a pure derivation, cached).
+
+    With ``ω3 = 1/ε`` (ε > 0) each rate holds ``√R`` with ``R ~ I3²/ε²``; written ``√(ε² R)/ε`` (exact for ε > 0),
+    ``h(ε) = ε · rate`` is analytic at ε = 0 (``ε² R → I3² > 0``), so the rate's leading term is ``h_k ε^(k−1)`` for
+    the first non-zero Taylor coefficient ``h_k = h⁽ᵏ⁾(0)/k!`` of h — the Laurent series of the rate, term by term
+    until one survives.
+    """
     eps = sp.Symbol("epsilon", positive=True)
     cosine = sp.cos(value)
     frozen = {} if cosine.is_number else {cosine: sp.Dummy("c", real=True)}
@@ -605,12 +611,23 @@ def _precession_limits(value) -> tuple:
     out = []
     for rate in steady_precession_rates(value):
         expr = rate.xreplace({_OMEGA3: 1 / eps}).xreplace(frozen)
-        series = sp.expand(sp.series(expr, eps, 0, 2).removeO())
-        terms = [term.as_coeff_exponent(eps) for term in sp.Add.make_args(series)]
-        order = min(exponent for _, exponent in terms)
-        lead = sp.Add(*(coefficient for coefficient, exponent in terms if exponent == order)) * eps**order
-        out.append(sp.factor(lead).xreplace(thaw).xreplace({eps: 1 / _OMEGA3}))
+        roots = {p: sp.sqrt(sp.expand(eps**2 * p.base)) / eps
+                 for p in expr.atoms(sp.Pow) if p.exp == sp.S.Half and p.base.has(eps)}
+        h = sp.expand(expr.xreplace(roots) * eps)
+        for k in range(_LAURENT_TERMS):
+            coefficient = sp.cancel(h.diff(eps, k).subs(eps, 0) / math.factorial(k)) if k else sp.cancel(h.subs(eps, 0))
+            if coefficient.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
+                raise CheckFailed(f"ε·rate is not analytic at ε = 0: {h}")
+            if coefficient != 0:
+                break
+        else:
+            raise CheckFailed(f"no non-zero term of ε·rate up to order {_LAURENT_TERMS - 1}: {h}")
+        out.append(sp.factor(coefficient * eps ** (k - 1)).xreplace(thaw).xreplace({eps: 1 / _OMEGA3}))
     return tuple(out)
+
+
+#: How many Taylor coefficients of ε·rate :func:`_precession_limits` tries (the slow rate needs three: 0, 0, M g l/I3).
+_LAURENT_TERMS = 6
 
 
 @functools.lru_cache(maxsize=1)
