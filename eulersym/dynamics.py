@@ -36,7 +36,7 @@ import math
 import numbers
 from dataclasses import dataclass
 
-import numpy as np
+from eulersym._numpy import np
 import sympy as sp
 
 from eulersym import inertia as _inertia
@@ -255,7 +255,7 @@ def _vector3(argument: str, value) -> sp.ImmutableMatrix:
         raise InvalidInput(argument, value, f"three components, got {len(items)}")
     out = []
     for item in items:
-        if isinstance(item, bool) or not isinstance(item, (numbers.Number, np.number, sp.Basic)):
+        if isinstance(item, bool) or not isinstance(item, (numbers.Number, sp.Basic)):
             raise InvalidInput(argument, value, "three numbers or SymPy expressions")
         item = sp.sympify(item)
         if item.is_real is False or item.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
@@ -264,9 +264,16 @@ def _vector3(argument: str, value) -> sp.ImmutableMatrix:
     return sp.ImmutableMatrix(out)
 
 
+def _ndim(value) -> int:
+    """``np.ndim`` of ``value`` as an object array; a flat list or tuple of scalars is 1 without NumPy's import."""
+    if isinstance(value, (list, tuple)) and not any(hasattr(c, "__len__") or hasattr(c, "__array__") for c in value):
+        return 1
+    return np.ndim(np.asarray(value, dtype=object))
+
+
 def _inertia_matrix(I, argument: str = "I") -> sp.ImmutableMatrix:
     """Three principal moments → diag; a 3×3 tensor → itself after checks (symmetric, body-like)."""
-    if isinstance(I, sp.MatrixBase) or np.ndim(np.asarray(I, dtype=object)) == 2:
+    if isinstance(I, sp.MatrixBase) or _ndim(I) == 2:
         try:
             mat = sp.ImmutableMatrix(I)
         except (TypeError, ValueError, sp.SympifyError):
@@ -295,7 +302,7 @@ def _principal(I, argument: str = "I") -> tuple:
 
 
 def _axis(axis) -> int:
-    if isinstance(axis, bool) or not isinstance(axis, (int, np.integer)) or int(axis) not in _AXES:
+    if isinstance(axis, bool) or not isinstance(axis, numbers.Integral) or int(axis) not in _AXES:
         raise InvalidInput("axis", axis, "a principal axis 1, 2 or 3")
     return int(axis)
 
@@ -305,7 +312,7 @@ def _real(argument: str, value):
         if value.is_real is False or value.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
             raise InvalidInput(argument, value, "a finite real number or symbol")
         return value
-    if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise InvalidInput(argument, value, "a finite real number or symbol")
     if not math.isfinite(float(value)):
         raise InvalidInput(argument, value, "a finite real number or symbol")
@@ -771,7 +778,7 @@ def intermediate_axis_growth_rate(I1=_symbols.I1, I2=_symbols.I2, I3=_symbols.I3
             "I", values, "moments with axis 2 intermediate: I1 < I2 < I3 or I1 > I2 > I3 (strictly)"
         )
     eig = steady_rotation_stability(values, 2, omega0)
-    if isinstance(eig, np.ndarray):
+    if not isinstance(eig, list):  # numeric moments: an ndarray of eigenvalues
         rate = eig[np.argmax(eig.real)]
         if rate.real <= 0 or abs(rate.imag) > 1e-12 * abs(rate):
             raise CheckFailed(f"no positive real eigenvalue on the intermediate axis: {eig}")

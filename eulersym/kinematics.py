@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import functools
 
-import numpy as np
+from eulersym._numpy import np
 import sympy as sp
 
 from eulersym.errors import CheckFailed, InvalidInput, SingularConfiguration

@@ -31,11 +31,10 @@ import math
 import random
 from typing import Any
 
-import numpy as np
+from eulersym._numpy import np
 import sympy as sp
 
 from eulersym.errors import InvalidInput
-from eulersym.quaternion import hamilton
 from eulersym.validation import finite_array
 
 __all__ = [
@@ -607,6 +606,8 @@ def quaternion_multiply(p, q):
     if _is_numeric(p0, p1, p2, p3, q0, q1, q2, q3):
         _numbers("p", [p0, p1, p2, p3], what="a quaternion")
         _numbers("q", [q0, q1, q2, q3], what="a quaternion")
+    from eulersym.quaternion import hamilton  # NumPy's import, only when quaternions are multiplied
+
     out = list(hamilton((p0, p1, p2, p3), (q0, q1, q2, q3)))
     if _is_numeric(*p, *q):
         return np.array(out, dtype=float)

@@ -28,7 +28,7 @@ import functools
 import math
 import numbers
 
-import numpy as np
+from eulersym._numpy import np
 import sympy as sp
 
 from eulersym.errors import CheckFailed, InvalidInput, SingularConfiguration
@@ -254,7 +254,7 @@ def _cubic_coefficients():
 
 def _top_numbers(E, p_phi, p_psi, I1_, I3_, M_, g_, l_) -> tuple:
     for name, value in (("E", E), ("p_phi", p_phi), ("p_psi", p_psi)):
-        if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.floating, np.integer)) \
+        if isinstance(value, bool) or not isinstance(value, numbers.Real) \
                 or not math.isfinite(float(value)):
             raise InvalidInput(name, value, "a finite real number")
     moments("I", (I1_, I1_, I3_))
@@ -481,7 +481,7 @@ def _theta_value(theta_value):
             raise SingularConfiguration("theta", theta_value, "sin(theta) != 0 (the steady-precession balance is "
                                         "divided by sin(theta); at theta = 0 or pi see sleeping_top_threshold)")
         return value
-    if isinstance(theta_value, bool) or not isinstance(theta_value, (numbers.Real, np.floating, np.integer)) \
+    if isinstance(theta_value, bool) or not isinstance(theta_value, numbers.Real) \
             or not math.isfinite(float(theta_value)):
         raise InvalidInput("theta", theta_value, "a finite real angle")
     if abs(math.sin(float(theta_value))) < 1e-12:
@@ -585,7 +585,7 @@ def precession_limits(theta=theta, omega3=omega3) -> tuple:
     """
     spin = omega3
     if spin is not _OMEGA3:
-        if isinstance(spin, bool) or not isinstance(spin, (numbers.Real, np.floating, np.integer, sp.Basic)):
+        if isinstance(spin, bool) or not isinstance(spin, (numbers.Real, sp.Basic)):
             raise InvalidInput("omega3", spin, "a non-zero real spin")
         if sp.sympify(spin).is_zero or (not is_symbolic(spin) and float(spin) == 0):
             raise InvalidInput("omega3", spin, "a non-zero spin (the slow precession M g l/(I3 omega3) divides by it)")
