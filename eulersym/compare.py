@@ -225,6 +225,38 @@ def _trig_polynomial_zero(expr) -> bool | None:
     return poly.rem(basis) == 0
 
 
+def _polynomial_zero(expr) -> str | None:
+    """The strategy that proves ``expr`` zero when it is a polynomial with rational coefficients in symbols and the
+    sines and cosines of symbols, computed in a polynomial ring (no SymPy ``expand``); None otherwise (not such a
+    polynomial, or not zero: the caller's strategies decide).
+
+    ``"expand"`` when the polynomial is zero as it stands, ``"trig-polynomial reduction"`` when it is zero modulo
+    ``s_x² + c_x² − 1`` — the same verdicts, by the same algebra, as ``expand`` and :func:`_trig_polynomial_zero`.
+    """
+    if expr.has(sp.Float):
+        return None
+    trig = _trig_atoms(expr)
+    if any(not isinstance(a, (sp.sin, sp.cos)) or not a.args[0].is_Symbol for a in trig):
+        return None
+    args = sorted({a.args[0] for a in trig}, key=sp.default_sort_key)
+    sub, gens = {}, []
+    for arg in args:
+        s, c = sp.Dummy(f"s_{arg}"), sp.Dummy(f"c_{arg}")
+        sub.update({sp.sin(arg): s, sp.cos(arg): c})
+        gens += [s, c]
+    num = expr.xreplace(sub)
+    others = sorted(num.free_symbols - set(gens), key=sp.default_sort_key)
+    try:
+        ring, *xs = sp.ring(gens + others, sp.QQ, order="lex")
+        poly = ring.from_expr(num)
+    except (ValueError, TypeError, sp.polys.polyerrors.PolynomialError, sp.polys.polyerrors.CoercionFailed):
+        return None
+    if not poly:
+        return "expand"
+    basis = [xs[2 * i] ** 2 + xs[2 * i + 1] ** 2 - 1 for i in range(len(args))]
+    return "trig-polynomial reduction" if basis and not poly.rem(basis) else None
+
+
 def zero_exact(expr) -> tuple[bool, str]:
     """Try to prove ``expr == 0`` exactly; return ``(proved, strategy)``.
 
@@ -242,6 +274,9 @@ def zero_exact(expr) -> tuple[bool, str]:
         return True, "identical"
     if expr.atoms(AppliedUndef):
         expr, _ = freeze_functions(expr)
+    proved = _polynomial_zero(expr)
+    if proved:
+        return True, proved
     expanded = sp.expand(expr)
     if expanded == 0:
         return True, "expand"

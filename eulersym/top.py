@@ -99,14 +99,15 @@ def lagrangian() -> sp.Expr:
     return T - V
 
 
-@functools.lru_cache(maxsize=1)
+@functools.lru_cache(maxsize=3)
+def _euler_lagrange(k: int) -> sp.Eq:
+    """The Euler–Lagrange equation of coordinate ``_Q[k]`` alone (the θ equation needs no other)."""
+    L, q, qd = lagrangian(), _Q[k], _QDOT[k]
+    return sp.Eq(sp.expand(sp.diff(L, qd).diff(t) - sp.diff(L, q)), 0, evaluate=False)
+
+
 def _equations() -> tuple:
-    L = lagrangian()
-    out = []
-    for q, qd in zip(_Q, _QDOT):
-        expr = sp.expand(sp.diff(L, qd).diff(t) - sp.diff(L, q))
-        out.append(sp.Eq(expr, 0, evaluate=False))
-    return tuple(out)
+    return tuple(_euler_lagrange(k) for k in range(3))
 
 
 def equations_of_motion() -> list:
@@ -460,7 +461,7 @@ def nutation_equation() -> sp.Eq:
     >>> nutation_equation()
     Eq(I1*Derivative(theta(t), (t, 2)), I1*sin(theta(t))*cos(theta(t))*Derivative(phi(t), t)**2 - I3*omega3(t)*sin(theta(t))*Derivative(phi(t), t) + M*g*l*sin(theta(t)))
     """
-    eq = _equations()[1]
+    eq = _euler_lagrange(1)
     thdd = theta.diff(t, 2)
     coefficient = sp.expand(eq.lhs).coeff(thdd)
     rest = sp.expand(eq.lhs - coefficient * thdd)

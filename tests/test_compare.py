@@ -125,3 +125,18 @@ def test_property_fast_evaluation_matches_evalf(coeffs, seed):
         fast = _evaluate_fast(e, {s: mpmath.mpf(repr(v)) for s, v in point.items()}, mpmath.mp)
     slow = _evaluate(e, point, 30)
     assert abs(fast - slow) <= 1e-35 * max(1, abs(slow))
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.integers(-3, 3), min_size=6, max_size=6))
+def test_property_ring_zero_test_agrees_with_expand_and_reduction(coeffs):
+    from eulersym.compare import _polynomial_zero
+
+    a, b, c, d, e, f = coeffs
+    s, co = sp.sin(x), sp.cos(x)
+    p = (a * s + b * co * y + c) * (d * s**2 + e * co * sp.sin(y) + f * y**2) + (s + y) ** 3
+    assert _polynomial_zero(p - sp.expand(p)) == "expand"
+    assert _polynomial_zero(p * (s**2 + co**2) - p) == "trig-polynomial reduction"
+    assert _polynomial_zero(p + sp.Rational(1, 7) * sp.sin(y) ** 2 + sp.Rational(1, 7) * sp.cos(y) ** 2) is None
+    assert zero_exact(p - sp.expand(p)) == (True, "expand")
+    assert _polynomial_zero(p / (2 + y**2) - p / (2 + y**2) + sp.Float(0.5) * x) is None  # not for this test
