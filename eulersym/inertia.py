@@ -459,7 +459,14 @@ class Region:
 
 @functools.lru_cache(maxsize=4096)
 def _definite(f: Any, var: Any, lo: Any, hi: Any) -> Any:
-    """One-dimensional definite integral (cached: the same factors recur across the tensor's components)."""
+    """One-dimensional definite integral (cached: the same factors recur across the tensor's components).
+
+    A polynomial in ``var`` by its antiderivative, ``F(hi) − F(lo)`` (what ``sympy.integrate`` does for one, without
+    importing its heuristics); anything else by ``sympy.integrate``.
+    """
+    if f.is_polynomial(var):
+        F = sp.Poly(f, var).integrate().as_expr()
+        return F.xreplace({var: hi}) - F.xreplace({var: lo})
     return sp.integrate(f, (var, lo, hi))
 
 
