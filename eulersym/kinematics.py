@@ -272,13 +272,10 @@ def _reduce_sin_squares(expr, angles) -> sp.Expr:
     normal form of a polynomial in sin and cos modulo ``sin² + cos² − 1`` (sin of degree ≤ 1), so an identity
     reduces to 0."""
     expr = sp.expand(expr)
-    for a in angles:
-        s = sp.sin(a)
-        expr = expr.replace(
-            lambda e, s=s: e.is_Pow and e.base == s and e.exp.is_Integer and e.exp >= 2,
-            lambda e, a=a: sp.sin(a) ** (e.exp % 2) * (1 - sp.cos(a) ** 2) ** (e.exp // 2),
-        )
-    return sp.expand(expr)
+    sines = {sp.sin(a): a for a in angles}
+    powers = {p: p.base ** (p.exp % 2) * (1 - sp.cos(sines[p.base]) ** 2) ** (p.exp // 2)
+              for p in expr.atoms(sp.Pow) if p.base in sines and p.exp.is_Integer and p.exp >= 2}
+    return sp.expand(expr.xreplace(powers)) if powers else expr
 
 
 @functools.lru_cache(maxsize=32)

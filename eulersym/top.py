@@ -102,8 +102,26 @@ def lagrangian() -> sp.Expr:
 @functools.lru_cache(maxsize=3)
 def _euler_lagrange(k: int) -> sp.Eq:
     """The Euler–Lagrange equation of coordinate ``_Q[k]`` alone (the θ equation needs no other)."""
-    L, q, qd = lagrangian(), _Q[k], _QDOT[k]
-    return sp.Eq(sp.expand(sp.diff(L, qd).diff(t) - sp.diff(L, q)), 0, evaluate=False)
+    q, qd = _Q[k], _QDOT[k]
+    return sp.Eq(sp.expand(_partial(qd).diff(t) - _partial(q)), 0, evaluate=False)
+
+
+@functools.lru_cache(maxsize=6)
+def _partial(var) -> sp.Expr:
+    """``∂L/∂var`` for ``var`` a coordinate ``q(t)`` or a rate ``q̇(t)``, the two independent as the Lagrangian
+    calculus takes them: L with q and q̇ frozen into plain symbols, differentiated, thawed (what ``sp.diff(L, var)``
+    does, without its substitution of a function by a dummy on every call)."""
+    frozen, mapping = _frozen_lagrangian()
+    if var not in mapping:  # L does not hold it at all
+        return sp.Integer(0)
+    return sp.diff(frozen, mapping[var]).xreplace({v: k for k, v in mapping.items()})
+
+
+@functools.lru_cache(maxsize=1)
+def _frozen_lagrangian() -> tuple:
+    from eulersym.compare import freeze_functions
+
+    return freeze_functions(lagrangian())
 
 
 def _equations() -> tuple:
@@ -137,8 +155,7 @@ def cyclic_coordinates() -> tuple:
     >>> cyclic_coordinates()
     (phi(t), psi(t))
     """
-    L = lagrangian()
-    return tuple(q for q in _Q if sp.expand(sp.diff(L, q)) == 0)
+    return tuple(q for q in _Q if sp.expand(_partial(q)) == 0)
 
 
 @functools.lru_cache(maxsize=1)
@@ -155,8 +172,7 @@ def conserved_momenta() -> tuple:
     >>> sp.factor(p_psi)
     I3*(cos(theta(t))*Derivative(phi(t), t) + Derivative(psi(t), t))
     """
-    L = lagrangian()
-    return tuple(sp.expand(sp.diff(L, q.diff(t))) for q in cyclic_coordinates())
+    return tuple(sp.expand(_partial(q.diff(t))) for q in cyclic_coordinates())
 
 
 @functools.lru_cache(maxsize=1)
@@ -170,8 +186,7 @@ def energy() -> sp.Expr:
     >>> compare(energy(), T_plus_V).exact
     True
     """
-    L = lagrangian()
-    return sp.expand(sum(qd * sp.diff(L, qd) for qd in _QDOT) - L)
+    return sp.expand(sum(qd * _partial(qd) for qd in _QDOT) - lagrangian())
 
 
 @functools.lru_cache(maxsize=1)
