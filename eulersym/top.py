@@ -712,8 +712,7 @@ def steady_precession_double_root() -> sp.Eq:
     if sp.simplify(value) != 0:
         raise CheckFailed(f"θ̇ = 0 is not a root of the cubic: f(cos θ) = {value}")
     slope = _reduce_sin_squares(sp.diff(f, U).xreplace(at), (theta,))
-    reduced = sp.factor(sp.cancel(slope / (-2 * (1 - sp.cos(theta) ** 2) / I1)))
-    reduced = sp.expand(reduced)
+    reduced = sp.expand(sp.cancel(slope / (-2 * (1 - sp.cos(theta) ** 2) / I1)))
     if reduced.has(sp.sin(theta)) or sp.Poly(reduced, phid).degree() != 2:
         raise CheckFailed(f"f′(cos θ) is not sin²θ times a quadratic in φ̇: {slope}")
     return sp.Eq(reduced, 0, evaluate=False)
