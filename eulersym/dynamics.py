@@ -354,7 +354,7 @@ def rotating_frame_derivative(G_body, omega=_OMEGA) -> sp.Matrix:
     """
     G = _vector3("G_body", G_body)
     w = _vector3("omega", omega)
-    return sp.Matrix(G.diff(t) + w.cross(G))
+    return sp.Matrix(G.applyfunc(lambda c: c.diff(t)) + w.cross(G))  # componentwise (Matrix.diff: array machinery)
 
 
 @functools.lru_cache(maxsize=64)

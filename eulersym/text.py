@@ -258,7 +258,7 @@ def _entries() -> list[ClosedForm]:
           _call("eulersym.inertia:angular_momentum", sp.diag(I1, I2, I3), _omega)),
         # §4.4 -------------------------------------------------------------------------------------------------
         E("4.4.rotating_frame", "4.4", "(dG/dt)_space = (dG/dt)_body + ω × G, in body components.",
-          G.diff(t) + sp.Matrix([
+          G.applyfunc(lambda g: g.diff(t)) + sp.Matrix([
               _phid * _s(theta) * _s(psi) + _thetad * _c(psi),
               _phid * _s(theta) * _c(psi) - _thetad * _s(psi),
               _phid * _c(theta) + _psid,
