@@ -219,10 +219,11 @@ def effective_potential() -> sp.Expr:
     """
     E = energy().xreplace(_rates_from_momenta())
     thd = theta.diff(t)
-    kinetic = sp.expand(E).coeff(thd, 2) * thd**2
+    E = sp.expand(E)
+    kinetic = E.coeff(thd, 2) * thd**2
     if sp.expand(kinetic - I1 * thd**2 / 2) != 0:
         raise CheckFailed(f"the θ̇ term of the energy is not ½ I1 θ̇²: {kinetic}")
-    rest = sp.expand(E - kinetic)
+    rest = sp.expand(E - kinetic)  # E is expanded: the θ̇² terms cancel as they are added
     if rest.has(thd):
         raise CheckFailed("the effective potential depends on θ̇")
     groups: dict = {}  # group the terms by their power of sin θ, and factor each group (display only)
@@ -256,7 +257,7 @@ def turning_point_cubic() -> sp.Expr:
     V = effective_potential()
     udot2 = sp.expand(sp.sin(theta) ** 2 * 2 * (ENERGY - V) / I1)
     udot2 = _reduce_sin_squares(udot2, (theta,)).xreplace({sp.cos(theta): U})
-    f = sp.expand(sp.cancel(udot2))
+    f = udot2 if udot2.is_polynomial(U) else sp.expand(sp.cancel(udot2))  # sin²θ cancels as it stands
     if f.has(theta) or not f.is_polynomial(U) or sp.degree(f, U) != 3:
         raise CheckFailed(f"u̇² is not a cubic in u: {f}")
     return f
@@ -742,7 +743,9 @@ def sleeping_top_threshold() -> sp.Expr:
     4*I1*M*g*l/I3**2
     """
     w, f = _upright_cubic()
-    rest = sp.Poly(sp.numer(sp.together(sp.cancel(f / (1 - U) ** 2))), U)  # linear in u: its root is u3
+    rest, remainder = sp.div(sp.Poly(f, U), sp.Poly((1 - U) ** 2, U))  # f/(1 − u)²: linear in u, its root is u3
+    if not remainder.is_zero:
+        raise CheckFailed(f"(1 − u)² does not divide the upright cubic {f}")
     if rest.degree() != 1:
         raise CheckFailed(f"unexpected third root(s) of {rest.as_expr()}")
     c1, c0 = rest.all_coeffs()
