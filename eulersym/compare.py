@@ -155,7 +155,10 @@ def freeze_functions(expr, names: dict | None = None):
     """
     mapping: dict = {} if names is None else names
     expr = sp.sympify(expr)
-    derivs = sorted(expr.atoms(sp.Derivative), key=lambda d: -d.derivative_count)
+    found = expr.atoms(sp.Derivative, AppliedUndef)
+    if not found:  # nothing to freeze (one traversal instead of three)
+        return expr, mapping
+    derivs = sorted((d for d in found if isinstance(d, sp.Derivative)), key=lambda d: -d.derivative_count)
     for d in derivs:
         if d in mapping:
             continue
@@ -492,12 +495,15 @@ def compare(
         frozen.append((label, fa, fb))
     factors: dict[str, sp.Expr] = {}
     states = set(mapping.values())
+    known: dict = {}  # difference → zero_exact's verdict, found while looking for factors
     for label, fa, fb in frozen:
-        if up_to_factor and not zero_exact(fa - fb)[0]:
-            k = _proportionality_factor(fa, fb, states)
-            if k is not None and k != 1:
-                factors[label] = k
-                fa = k * fa
+        if up_to_factor:
+            known[fa - fb] = verdict = zero_exact(fa - fb)
+            if not verdict[0]:
+                k = _proportionality_factor(fa, fb, states)
+                if k is not None and k != 1:
+                    factors[label] = k
+                    fa = k * fa
         pairs.append((label, fa, fb))
         diffs.append(fa - fb)
 
@@ -507,7 +513,7 @@ def compare(
     simplified = list(diffs)
     if exact:
         for i, d in enumerate(diffs):
-            ok, how = zero_exact(d)
+            ok, how = known[d] if d in known else zero_exact(d)
             exact_ok[i] = ok
             if ok:
                 simplified[i] = sp.Integer(0)
