@@ -6,8 +6,10 @@ up once and kept on the proxy, so later accesses cost what a module attribute co
 
 Examples
 --------
->>> np.array([1.0, 2.0]).sum()
-np.float64(3.0)
+>>> float(np.array([1.0, 2.0]).sum())
+3.0
+>>> np.ndarray is __import__("numpy").ndarray  # the module's own objects, not copies
+True
 """
 
 from __future__ import annotations
