@@ -16,7 +16,13 @@ Exact strategies, cheapest first:
 3. ``sympy.simplify``, only for small expressions (a budget on the operation count keeps it bounded).
 
 Numeric: each difference is evaluated with mpmath at ``points`` seeded random points at ``dps`` digits; positive
-symbols get positive values. A difference above the tolerance is a counterexample, which proves inequality.
+symbols get positive values. A difference above the tolerance is a counterexample, which proves inequality. Each
+difference is first evaluated in one pass at a fixed ``dps + 20`` digits (:func:`_evaluate_fast`); only what that
+pass cannot confirm as agreeing (a difference above the tolerance, NaN, a function it does not know) is evaluated
+again by SymPy's ``evalf`` at ``dps + 10`` digits, which decides.
+
+Exact zero tests run in a polynomial ring where the difference is a polynomial in symbols and sines and cosines of
+symbols (:func:`_polynomial_zero`: the ring's arithmetic does the expansion), and with SymPy's ``expand`` otherwise.
 
 Examples
 --------
