@@ -248,16 +248,11 @@ def _polynomial_zero(expr) -> str | None:
     if any(not isinstance(a, (sp.sin, sp.cos)) or not a.args[0].is_Symbol for a in trig):
         return None
     args = sorted({a.args[0] for a in trig}, key=sp.default_sort_key)
-    sub, gens = {}, []
-    for arg in args:
-        s, c = sp.Dummy(f"s_{arg}"), sp.Dummy(f"c_{arg}")
-        sub.update({sp.sin(arg): s, sp.cos(arg): c})
-        gens += [s, c]
-    num = expr.xreplace(sub)
-    others = sorted(num.free_symbols - set(gens), key=sp.default_sort_key)
+    gens = [f(arg) for arg in args for f in (sp.sin, sp.cos)]  # sin x, cos x are the ring's generators themselves
+    others = sorted(expr.free_symbols, key=sp.default_sort_key)
     try:
         ring, *xs = sp.ring(gens + others, sp.QQ, order="lex")
-        poly = ring.from_expr(num)
+        poly = ring.from_expr(expr)
     except (ValueError, TypeError, sp.polys.polyerrors.PolynomialError, sp.polys.polyerrors.CoercionFailed):
         return None
     if not poly:
