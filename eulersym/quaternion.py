@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["hamilton", "multiply", "conjugate", "normalize", "from_matrix"]
+__all__ = ["hamilton", "rotate_back", "multiply", "conjugate", "normalize", "from_matrix"]
 
 
 def hamilton(p, q) -> tuple:
@@ -33,6 +33,25 @@ def hamilton(p, q) -> tuple:
         p0 * q2 - p1 * q3 + p2 * q0 + p3 * q1,
         p0 * q3 + p1 * q2 - p2 * q1 + p3 * q0,
     )
+
+
+def rotate_back(p0, p1, p2, p3, v0, v1, v2) -> tuple:
+    """The components of ``R(p)ᵀ v = v − 2 p0 (u × v) + 2 u × (u × v)``, u = (p1, p2, p3), for a unit quaternion p.
+
+    Plain arithmetic on scalars or arrays (numba compiles it where the integrators register it).
+
+    Examples
+    --------
+    >>> rotate_back(0.0, 0.0, 0.0, 1.0, 1.0, 2.0, 3.0)   # R = half a turn about z
+    (-1.0, -2.0, 3.0)
+    """
+    c0 = p2 * v2 - p3 * v1
+    c1 = p3 * v0 - p1 * v2
+    c2 = p1 * v1 - p2 * v0
+    d0 = p2 * c2 - p3 * c1
+    d1 = p3 * c0 - p1 * c2
+    d2 = p1 * c1 - p2 * c0
+    return v0 - 2.0 * p0 * c0 + 2.0 * d0, v1 - 2.0 * p0 * c1 + 2.0 * d1, v2 - 2.0 * p0 * c2 + 2.0 * d2
 
 
 def multiply(p, q) -> np.ndarray:

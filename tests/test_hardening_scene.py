@@ -150,8 +150,13 @@ def test_an_endless_heavy_top_is_refused_with_an_estimate(tmp_path, capsys):
         [time]
         end = 1e12
     """)
-    err = _exit_2(capsys, path, needles=("SCENE=", "work budget", "kernel evaluations"))
+    err = _exit_2(capsys, path, needles=("scene=", "work budget", "kernel evaluations"))
     assert "rad by t_end" in err
+    from eulersym.scene.spec import load
+
+    with pytest.raises(InvalidInput) as info:  # a Python caller gets the one refusal the command line prints
+        simulate(load(path))
+    assert str(info.value) in err
 
 
 def test_the_bundled_scenes_pass_the_work_guard():

@@ -128,7 +128,8 @@ def test_sizes_parse(text, expected):
     assert parse_size("memory", text) == expected
 
 
-@pytest.mark.parametrize("bad", ["", "lots", "-1 GiB", "0", "1 parsec", True, None, [1], float("nan"), "1e400 GiB"])
+@pytest.mark.parametrize("bad", ["", "lots", "-1 GiB", "0", "1 parsec", True, None, [1], float("nan"), "1e400 GiB",
+                                 "0.5", 1e-300, "0.0001 kB"])
 def test_bad_sizes_name_the_argument(bad):
     with pytest.raises(InvalidInput, match="memory"):
         parse_size("memory", bad)

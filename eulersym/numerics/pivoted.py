@@ -47,7 +47,7 @@ from eulersym.numerics import _fast
 from eulersym.numerics.exact import _unit_quaternion
 from eulersym.numerics.splitting import YOSHIDA_GAMMA, output_steps
 from eulersym.numerics.trajectory import Trajectory
-from eulersym.quaternion import from_matrix as quaternion_from_matrix, hamilton
+from eulersym.quaternion import from_matrix as quaternion_from_matrix, hamilton, rotate_back as _rotate_back
 from eulersym.validation import choice, finite_array
 
 __all__ = [
@@ -132,16 +132,6 @@ def _free_axes(s, tau, par, cos, sin):
     s = _turn2(s, quarter * (s[1] - par[4]) * par[1], cos, sin)
     return _turn1(s, quarter * (s[0] - par[3]) * par[0], cos, sin)
 
-
-def _rotate_back(p0, p1, p2, p3, v0, v1, v2):
-    """R(p)ᵀ v = v − 2 p0 (u × v) + 2 u × (u × v), u = (p1, p2, p3)."""
-    c0 = p2 * v2 - p3 * v1
-    c1 = p3 * v0 - p1 * v2
-    c2 = p1 * v1 - p2 * v0
-    d0 = p2 * c2 - p3 * c1
-    d1 = p3 * c0 - p1 * c2
-    d2 = p1 * c1 - p2 * c0
-    return v0 - 2.0 * p0 * c0 + 2.0 * d0, v1 - 2.0 * p0 * c1 + 2.0 * d1, v2 - 2.0 * p0 * c2 + 2.0 * d2
 
 
 def _free_symmetric(s, tau, par, cos, sin):

@@ -29,12 +29,14 @@ import dataclasses
 
 import numpy as np
 
+from eulersym.errors import SingularConfiguration
 from eulersym.scene import engines
 from eulersym.scene.result import outputs, report_notes
+from eulersym.scene.trajectory import Trajectory
 from eulersym.sweeps import chunks
 from eulersym.sweeps.summary import drift, summarize
 
-__all__ = ["take", "run_chunk", "run"]
+__all__ = ["take", "motion", "singular_note", "run_chunk", "run"]
 
 #: Per-member fields of a Problem (batch-first arrays, or None).
 _MEMBER_FIELDS = ("moments", "omega0", "q0", "gamma0", "mass", "g", "l", "torque")
@@ -58,7 +60,83 @@ def take(problem, lo: int, hi: int):
     members = {label: values[lo:hi] for label, values in problem.members.items()}
     extras = {k: (v[lo:hi] if isinstance(v, np.ndarray) and v.shape[:1] == (problem.batch,) else v)
               for k, v in problem.extras.items()}
-    return dataclasses.replace(problem, batch=hi - lo, members=members, extras=extras, **sliced)
+    model = None if problem.model is None else problem.model.take(lo, hi)  # a model's parameters and body numbers
+    return dataclasses.replace(problem, batch=hi - lo, members=members, extras=extras, model=model, **sliced)
+
+
+#: Why a member leaves the heavy top's closed form (the only engine that refuses single members).
+SEPARATRIX = ("a start on the separatrix of the upright top (m_c = 1 − m below 1e-150: it leaves or approaches the "
+              "vertical asymptotically, with no periodic closed form in double precision)")
+
+
+def motion(problem, plan, *, progress=None) -> tuple:
+    """``(trajectory, singular)``: the plan's engine on ``problem``. Members the heavy top's closed form refuses
+    (:class:`~eulersym.errors.SingularConfiguration`: a start on the upright top's separatrix) are integrated by
+    DOP853 on the Euler–Poisson kernel instead, at the accuracy asked — the other members keep the closed form, and
+    ``singular`` lists the indices of those that did not (empty when none). Nothing is left as NaN.
+
+    Examples
+    --------
+    >>> from eulersym.scene.spec import Scene
+    >>> from eulersym.scene.problem import member_moments, prepare
+    >>> s = Scene(moments=(1, 1, 1), mass=1, l=0.3, omega=([0.0, 1e-80, 0.5], 0, 3), t_end=1, points=3)
+    >>> traj, singular = motion(prepare(s, s.plan(), member_moments(s), np.eye(3)), s.plan())
+    >>> singular, bool(np.all(np.isfinite(traj.omega)))
+    ((1,), True)
+    """
+    engine = plan.options["engine"]
+    try:
+        return engines.get(engine).run(problem, progress=progress), ()
+    except SingularConfiguration:
+        if engine != "heavy_top_exact":
+            raise
+    pieces = _closed_form_or_integrated(problem, 0, problem.batch, failed=True)
+    singular = tuple(lo for lo, _, _, integrated in pieces if integrated)
+    if progress is not None:
+        progress(1.0)
+    if len(pieces) == 1:
+        return pieces[0][2], singular
+    joined = {}
+    for f in dataclasses.fields(Trajectory):  # every per-member field; one that an engine alone gives is dropped
+        values = [getattr(traj, f.name) for _, _, traj, _ in pieces]
+        if f.name == "n_calls":
+            joined[f.name] = sum(int(v) for v in values)
+        elif all(isinstance(v, np.ndarray) for v in values):
+            joined[f.name] = np.concatenate(values, axis=0)
+        elif all(v is None for v in values) or f.default is None:
+            joined[f.name] = None
+        else:
+            raise TypeError(f"Trajectory.{f.name}: cannot join {type(values[0]).__name__} across members")
+    return Trajectory(**joined), singular
+
+
+def _closed_form_or_integrated(problem, lo: int, hi: int, *, failed: bool = False) -> list:
+    """``[(lo, hi, trajectory, integrated)]`` covering members ``lo:hi`` in order: the closed form on every run of
+    members it accepts, found by halving (a few singular members cost a few extra closed-form calls), DOP853 on
+    each member it refuses."""
+    if not failed:
+        try:
+            return [(lo, hi, engines.get("heavy_top_exact").run(take(problem, lo, hi)), False)]
+        except SingularConfiguration:
+            pass
+    if hi - lo == 1:
+        return [(lo, hi, engines.get("ivp").run(take(problem, lo, hi)), True)]
+    mid = (lo + hi) // 2
+    return _closed_form_or_integrated(problem, lo, mid) + _closed_form_or_integrated(problem, mid, hi)
+
+
+def singular_note(singular, batch: int, rtol: float) -> str:
+    """The report's line on the members integrated instead of taking the closed form (their indices, why).
+
+    Examples
+    --------
+    >>> print(singular_note([1], 3, 1e-9))  # doctest: +ELLIPSIS
+    1 of 3 members (member 1) singular for the closed form: a start on the separatrix ...; integrated by DOP853 ...
+    """
+    shown = ", ".join(str(int(i)) for i in list(singular)[:10]) + (", …" if len(singular) > 10 else "")
+    which = "member" if len(singular) == 1 else "members"
+    return (f"{len(singular)} of {batch} members ({which} {shown}) singular for the closed form: {SEPARATRIX}; "
+            f"integrated by DOP853 on the Euler–Poisson kernel instead (rtol = {rtol:g})")
 
 
 def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
@@ -72,23 +150,30 @@ def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
     >>> from eulersym.scene.problem import member_moments, prepare
     >>> s = Scene(moments=(1, 2, 3), omega=(0.1, [1.0, 2.0], 0.1), t_end=1, points=5)
     >>> sorted(run_chunk(prepare(s, s.plan(), member_moments(s), np.eye(3)), plan=s.plan()))
-    ['_calls', 'invariant:L2', 'invariant:energy', 'omega']
+    ['_calls', '_singular', 'invariant:L2', 'invariant:energy', 'omega']
     """
-    traj = engines.get(plan.options["engine"]).run(problem)
+    traj, singular = motion(problem, plan)
     out = outputs(problem, plan, traj)
+    gamma = out["gamma"] if problem.model is not None else traj.gamma  # a model's vertical: model frame
     if layout is None:
         arrays = {name: out[name] for name in _TRAJECTORIES if out[name] is not None}
-        if keep_gamma and traj.gamma is not None:
-            arrays["gamma"] = traj.gamma
+        if keep_gamma and gamma is not None:
+            arrays["gamma"] = gamma
         arrays.update({f"invariant:{k}": v for k, v in out["invariants"].items()})
+        if plan.regime == "heavy top":  # the tilt range per member, from the principal frame's vertical
+            theta = np.degrees(np.arccos(np.clip(traj.gamma[..., 2], -1.0, 1.0)))
+            arrays["_theta_min"], arrays["_theta_max"] = theta.min(axis=1), theta.max(axis=1)
     else:
         quantities, invariants, tilt = layout
-        values = {name: (traj.gamma if name == "gamma" else out[name]) for name in quantities}
+        values = {name: (gamma if name == "gamma" else out[name]) for name in quantities}
         arrays = summarize(values, invariants={k: v for k, v in out["invariants"].items() if k in invariants},
-                           gamma=traj.gamma if tilt else None)
+                           gamma=gamma if tilt else None)
     calls = np.zeros(problem.batch)
     calls[:1] = traj.n_calls  # the chunk's kernel evaluations, summed over chunks at the end
     arrays["_calls"] = calls
+    flags = np.zeros(problem.batch)
+    flags[list(singular)] = 1.0  # members integrated instead of the closed form
+    arrays["_singular"] = flags
     return arrays
 
 
@@ -112,11 +197,14 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
         chunk = min(chunk, max(-(-share // grain) * grain, grain))
     if problem.batch > chunk and chunk % grain:
         chunk = max(chunk // grain, 1) * grain  # whole groups of members that step together: the same bits
-    keep_gamma = plan.regime == "heavy top" or "invariants" in problem.outputs
+    keep_gamma = plan.regime == "heavy top" or "invariants" in problem.outputs or problem.model is not None
     gathered = chunks.run(run_chunk, lambda lo, hi: take(problem, lo, hi), members=problem.batch, chunk=chunk,
                           static={"plan": plan, "layout": layout, "keep_gamma": keep_gamma}, client=client,
                           progress=progress, threads=threads)
     n_calls = int(gathered.pop("_calls").sum())
+    singular = np.flatnonzero(gathered.pop("_singular"))
+    theta_range = (gathered.pop("_theta_min", None), gathered.pop("_theta_max", None))
+    extra = [singular_note(singular, problem.batch, problem.rtol)] if len(singular) else []
     omega3_start = problem.omega0[:, 2]
     P, moments = problem.axes, problem.moments
     if layout is not None:
@@ -129,18 +217,16 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
         notes = report_notes(plan, moments, P, theta_min=theta_min, theta_max=theta_max, w3=omega3_start,
                              bound=bound, turning=turning, tensor_given=tensor_given)
         notes.append(f"kept per member: {len(summary)} summaries (" + _summary_note(layout) + "), no trajectories")
+        notes.extend(extra)
         return {"omega": None, "attitude": None, "euler_angles": None, "polhode": None, "invariants": {},
                 "drift": drifts, "notes": notes, "turning_points": turning, "summary": summary, "gamma": None,
                 "n_calls": n_calls}
     invariants = {name.split(":", 1)[1]: v for name, v in gathered.items() if name.startswith("invariant:")}
     drifts = {name: float(np.max(v)) if name in _MAXIMA else float(np.max(drift(v))) for name, v in invariants.items()}
     gamma = gathered.get("gamma")
-    theta_min = theta_max = None
-    if plan.regime == "heavy top":
-        theta = np.degrees(np.arccos(np.clip(gamma[..., 2], -1.0, 1.0)))
-        theta_min, theta_max = theta.min(axis=1), theta.max(axis=1)
+    theta_min, theta_max = theta_range
     notes = report_notes(plan, moments, P, theta_min=theta_min, theta_max=theta_max, w3=omega3_start, bound=bound,
-                         turning=turning, tensor_given=tensor_given)
+                         turning=turning, tensor_given=tensor_given) + extra
     return {**{name: gathered.get(name) for name in _TRAJECTORIES}, "invariants": invariants, "drift": drifts,
             "notes": notes, "turning_points": turning, "summary": {}, "gamma": gamma, "n_calls": n_calls}
 

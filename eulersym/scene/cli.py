@@ -9,13 +9,14 @@ import sys
 from eulersym.errors import InvalidInput
 from eulersym.scene import cost
 from eulersym.scene.catalog import bundled
+from eulersym.scene.plan import make_plan
 from eulersym.scene.io import OUTPUT_SUFFIXES, PLOT_SUFFIXES, check_target, plot, report, require_matplotlib, save
 from eulersym.scene.run import simulate
-from eulersym.scene.spec import Scene, load, rate_bound
+from eulersym.scene.spec import Scene, load
 
-#: A one-member run that the estimate (:mod:`eulersym.sweeps.cost`) puts beyond this many kernel evaluations is
-#: refused with the estimate: about an hour of scalar kernel calls. A sweep has the sweeps' own budget.
-WORK_LIMIT = 1e9
+#: The default work budget of a one-member run (an alias of :data:`eulersym.scene.cost.ONE_MEMBER_WORK_BUDGET`: the
+#: scene's one estimate and one check live there).
+WORK_LIMIT = cost.ONE_MEMBER_WORK_BUDGET
 
 #: ``eulersym simulate --template``: every key of a scene file, annotated (SI units in the comments; any consistent
 #: system works). It loads as it is (a test runs it).
@@ -90,7 +91,7 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--template", action="store_true", help="print an annotated scene file to start from")
     p.add_argument("--memory-budget", metavar="SIZE", help='refuse beyond this memory, e.g. "4 GiB" (default: the '
                    "scene's [output] memory, else the smaller of 2 GiB and half the memory available)")
-    p.add_argument("--work-budget", metavar="N", help="refuse beyond N kernel evaluations (default: [output] work, else 5e10)")
+    p.add_argument("--work-budget", metavar="N", help="refuse beyond N kernel evaluations (default: [output] work, else 1e9 for one member, 5e10 for a sweep)")
     where = p.add_mutually_exclusive_group()
     where.add_argument("--workers", metavar="N", type=_count, help="run a sweep's chunks on a local Dask cluster of N processes (the dask extra)")
     where.add_argument("--scheduler", metavar="ADDRESS", help="run a sweep's chunks on the Dask cluster at ADDRESS (tcp://host:8786)")
@@ -110,8 +111,9 @@ def _count(text: str) -> int:
 def cli(argv: list) -> int:
     """``eulersym simulate SCENE [--explain] [-o out.npz|out.csv] [--plot out.png] [--list] [--template]``.
 
-    ``--explain`` prints the plan and writes nothing (it says so when ``-o``/``--plot`` are given too); an
-    integration whose work estimate passes :data:`WORK_LIMIT` is refused with the estimate.
+    ``--explain`` prints the plan and writes nothing (it says so when ``-o``/``--plot`` are given too); a
+    scene beyond its budgets is refused by :func:`simulate` with the one estimate (:func:`eulersym.scene.cost.check`),
+    exit 2 and the same message a Python caller gets.
 
     Examples
     --------
@@ -136,9 +138,7 @@ def cli(argv: list) -> int:
     scene = load(args.scene)
     memory, work = cost.budgets(scene, args.memory_budget, args.work_budget)
     if args.explain:
-        plan = scene.plan()
-        print(plan)
-        print(cost.describe(cost.estimate(scene, plan, memory=memory), memory, work))
+        _explain(scene, memory, work)
         unwritten = [p for p in (args.output, args.plot) if p]
         if unwritten:
             print(f"--explain: nothing was run, so nothing was written to {' or '.join(unwritten)} (run without "
@@ -149,8 +149,7 @@ def cli(argv: list) -> int:
     if args.plot:
         check_target("--plot", args.plot, PLOT_SUFFIXES)
         require_matplotlib(args.plot)
-    _refuse_endless(scene, work if (args.work_budget is not None or scene.work is not None) else None)
-    try:
+    try:  # simulate refuses, with the one estimate (eulersym.scene.cost.check), what its budgets cannot hold
         result = _simulate(scene, args, memory, work)
     except MemoryError:
         raise InvalidInput("SCENE", args.scene, f"a scene that fits in memory: {scene.batch} member(s) × "
@@ -163,6 +162,29 @@ def cli(argv: list) -> int:
         plot(result, args.plot)
         print(f"wrote {args.plot}")
     return 0
+
+
+def _explain(scene, memory: int, work: float) -> None:
+    """Print the plan and the one estimate of its cost. A model scene: its kernel's numbers are read (from the cache,
+    no SymPy) only when the lower bound of its cost fits the memory budget; an uncached kernel is not derived — the
+    plan says what will be derived, where the kernel goes and which engine follows, and the estimate is a lower
+    bound."""
+    if scene.model is None:
+        plan = scene.plan()
+        print(plan)
+        print(cost.describe(cost.estimate(scene, plan, memory=memory), memory, work))
+        return
+    low = cost.estimate(scene, None, memory=memory)
+    facts = scene.cached_model_facts() if low.peak_bytes <= memory else None
+    plan = make_plan(scene, model=facts)
+    print(plan)
+    if facts is None:
+        print(cost.describe(low, memory, work, lower_bound=True))
+        if low.peak_bytes > memory:
+            print("  beyond the memory budget already: the model's numbers per member were not read, and a run is "
+                  "refused before anything is derived")
+    else:
+        print(cost.describe(cost.estimate(scene, plan, memory=memory, facts=facts), memory, work))
 
 
 def _simulate(scene, args, memory, work):
@@ -178,16 +200,9 @@ def _simulate(scene, args, memory, work):
         distributed.close(client)
 
 
-def _engine_of(plan) -> str:
-    """The cost model's name (:data:`eulersym.sweeps.cost.ENGINES`) for the way a plan gets the motion."""
-    if not plan.engine.startswith("integrate"):
-        return "closed-form"
-    return "yoshida4" if "splitting" in plan.engine else "dop853"
-
-
 def work_estimate(scene, plan=None):
-    """The cost of running ``scene`` (bytes and kernel evaluations), from :func:`eulersym.sweeps.cost.estimate`:
-    the engine the plan chose, the body's fastest rate (:func:`eulersym.scene.spec.rate_bound`), every member.
+    """The cost of running ``scene`` (bytes and kernel evaluations): :func:`eulersym.scene.cost.estimate` — kept
+    under its old name.
 
     Examples
     --------
@@ -195,31 +210,9 @@ def work_estimate(scene, plan=None):
     >>> e.engine, e.members
     ('closed-form', 1)
     """
-    from eulersym.sweeps import cost
-
-    plan = scene.plan() if plan is None else plan
-    heavy = scene.regime == "heavy top"
-    outputs = scene.outputs
-    values = 3 + 4 * ("attitude" in outputs or "euler_angles" in outputs) + 3 * ("euler_angles" in outputs)
-    values += 3 * heavy + 5 * ("invariants" in outputs) + 3 * ("polhode" in outputs)
-    return cost.estimate(members=scene.batch, points=scene.points, state=10 if heavy else 7, output_values=values,
-                         engine=_engine_of(plan), rate=rate_bound(scene), t_end=scene.t_end,
-                         accuracy=scene.accuracy)
+    return cost.estimate(scene, plan)
 
 
 def _refuse_endless(scene, work=None) -> None:
-    """No silent endless run: refuse a scene whose estimate passes the memory budget or the work budget, with the
-    estimate (:func:`eulersym.sweeps.cost.check`). ``work``: the budget the user gave (``--work-budget``, ``[output]
-    work``); without one, :data:`WORK_LIMIT` kernel evaluations for one member (integrated by scalar kernels) and
-    the sweeps' default for a sweep."""
-    from eulersym.sweeps import cost
-
-    estimate = work_estimate(scene)
-    if work is None:
-        work = WORK_LIMIT if scene.batch == 1 else cost.DEFAULT_WORK_BUDGET
-    try:
-        cost.check(estimate, work=work)
-    except InvalidInput as exc:
-        radians = rate_bound(scene) * scene.t_end
-        raise InvalidInput("SCENE", f"{scene.name}: {exc.value}", f"{exc.expected} (the body turns ≈ {radians:.3g} "
-                                                                   f"rad by t_end = {scene.t_end:g})") from None
+    """No silent endless run: :func:`eulersym.scene.cost.check` (the one check :func:`simulate` makes too)."""
+    cost.check(scene, None if scene.model is not None else scene.plan(), work=work)

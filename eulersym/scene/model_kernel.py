@@ -148,6 +148,12 @@ class ModelFacts:
         return dataclasses.replace(self, body={k: v[lo:hi] for k, v in self.body.items()},
                                    params=tuple(p[lo:hi] for p in self.params))
 
+    def __reduce__(self):
+        """Pickled without the module (a Dask worker imports the kernel from ``path``: the cache must be on a
+        filesystem the workers share — always so on a local cluster)."""
+        fields = {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "module"}
+        return _restore, (fields,)
+
     @property
     def tensor(self) -> np.ndarray:
         """(batch, 3, 3) inertia tensors (about the pivot, or the centre of mass), model frame."""
@@ -162,6 +168,11 @@ class ModelFacts:
     def rotor(self) -> np.ndarray:
         """(batch, 3) rotor angular momentum h, body components."""
         return np.stack([self.body[k] for k in ("h1", "h2", "h3")], axis=-1)
+
+
+def _restore(fields: dict) -> ModelFacts:
+    """A pickled :class:`ModelFacts` with its kernel module imported again from its path."""
+    return ModelFacts(**fields, module=load(Path(fields["path"]), fields["digest"]) if fields["path"] else None)
 
 
 def facts(model, module, path, emitted: bool, values: Mapping, batch: int) -> ModelFacts:

@@ -19,6 +19,8 @@ from typing import Mapping
 import numpy as np
 
 from eulersym.errors import InvalidInput
+from eulersym.scene import model_kernel
+from eulersym.scene.cost import model_torqued
 from eulersym.scene.values import values_of as _values
 
 __all__ = [
@@ -32,6 +34,7 @@ __all__ = [
     "SPLITTING_ACCURACY",
     "ModelFrame",
     "model_frame",
+    "predict_model_engine",
 ]
 
 #: Relative tolerance under which two principal moments count as equal (symmetric top).
@@ -569,22 +572,57 @@ def _model_steps(scene, facts, frame, steps, skipped, derive, kernels) -> None:
     if facts is None or facts.emitted:
         derive.append("model.equations")
         steps.append(Step("derive", "the model's equations of motion", "Newton–Euler in the body frame, its integrals proven (SymPy; eulersym.model)"))
-        where = facts.path if facts is not None else f"the cache, models/{digest}"
+        where = facts.path if facts is not None else f"{model_kernel.cache_root() / digest}/ (EULERSYM_CACHE)"
         steps.append(Step("emit", f"the model's kernel to {where}", f"not cached yet for digest {digest[:12]}: written once, reused while the model is unchanged"))
     else:
         steps.append(Step("kernel", f"the model's kernel {facts.path}", f"cached for digest {digest[:12]}: the model is unchanged, nothing derived, no SymPy"))
         skipped.append(Step("skip", "derivation and emission", "the kernel of this exact model is cached"))
     if facts is None:
-        steps.append(Step("compute", "the engine", "decided once the kernel is emitted: from its FLAGS and body() (closed form, heavy top or the model's kernel)"))
+        steps.append(Step("compute", "body numbers", "mass, centre of mass, inertia, rotor and g per member from the new kernel's body() (NumPy)"))
+        steps.append(Step("compute", "then the engine", predict_model_engine(scene)))
         return
     steps.append(Step("compute", "body numbers", "mass, centre of mass, inertia, rotor and g per member from the kernel's body() (NumPy)"))
     steps.append(Step("compute", f"regime: {frame.regime}", frame.reason))
 
 
+def predict_model_engine(scene) -> str:
+    """What a model scene's engine will be, read from the model's sections alone (SymPy-free, nothing derived):
+    certain for a torque or a potential (the model's own kernel); for a free body or a heavy top the kernel's
+    ``body()`` numbers decide between the closed form and the integrators, once emitted.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> model = NS(to_dict=lambda: {"body": {"moments": [1, 2, 3]}, "torque": {"body": "-c*omega"}})
+    >>> print(predict_model_engine(NS(model=model, batch=4, method="auto")))  # doctest: +ELLIPSIS
+    the model's own kernel integrated by batched DOP853 (a sweep of 4 members): a torque or a potential beyond gravity...
+    """
+    data = scene.model.to_dict()
+    batch, method = scene.batch, scene.method
+    integrator = (f"batched DOP853 (a sweep of {batch} members)" if batch > 1 else
+                  f"solve_ivp {'DOP853' if method in ('auto', 'closed-form') else method} (one member)")
+    if model_torqued(scene.model):
+        return (f"the model's own kernel integrated by {integrator}: a torque or a potential beyond gravity has no "
+                "closed form (certain from the model's sections)")
+    rotor = (data.get("rotor") or {}).get("h")
+    if rotor is not None and any(not (isinstance(c, (int, float)) and c == 0) for c in rotor):
+        return (f"the model's own kernel integrated by {integrator}: an internal rotor (a gyrostat, L = I ω + h); "
+                "should h be 0 for every member, as without a rotor")
+    pivot = data.get("pivot")
+    g = (pivot or {}).get("g", 9.81)
+    if pivot is not None and not (isinstance(g, (int, float)) and g == 0):
+        return ("a heavy top: the closed form (eulersym.numerics.heavy_top_exact) if I1 = I2 about the pivot–centre-of-"
+                "mass line for every member, else DOP853 on the heavy top's Euler–Poisson kernel in its principal frame "
+                f"(the model's own kernel by {integrator} if the centre of mass is off every principal axis); the "
+                "inertia decides, known from the kernel's body() once it is emitted")
+    return ("torque-free: the free body's closed form in its principal axes (the model's own kernel by "
+            f"{integrator} should the sweep turn the principal axes); body() decides once the kernel is emitted")
+
+
 def _model_motion(scene, facts, steps, skipped, options) -> str:
     if facts is None:
         options["call"] = None
-        return "decided once the model's kernel is emitted"
+        return "decided once the model's kernel is emitted (see 'then the engine')"
     method, batch = scene.method, scene.batch
     if method == "splitting":
         raise InvalidInput("method", method, f"an integrator the model {facts.name!r} allows: 'auto' or a solve_ivp method (no splitting for its torques)")

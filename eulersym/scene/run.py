@@ -11,7 +11,7 @@ import time
 import numpy as np
 
 from eulersym.errors import InvalidInput
-from eulersym.scene import chunked, cost, derive, engines, model_kernel
+from eulersym.scene import chunked, cost, derive, model_kernel
 from eulersym.scene.plan import make_plan
 from eulersym.scene.problem import member_moments, prepare
 from eulersym.scene.progress import Progress
@@ -32,9 +32,18 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     client : dask.distributed.Client, optional
         Run a sweep's chunks on the client's workers (the ``dask`` extra); the result is the in-process one.
     memory, work : optional
-        Budgets overriding the scene's (``"2 GiB"``; kernel evaluations). The cost is estimated before anything is
-        allocated (:mod:`eulersym.scene.cost`); beyond a budget the scene is refused with the estimate. Sweeps
-        larger than one chunk, summary scenes and Dask runs stream members in chunks sized to the memory budget.
+        Budgets overriding the scene's (``"2 GiB"``; kernel evaluations; default 1e9 for one member, 5e10 for a
+        sweep). The cost is estimated before anything is allocated — for a model scene from below before its
+        kernel is derived, then with its kernel's numbers — by :func:`eulersym.scene.cost.check`, the one check
+        ``eulersym simulate`` makes too: beyond a budget, or past 2**52 rad turned by ``t_end``, the scene is
+        refused (:class:`~eulersym.errors.InvalidInput` naming ``scene`` or ``t_end``) with the estimate, the budget
+        and what would fit. Sweeps larger than one chunk, summary scenes and Dask runs stream members in chunks
+        sized to the memory budget (model scenes too).
+
+    Notes
+    -----
+    A heavy-top member whose start the closed form cannot represent (on the separatrix of the upright top) is
+    integrated by DOP853 on the Euler–Poisson kernel instead; the result's notes name such members and why.
 
     Examples
     --------
@@ -46,9 +55,11 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     """
     if not isinstance(scene, Scene):
         raise InvalidInput("scene", scene, "an eulersym.scene.Scene (Scene(...) or Scene.from_toml(path))")
-    mem, _ = cost.budgets(scene, memory, work)
-    if scene.model is None:  # refuse before allocating anything (a model scene: once its plan is known, below)
-        estimate = cost.check(scene, scene.plan(), memory=memory, work=work)
+    mem, wk = cost.budgets(scene, memory, work)
+    # the one check (eulersym.scene.cost), before anything per member is allocated; a model scene's before its kernel
+    # is derived (a lower bound: the cheapest engine it may get), and again with its kernel's plan and body numbers
+    first = scene.plan() if scene.model is None else None
+    estimate = cost.check(scene, first, memory=mem, work=wk)
     bar = Progress(scene.name, enabled=progress)
     timings = {}
     clock = time.perf_counter()
@@ -60,12 +71,14 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         module, path, emitted = model_kernel.ensure(scene.model, record)
         facts = model_kernel.facts(scene.model, module, path, emitted, scene.parameter_values(), batch)
         plan = make_plan(scene, model=facts)
-        estimate = cost.check(scene, plan, memory=memory, work=work)
+        estimate = cost.check(scene, plan, memory=mem, work=wk, facts=facts)  # and its 2**52 rad phase limit
         moments, P = _model_numbers(plan.options["frame"], facts)
     else:
         derived, P = derive.principal_frame(scene, record)
         moments = member_moments(scene, members) if derived is None else np.repeat(derived, batch, axis=0)
         plan = make_plan(scene, moments=moments)
+        if plan.options["engine"] != first.options["engine"]:  # derived moments chose another engine
+            estimate = cost.check(scene, plan, memory=mem, work=wk)
     problem = prepare(scene, plan, moments, P, model=facts)
     bound = None
     if "top.sleeping_top_threshold" in plan.derive:
@@ -74,14 +87,14 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     bar.stage("derived", 0.1)
 
     clock = time.perf_counter()
-    streamed = scene.model is None and (client is not None or cost.wants_summary(scene)
-                                        or (batch > 1 and estimate.chunk < batch))
+    streamed = client is not None or cost.wants_summary(scene) or (batch > 1 and estimate.chunk < batch)
+    singular = ()
     if streamed:  # chunks sized to the memory budget, in-process or on Dask workers (eulersym.scene.chunked)
-        chunk = cost.estimate(scene, plan, memory=mem).chunk
-        layout = cost.summary_layout(scene, plan.regime) if cost.wants_summary(scene) else None
+        chunk = estimate.chunk
+        layout = cost.summary_layout(scene, plan.regime, facts) if cost.wants_summary(scene) else None
         traj = None
-    else:
-        traj = engines.get(plan.options["engine"]).run(problem, progress=bar.fraction if bar.enabled else None)
+    else:  # members the closed form cannot represent are integrated instead (eulersym.scene.chunked.motion)
+        traj, singular = chunked.motion(problem, plan, progress=bar.fraction if bar.enabled else None)
     timings["motion"] = time.perf_counter() - clock
     bar.stage("integrated", 0.9)
 
@@ -103,6 +116,8 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         clock = time.perf_counter()
     else:
         out = outputs(problem, plan, traj, bound=bound, turning=turning, tensor_given=tensor_given)
+        if len(singular):
+            out["notes"].append(chunked.singular_note(singular, batch, problem.rtol))
     timings["outputs"] = time.perf_counter() - clock
     timings["total"] = sum(timings.values())
     bar.done()

@@ -43,6 +43,7 @@ import numpy as np
 from eulersym import validation
 from eulersym.errors import InvalidInput
 from eulersym.scene import model_kernel
+from eulersym.scene.cost import PHASE_LIMIT, inertia_range, largest, rate_bound, refuse_phase
 from eulersym.scene.catalog import bundled
 from eulersym.scene.plan import SYMMETRY_RTOL, Plan, make_plan
 from eulersym.scene.values import Sweep, did_you_mean as _did_you_mean, number as _number, scalar as _scalar
@@ -836,65 +837,8 @@ def _omega_from_euler_rates(v, out) -> tuple:
 #: Magnitudes beyond which double precision cannot carry a scene: the engines multiply two quantities of the size of
 #: |L|² or the energy, and the product must stay below the largest double (1.8e308).
 MAGNITUDE_LIMIT = 1e150
-#: Radians of rotation after which a double keeps no digit of the phase (2**52).
-PHASE_LIMIT = 2.0 ** 52
-
-
-def _largest(x) -> float:
-    if x is None:
-        return 0.0
-    if isinstance(x, tuple):
-        return max((_largest(c) for c in x), default=0.0)
-    return float(np.max(np.abs(_values(x))))
-
-
-def _inertia_range(out) -> tuple:
-    """(smallest, largest) moment, or for a shape its scale M·(largest dimension)²."""
-    if out["moments"] is not None:
-        values = np.concatenate([_values(m) for m in out["moments"]])
-        return float(values.min()), float(values.max())
-    if out["tensor"] is not None:
-        eig = np.linalg.eigvalsh(np.array(out["tensor"]))
-        return float(eig[0]), float(eig[-1])
-    scale = _largest(out["mass"]) * max(value for _, value in out["dimensions"]) ** 2
-    return scale / 12.0, scale
-
-
-def rate_bound(scene_or_values) -> float:
-    """An upper estimate of |ω| over the run (rad per unit time): the initial spin, what a constant torque adds by
-    t_end, and the heavy top's pendulum rate √(M g l / I_min).
-
-    Examples
-    --------
-    >>> rate_bound(Scene(moments=(1, 2, 3), omega=(0, 4, 3), t_end=1))
-    4.0
-    """
-    out = scene_or_values if isinstance(scene_or_values, dict) else {
-        f.name: getattr(scene_or_values, f.name) for f in dataclasses.fields(scene_or_values)}
-    if out.get("model") is not None:
-        return _model_rate_bound(scene_or_values, out)
-    i_min, _ = _inertia_range(out)
-    rate = _largest(out["omega"])
-    if out["torque"] is not None and i_min > 0:
-        rate += _largest(out["torque"]) * out["t_end"] / i_min
-    if out["l"] is not None and out["mass"] is not None and i_min > 0:
-        rate = max(rate, math.sqrt(_largest(out["mass"]) * _largest(out["g"]) * _largest(out["l"]) / i_min))
-    return rate
-
-
-def _model_rate_bound(scene, out) -> float:
-    """A model scene's rate: the initial spin, and where its kernel is cached (its body numbers known without
-    SymPy) the pendulum rate √(M g |c| / I_min) and the rotor's |h| / I_min; its other torques are the kernel's."""
-    rate = _largest(out["omega"])
-    facts = scene.cached_model_facts() if isinstance(scene, Scene) else None
-    if facts is None or not len(facts.params[0] if facts.params else [1]):
-        return rate
-    i_min = float(np.min(np.linalg.eigvalsh(facts.tensor)))
-    if i_min <= 0:
-        return rate
-    weight = float(np.max(np.abs(facts.body["M"] * facts.body["g"]) * np.linalg.norm(facts.centre_of_mass, axis=1)))
-    spin = float(np.max(np.linalg.norm(facts.rotor, axis=1)))
-    return max(rate, math.sqrt(weight / i_min)) + spin / i_min
+# the one rate bound of a scene and the phase limit live with its cost (eulersym.scene.cost: the layer below)
+_largest, _inertia_range = largest, inertia_range
 
 
 def _size(x: float) -> str:
@@ -933,11 +877,7 @@ def _check_scales(out: dict, raw: dict) -> None:
         raise InvalidInput(key, raw[key], f"a motion whose energy stays below {MAGNITUDE_LIMIT:.0e}: |ω| reaches "
                                           f"≈ {rate:.3g} by t_end = {out['t_end']:g}, so I ω² is "
                                           f"{_size(i_max * rate * rate)}: {why}")
-    turned = rate * out["t_end"]
-    if turned > PHASE_LIMIT:
-        raise InvalidInput("t_end", raw["t_end"], f"an end time by which the body turns less than 2**52 rad (here "
-                                                  f"|ω| ≈ {rate:.3g} × t_end = {out['t_end']:g} ≈ {turned:.3g} rad): "
-                                                  "past that a double keeps no digit of the phase")
+    refuse_phase("t_end", raw["t_end"], rate, out["t_end"])
 
 
 def load(scene) -> Scene:

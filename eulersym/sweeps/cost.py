@@ -284,9 +284,13 @@ def estimate(*, members: int, points: int, state: int, output_values: int, engin
                                               memory=memory, chunk=chunk, threads=threads).items())))
 
 
-def check(e: Estimate, *, memory: int | None = None, work: float | None = None, summary_values: int = 0) -> Estimate:
+def check(e: Estimate, *, memory: int | None = None, work: float | None = None, summary_values: int = 0,
+          argument: str = "sweep", label: str | None = None, note: str = "") -> Estimate:
     """Return ``e`` when it fits the budgets, else refuse (:class:`~eulersym.errors.InvalidInput`, exit 2 from the
     command line) with the estimate, the budget and what would fit.
+
+    ``argument`` and ``label`` name what is refused (default ``sweep='N members × P points'``); ``note`` is added
+    to the refusal (a scene adds how far its body turns).
 
     Examples
     --------
@@ -299,7 +303,8 @@ def check(e: Estimate, *, memory: int | None = None, work: float | None = None, 
     """
     memory = default_memory_budget() if memory is None else int(memory)
     work = DEFAULT_WORK_BUDGET if work is None else float(work)
-    label = f"{e.members} members × {e.points} points"
+    label = f"{e.members} members × {e.points} points" if label is None else label
+    note = f" {note}" if note else ""
     if e.peak_bytes > memory:
         request = dict(e.request, memory=memory)
         fits = []
@@ -320,16 +325,17 @@ def check(e: Estimate, *, memory: int | None = None, work: float | None = None, 
         fits.append("a larger budget where this machine has the memory ([output] memory = \"4 GiB\" or "
                     "--memory-budget 4GiB)")
         fits.append("Dask workers (--workers N / --scheduler ADDRESS) share the work, not the gathered output")
-        raise InvalidInput("sweep", label, f"a sweep within the memory budget of {format_bytes(memory)}; it needs about "
-                           f"{format_bytes(e.peak_bytes)} (output {format_bytes(e.output_bytes)} + one chunk of {e.chunk} "
-                           f"members {format_bytes(e.chunk_bytes)}). What would fit: " + "; ".join(fits))
+        raise InvalidInput(argument, label, f"a {argument} within the memory budget of {format_bytes(memory)}; it needs "
+                           f"about {format_bytes(e.peak_bytes)} (output {format_bytes(e.output_bytes)} + one chunk of "
+                           f"{e.chunk} members {format_bytes(e.chunk_bytes)}). What would fit: " + "; ".join(fits) + note)
     if e.evaluations > work:
         members_fit = int(work // max(e.steps * ENGINES[e.engine].stages, 1))
-        raise InvalidInput("sweep", label, f"a sweep within the work budget of {work:.3g} kernel evaluations; it needs "
+        raise InvalidInput(argument, label, f"a {argument} within the work budget of {work:.3g} kernel evaluations; it needs "
                            f"about {e.evaluations:.3g} ({e.steps} {e.engine} steps per member, ~{_format_seconds(e.seconds)}"
                            f" on one core). What would fit: a shorter end time or a looser accuracy (fewer steps), "
                            + (f"at most {members_fit} members, " if members_fit >= 1 else "")
-                           + "Dask workers to share it, or a larger budget ([output] work = 1e12 or --work-budget 1e12)")
+                           + "Dask workers to share it, or a larger budget ([output] work = 1e12 or --work-budget 1e12)"
+                           + note)
     return e
 
 
@@ -379,9 +385,9 @@ def parse_size(argument: str, value) -> int:
     >>> parse_size("--memory-budget", "lots")
     Traceback (most recent call last):
     ...
-    eulersym.errors.InvalidInput: --memory-budget='lots' is not valid: expected a size such as "2 GiB", "500 MB" or a number of bytes (> 0)
+    eulersym.errors.InvalidInput: --memory-budget='lots' is not valid: expected a size such as "2 GiB", "500 MB" or a number of bytes (at least 1)
     """
-    expected = 'a size such as "2 GiB", "500 MB" or a number of bytes (> 0)'
+    expected = 'a size such as "2 GiB", "500 MB" or a number of bytes (at least 1)'
     if isinstance(value, bool):
         raise InvalidInput(argument, value, expected)
     if isinstance(value, (int, float)):
@@ -390,7 +396,7 @@ def parse_size(argument: str, value) -> int:
         number, unit = float(match.group(1)), match.group(2).lower()
     else:
         raise InvalidInput(argument, value, expected)
-    if unit not in _UNITS or not math.isfinite(number) or number <= 0:
+    if unit not in _UNITS or not math.isfinite(number) or number * _UNITS[unit] < 1:  # at least one byte
         raise InvalidInput(argument, value, expected)
     return int(number * _UNITS[unit])
 
