@@ -649,9 +649,10 @@ def _perturbation_coefficient(axis: int) -> sp.Expr:
     coefficients = []
     for i in (k for k in range(3) if k != axis - 1):
         second = sp.expand(rates[_ETA[i].diff(t)].diff(t).xreplace(rates))  # η̈_i, then η̇_j eliminated
-        coefficient = sp.factor(sp.cancel(second / _ETA[i]))
-        if coefficient.has(*_ETA):
+        coefficient = second.coeff(_ETA[i])  # η̈_i = k η_i: k is η_i's coefficient and nothing is left over
+        if coefficient.has(*_ETA) or sp.expand(second - coefficient * _ETA[i]) != 0:
             raise CheckFailed(f"η̈{i + 1} is not proportional to η{i + 1}: {second}")
+        coefficient = sp.factor(coefficient)
         coefficients.append(coefficient)
     if sp.expand(coefficients[0] - coefficients[1]) != 0:
         raise CheckFailed("the two transverse perturbations obey different equations")
