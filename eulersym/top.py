@@ -258,7 +258,8 @@ def turning_point_cubic() -> sp.Expr:
     udot2 = sp.expand(sp.sin(theta) ** 2 * 2 * (ENERGY - V) / I1)
     udot2 = _reduce_sin_squares(udot2, (theta,)).xreplace({sp.cos(theta): U})
     f = udot2 if udot2.is_polynomial(U) else sp.expand(sp.cancel(udot2))  # sin²θ cancels as it stands
-    if f.has(theta) or not f.is_polynomial(U) or sp.degree(f, U) != 3:
+    if f.has(theta) or not f.is_polynomial(U) or max(term.as_powers_dict().get(U, 0)
+                                                     for term in sp.Add.make_args(f)) != 3:
         raise CheckFailed(f"u̇² is not a cubic in u: {f}")
     return f
 
