@@ -633,7 +633,7 @@ def _precession_limits(value) -> tuple:
                  for p in expr.atoms(sp.Pow) if p.exp == sp.S.Half and p.base.has(eps)}
         h = sp.expand(expr.xreplace(roots) * eps)
         for k in range(_LAURENT_TERMS):
-            coefficient = sp.cancel(h.diff(eps, k).subs(eps, 0) / math.factorial(k)) if k else sp.cancel(h.subs(eps, 0))
+            coefficient = sp.cancel(h.diff(eps, k).xreplace({eps: 0}) / math.factorial(k))
             if coefficient.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
                 raise CheckFailed(f"ε·rate is not analytic at ε = 0: {h}")
             if coefficient != 0:
@@ -657,7 +657,7 @@ def _upright_cubic() -> tuple:
     e_upright = sp.expand(energy().xreplace(rest).xreplace({theta: 0}))
     upright = {P_PHI: p_phi, P_PSI: p_psi, ENERGY: e_upright}
     f = sp.expand(turning_point_cubic().xreplace(upright))
-    if sp.expand(f.subs(U, 1)) != 0 or sp.expand(sp.diff(f, U).subs(U, 1)) != 0:
+    if sp.expand(f.xreplace({U: 1})) != 0 or sp.expand(sp.diff(f, U).xreplace({U: 1})) != 0:
         raise CheckFailed(f"u = 1 is not a double root for the upright top: {f}")
     return w, f
 
@@ -682,7 +682,7 @@ def sleeping_top_nutation_frequency() -> sp.Expr:
     -(4*I1*M*g*l - I3**2*omega3(t)**2)/I1**2
     """
     w, f = _upright_cubic()
-    return sp.expand(-sp.diff(f, U, 2).subs(U, 1) / 2).xreplace({w: _OMEGA3})
+    return sp.expand(-sp.diff(f, U, 2).xreplace({U: 1}) / 2).xreplace({w: _OMEGA3})
 
 
 @functools.lru_cache(maxsize=1)
