@@ -266,9 +266,7 @@ def _vector3(argument: str, value) -> sp.ImmutableMatrix:
 
 def _ndim(value) -> int:
     """``np.ndim`` of ``value`` as an object array; a flat list or tuple of scalars is 1 without NumPy's import."""
-    if isinstance(value, (list, tuple)) and not any(hasattr(c, "__len__") or hasattr(c, "__array__") for c in value):
-        return 1
-    return np.ndim(np.asarray(value, dtype=object))
+    return 1 if _inertia._flat(value) else np.ndim(np.asarray(value, dtype=object))
 
 
 def _inertia_matrix(I, argument: str = "I") -> sp.ImmutableMatrix:

@@ -702,6 +702,7 @@ def degrees_of_freedom(n_points: int = 3, *, seed: int = 0) -> int:
     constraints = [sum((a - b) ** 2 for a, b in zip(pts[i], pts[j])) for i in range(n_points) for j in range(i)]
     rng = random.Random(seed)
     point = [sp.QQ(rng.randint(-97, 97), rng.randint(1, 13)) for _ in xs]
+
     def at_point(poly):
         return sum((coefficient * math.prod(v**e for v, e in zip(point, monomial) if e)
                     for monomial, coefficient in poly.terms()), sp.QQ(0))
