@@ -9,7 +9,10 @@ computed once per motion at :data:`DIGITS` digits with the algorithms below, whi
   until the relative spread of the arguments is below ``TOL``, then the fifth-order series, whose error is
   O(TOL⁶) ≈ 1e-39;
 * ``R_C`` (inside ``R_J``) the same way;
-* ``agm`` by the arithmetic–geometric mean, π by the Gauss–Legendre (Brent–Salamin) iteration.
+* ``agm`` by the arithmetic–geometric mean, π by the Gauss–Legendre (Brent–Salamin) iteration;
+* the complete integral of the third kind ``Π(n | m) = ∫₀ᴷ dx/(1 − n sn² x)`` by the AGM with Carlson's auxiliary
+  sequence (DLMF 19.8.6–19.8.8; quadratic convergence, two square roots a step instead of the ~300 of ``R_J`` by
+  duplication).
 
 Every function must be called inside a :func:`decimal.localcontext` of at least :data:`DIGITS` digits.
 
@@ -22,6 +25,13 @@ Examples
 ...     rf = rf_(decimal.Decimal(0), decimal.Decimal("0.5"), decimal.Decimal(1))
 >>> abs(k - rf) < decimal.Decimal("1e-33")      # K(m = 1/2) both ways
 True
+>>> with decimal.localcontext() as ctx:
+...     ctx.prec = DIGITS
+...     zero, one, n, mc = (decimal.Decimal(v) for v in ("0", "1", "0.3", "0.5"))
+...     by_agm = third_kind_complete(n, 1 - n, mc)
+...     by_rj = rf_(zero, mc, one) + n / 3 * rj_(zero, mc, one, 1 - n)
+>>> abs(by_agm - by_rj) < decimal.Decimal("1e-33")  # Π(0.3 | 1/2) both ways
+True
 """
 
 from __future__ import annotations
@@ -30,7 +40,7 @@ import decimal
 import functools
 from decimal import Decimal
 
-__all__ = ["DIGITS", "pi", "agm", "rf_", "rc_", "rj_"]
+__all__ = ["DIGITS", "pi", "agm", "rf_", "rc_", "rj_", "third_kind_complete"]
 
 #: Working precision (decimal digits) of the per-motion constants.
 DIGITS = 36
@@ -119,3 +129,30 @@ def rj_(x: Decimal, y: Decimal, z: Decimal, p: Decimal) -> Decimal:
     series = (1 + ed * (-c1 + c5 * ed - c6 * ee) + eb * (c7 + dp * (-c8 + dp * c4))
               + dp * ea * (c2 - dp * c3) - c2 * dp * ec)
     return 3 * total + fac * series / (ave * ave.sqrt())
+
+
+def third_kind_complete(n: Decimal, one_minus_n: Decimal, mc: Decimal) -> Decimal:
+    """``Π(n | m) = ∫₀ᴷ dx/(1 − n sn² x)`` for ``n < 1`` (``one_minus_n = 1 − n > 0`` given exactly) and
+    ``0 < m_c = 1 − m ≤ 1``, by DLMF 19.8.6–19.8.8::
+
+        Π = π/(4 M) · (2 + n/(1 − n) · Σ Q_k),   M = AGM(1, √m_c),   p₀ = √(1 − n),  Q₀ = 1,
+        ε_k = (p_k² − a_k g_k)/(p_k² + a_k g_k),  p_{k+1} = (p_k² + a_k g_k)/(2 p_k),  Q_{k+1} = Q_k ε_k / 2.
+
+    Every term is a ratio of sums of positive numbers except ε_k; as ``1 − n → 0`` the sum Σ Q loses about
+    ``½ log₁₀(1/(1 − n))`` digits to cancellation (e.g. 13 of the 36 at ``1 − n = 1e-26``, still ~1e-23 relative;
+    ~4e-24 at ``m_c = 1e-40``).
+    Call inside a :func:`decimal.localcontext` of at least :data:`DIGITS` digits.
+    """
+    eps = Decimal(10) ** (-decimal.getcontext().prec + 1)
+    a, g = Decimal(1), mc.sqrt()
+    p = one_minus_n.sqrt()
+    q, total = Decimal(1), Decimal(0)
+    for _ in range(400):
+        pp, ag = p * p, a * g
+        total += q
+        q = q * (pp - ag) / (2 * (pp + ag))
+        p = (pp + ag) / (2 * p)
+        if abs(q) <= eps * abs(total) and abs(a - g) <= eps * a:
+            break
+        a, g = (a + g) / 2, (a * g).sqrt()
+    return pi() / (2 * (a + g)) * (2 + n / one_minus_n * total)

@@ -39,7 +39,7 @@ class Rotation:
 
     def __init__(self, q, single: bool):
         q = np.asarray(q, dtype=float).reshape(-1, 4)
-        self._q = q / np.linalg.norm(q, axis=1, keepdims=True)
+        self._q = q / np.sqrt(np.einsum("ij,ij->i", q, q))[:, None]
         self._single = single
 
     # ---- constructors (SciPy's names) -------------------------------------------------------------------------
@@ -115,14 +115,21 @@ class Rotation:
         single_v = v.ndim == 1
         v2 = v.reshape(-1, 3)
         q0, u = self._q[:, :1], self._q[:, 1:]
-        w = np.cross(u, v2) + q0 * v2
-        out = v2 + 2 * np.cross(u, w)
+        w = _cross(u, v2) + q0 * v2
+        out = v2 + 2 * _cross(u, w)
         return out[0] if (self._single and single_v) else out
 
     def as_euler(self, seq: str) -> np.ndarray:
         from scipy.spatial.transform import Rotation as SciPyRotation  # only when Euler angles are asked for
 
         return SciPyRotation.from_quat(self.as_quat()).as_euler(seq)
+
+
+def _cross(a, b):
+    """Row-wise ``a × b`` of (m, 3) arrays (broadcasting rows), without ``np.cross``'s axis handling."""
+    a1, a2, a3 = a[:, 0], a[:, 1], a[:, 2]
+    b1, b2, b3 = b[:, 0], b[:, 1], b[:, 2]
+    return np.stack([a2 * b3 - a3 * b2, a3 * b1 - a1 * b3, a1 * b2 - a2 * b1], axis=1)
 
 
 def quaternion_to_rotation(q) -> Rotation:

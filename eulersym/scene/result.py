@@ -113,6 +113,16 @@ def _drift(values: np.ndarray) -> float:
     return float(np.max(np.abs(v - ref) / denom))
 
 
+def _drifts(rows: np.ndarray) -> list:
+    """:func:`_drift` of each of ``rows`` (k, batch, n) in one pass."""
+    ref = rows[:, :, :1]
+    denom = np.abs(ref)
+    denom[denom == 0] = 1.0
+    dev = np.abs(rows - ref)
+    dev /= denom
+    return [float(v) for v in dev.reshape(len(rows), -1).max(axis=1)]
+
+
 def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False) -> dict:
     """The outputs of ``traj`` (principal frame) in the scene's body frame: ω, attitude, Euler angles, polhode,
     invariants and drift, and the notes of the report (a dict of the :class:`Result` fields they fill)."""
@@ -124,24 +134,24 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     attitude = euler_angles = gamma_body = None
     model = problem.model
     if q_pr is not None and ("attitude" in outputs or "euler_angles" in outputs or model is not None):
-        n = q_pr.shape[1]
-        rot_pr = quaternion_to_rotation(q_pr.reshape(-1, 4))
-        rot_body = rot_pr if identity else rot_pr * Rotation.from_matrix(np.repeat(P.T[None], len(rot_pr), axis=0))
-        attitude = rotation_to_quaternion(rot_body).reshape(batch, n, 4)
-        if identity and model is not None:  # the propagated q, as integrated (the model's |q|² invariant reads it)
-            attitude = q_pr
-        if model is not None:  # the vertical, model frame: Γ = R(q)ᵀ ẑ
-            gamma_body = rot_body.inv().apply(np.array([0.0, 0.0, 1.0])).reshape(batch, n, 3)
-            if gamma is not None and identity:
-                gamma_body = gamma
-        if "euler_angles" in outputs:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", UserWarning)  # gimbal lock at θ = 0 is reported as the angles it gives
-                angles = rot_body.as_euler(problem.convention.upper()).reshape(batch, n, 3)
-            angles[..., 0] = np.unwrap(angles[..., 0], axis=1)
-            angles[..., 2] = np.unwrap(angles[..., 2], axis=1)
-            euler_angles = angles
-    invariants = {}
+        if identity and model is None:  # the principal frame is the body frame: q as propagated, canonical sign
+            attitude = _canonical(q_pr)
+            if "euler_angles" in outputs:
+                euler_angles = _euler_angles(problem, traj, attitude)
+        else:
+            n = q_pr.shape[1]
+            rot_pr = quaternion_to_rotation(q_pr.reshape(-1, 4))
+            rot_body = rot_pr if identity else rot_pr * Rotation.from_matrix(np.repeat(P.T[None], len(rot_pr), axis=0))
+            attitude = rotation_to_quaternion(rot_body).reshape(batch, n, 4)
+            if identity and model is not None:  # the propagated q, as integrated (the model's |q|² invariant reads it)
+                attitude = q_pr
+            if model is not None:  # the vertical, model frame: Γ = R(q)ᵀ ẑ
+                gamma_body = rot_body.inv().apply(np.array([0.0, 0.0, 1.0])).reshape(batch, n, 3)
+                if gamma is not None and identity:
+                    gamma_body = gamma
+            if "euler_angles" in outputs:
+                euler_angles = _unwrapped(_rotation_euler(rot_body, problem.convention).reshape(batch, n, 3))
+    invariants, known = {}, {}
     if "invariants" in outputs:
         if model is not None:
             invariants = _model_invariants(model, t, omega_body, gamma_body, attitude)
@@ -161,21 +171,29 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
             M, g, l = problem.mass, problem.g, problem.l
             n = omega_pr.shape[1]
             y = np.concatenate([omega_pr, gamma, q_pr], axis=-1).reshape(-1, 10).T
-            rep = lambda a: np.repeat(a, n)  # noqa: E731
-            vals = np.asarray(gen.invariants_batched(0.0, y, rep(moments[:, 0]), rep(moments[:, 1]), rep(moments[:, 2]), rep(M), rep(g), rep(l)))
-            for name, row in zip(("energy", "gamma_norm2", "L_dot_gamma", "q_norm2"), vals):
-                invariants[name] = np.asarray(row).reshape(batch, n)
-            if np.allclose(moments[:, 0], moments[:, 1], rtol=1e-12):
+            if batch == 1:  # the parameters as numbers (the kernel broadcasts them)
+                params = [float(v) for v in (*moments[0], M[0], g[0], l[0])]
+            else:
+                params = [np.repeat(a, n) for a in (moments[:, 0], moments[:, 1], moments[:, 2], M, g, l)]
+            vals = np.asarray(gen.invariants_batched(0.0, y, *params))
+            names = ("energy", "gamma_norm2", "L_dot_gamma", "q_norm2")
+            rows = vals.reshape(len(names), batch, n)
+            for name, row in zip(names, rows):
+                invariants[name] = row
+            known = dict(zip(names, _drifts(rows)))  # all four at once
+            if np.all(np.abs(moments[:, 0] - moments[:, 1]) <= 1e-12 * np.abs(moments[:, 1])):  # symmetric
                 invariants["p_psi"] = moments[:, 2:3] * omega_pr[..., 2]
-        drift = {name: (_drift(v) if name != "L_space_deviation" else float(np.max(v))) for name, v in invariants.items()}
+        drift = {name: known[name] if name in known else (_drift(v) if name != "L_space_deviation" else float(np.max(v)))
+                 for name, v in invariants.items()}
     else:
         drift = {}
     polhode = omega_pr if "polhode" in outputs and plan.regime == "torque-free" else None  # Poinsot needs N = 0
     # ---- notes for the report ----------------------------------------------------------------------------------
     theta_min = theta_max = flips = None
     if plan.regime == "heavy top":
-        theta = np.degrees(np.arccos(np.clip(gamma[..., 2], -1.0, 1.0)))
-        theta_min, theta_max = theta.min(axis=1), theta.max(axis=1)
+        cos_theta = gamma[..., 2]  # θ decreases with cos θ: the extremes of Γ3 first, one arccos each
+        theta_min = np.degrees(np.arccos(np.clip(cos_theta.max(axis=1), -1.0, 1.0)))
+        theta_max = np.degrees(np.arccos(np.clip(cos_theta.min(axis=1), -1.0, 1.0)))
     elif plan.regime == "torque-free" and plan.body == "asymmetric" and batch == 1:
         k = int(np.argsort(moments[0])[1])
         flips = int(np.count_nonzero(np.diff(np.sign(omega_pr[0, :, k])) != 0))
@@ -194,6 +212,46 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     }
 
 
+def _canonical(q):
+    """Unit quaternions with q0 ≥ 0 (as :func:`~eulersym.scene.frames.rotation_to_quaternion` gives them)."""
+    q = q / np.sqrt(np.einsum("...i,...i->...", q, q))[..., None]
+    np.negative(q, out=q, where=q[..., :1] < 0)
+    return q
+
+
+def _rotation_euler(rot, convention):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)  # gimbal lock at θ = 0 is reported as the angles it gives
+        return rot.as_euler(convention.upper())
+
+
+def _euler_angles(problem, traj, attitude):
+    """Euler angles of the body frame (= the principal frame), φ and ψ unwrapped: the closed form's own angles
+    where the engine gives them in the scene's convention (zxz), else from the attitude."""
+    if traj.euler is not None and problem.convention == "zxz":
+        return _unwrapped(np.array(traj.euler, dtype=float))
+    batch, n = attitude.shape[:2]
+    return _unwrapped(_rotation_euler(quaternion_to_rotation(attitude.reshape(-1, 4)), problem.convention)
+                      .reshape(batch, n, 3))
+
+
+def _unwrapped(angles):
+    """φ and ψ (columns 0 and 2) made continuous along the times (axis 1) by multiples of 2π, as ``np.unwrap``.
+
+    Examples
+    --------
+    >>> a = np.zeros((1, 3, 3)); a[0, :, 0] = [3.0, -3.0, -2.9]
+    >>> bool(np.allclose(_unwrapped(a)[0, :, 0], [3.0, 2 * np.pi - 3.0, 2 * np.pi - 2.9]))
+    True
+    """
+    two_pi = 2.0 * np.pi
+    for k in (0, 2):
+        jumps = np.rint(np.diff(angles[..., k], axis=1) * (1.0 / two_pi))
+        if np.any(jumps):
+            angles[:, 1:, k] -= two_pi * np.cumsum(jumps, axis=1)
+    return angles
+
+
 def report_notes(plan, moments, P, *, theta_min=None, theta_max=None, w3=None, bound=None, turning=None,
                  flips=None, tensor_given=False) -> list:
     """The report's notes: for a heavy top the tilt range (``theta_min``/``theta_max`` per member, degrees), the
@@ -203,13 +261,21 @@ def report_notes(plan, moments, P, *, theta_min=None, theta_max=None, w3=None, b
     notes = []
     batch = len(moments)
     if plan.regime == "heavy top":
+        axis = [float(v) for v in np.asarray(P, dtype=float)[:, 2]]
+        off = max(abs(axis[0]), abs(axis[1]), abs(axis[2] - 1.0)) > 1e-12  # the heavy-top frame's e3 is not the body's
+        line = f"({axis[0]:.3g}, {axis[1]:.3g}, {axis[2]:.3g})"
+        which = (f"θ of the pivot → centre-of-mass line {line} of the body (model) frame from the vertical, the "
+                 f"heavy-top frame's e3 — not the θ of the body's e3 in the Euler angles" if off else "")
         if batch == 1:
-            notes.append(f"θ between θ1 = {theta_min[0]:.4g}° and θ2 = {theta_max[0]:.4g}° (from Γ3 = cos θ)")
+            notes.append(f"θ between θ1 = {theta_min[0]:.4g}° and θ2 = {theta_max[0]:.4g}° "
+                         + (f"({which}; cos θ = Γ·{line})" if off else "(from Γ3 = cos θ)"))
         if turning is not None:
             notes.append("turning points derived from the effective potential: "
-                         f"θ1 = {np.degrees(turning[0]):.4g}°, θ2 = {np.degrees(turning[1]):.4g}°")
+                         f"θ1 = {np.degrees(turning[0]):.4g}°, θ2 = {np.degrees(turning[1]):.4g}°"
+                         + (f" ({which})" if off else ""))
         else:
-            notes.append(f"largest tilt per member: {theta_max.min():.4g}° … {theta_max.max():.4g}°")
+            notes.append(f"largest tilt per member: {theta_max.min():.4g}° … {theta_max.max():.4g}°"
+                         + (f" ({which})" if off else ""))
         if "top.sleeping_top_threshold" in plan.derive:
             if bound is not None:
                 ratio = w3**2 / bound

@@ -23,6 +23,8 @@ class Trajectory:
         The upward vertical in principal components (heavy top).
     n_calls : int
         Kernel (right-hand side or sub-flow) evaluations; 0 for a closed form.
+    euler : ndarray (batch, n, 3) or None
+        zxz Euler angles (φ, θ, ψ) of the principal frame where a closed form gives them (φ, ψ in (−π, π]).
 
     Examples
     --------
@@ -34,3 +36,4 @@ class Trajectory:
     q: np.ndarray | None = None
     gamma: np.ndarray | None = None
     n_calls: int = 0
+    euler: np.ndarray | None = None
