@@ -16,7 +16,13 @@ Exact strategies, cheapest first:
 3. ``sympy.simplify``, only for small expressions (a budget on the operation count keeps it bounded).
 
 Numeric: each difference is evaluated with mpmath at ``points`` seeded random points at ``dps`` digits; positive
-symbols get positive values. A difference above the tolerance is a counterexample, which proves inequality.
+symbols get positive values. A difference above the tolerance is a counterexample, which proves inequality. Each
+difference is first evaluated in one pass at a fixed ``dps + 20`` digits (:func:`_evaluate_fast`); only what that
+pass cannot confirm as agreeing (a difference above the tolerance, NaN, a function it does not know) is evaluated
+again by SymPy's ``evalf`` at ``dps + 10`` digits, which decides.
+
+Exact zero tests run in a polynomial ring where the difference is a polynomial in symbols and sines and cosines of
+symbols (:func:`_polynomial_zero`: the ring's arithmetic does the expansion), and with SymPy's ``expand`` otherwise.
 
 Examples
 --------
@@ -155,7 +161,10 @@ def freeze_functions(expr, names: dict | None = None):
     """
     mapping: dict = {} if names is None else names
     expr = sp.sympify(expr)
-    derivs = sorted(expr.atoms(sp.Derivative), key=lambda d: -d.derivative_count)
+    found = expr.atoms(sp.Derivative, AppliedUndef)
+    if not found:  # nothing to freeze (one traversal instead of three)
+        return expr, mapping
+    derivs = sorted((d for d in found if isinstance(d, sp.Derivative)), key=lambda d: -d.derivative_count)
     for d in derivs:
         if d in mapping:
             continue
@@ -225,6 +234,33 @@ def _trig_polynomial_zero(expr) -> bool | None:
     return poly.rem(basis) == 0
 
 
+def _polynomial_zero(expr) -> str | None:
+    """The strategy that proves ``expr`` zero when it is a polynomial with rational coefficients in symbols and the
+    sines and cosines of symbols, computed in a polynomial ring (no SymPy ``expand``); None otherwise (not such a
+    polynomial, or not zero: the caller's strategies decide).
+
+    ``"expand"`` when the polynomial is zero as it stands, ``"trig-polynomial reduction"`` when it is zero modulo
+    ``s_x² + c_x² − 1`` — the same verdicts, by the same algebra, as ``expand`` and :func:`_trig_polynomial_zero`.
+    """
+    if expr.has(sp.Float):
+        return None
+    trig = _trig_atoms(expr)
+    if any(not isinstance(a, (sp.sin, sp.cos)) or not a.args[0].is_Symbol for a in trig):
+        return None
+    args = sorted({a.args[0] for a in trig}, key=sp.default_sort_key)
+    gens = [f(arg) for arg in args for f in (sp.sin, sp.cos)]  # sin x, cos x are the ring's generators themselves
+    others = sorted(expr.free_symbols, key=sp.default_sort_key)
+    try:
+        ring, *xs = sp.ring(gens + others, sp.QQ, order="lex")
+        poly = ring.from_expr(expr)
+    except (ValueError, TypeError, sp.polys.polyerrors.PolynomialError, sp.polys.polyerrors.CoercionFailed):
+        return None
+    if not poly:
+        return "expand"
+    basis = [xs[2 * i] ** 2 + xs[2 * i + 1] ** 2 - 1 for i in range(len(args))]
+    return "trig-polynomial reduction" if basis and not poly.rem(basis) else None
+
+
 def zero_exact(expr) -> tuple[bool, str]:
     """Try to prove ``expr == 0`` exactly; return ``(proved, strategy)``.
 
@@ -242,6 +278,9 @@ def zero_exact(expr) -> tuple[bool, str]:
         return True, "identical"
     if expr.atoms(AppliedUndef):
         expr, _ = freeze_functions(expr)
+    proved = _polynomial_zero(expr)
+    if proved:
+        return True, proved
     expanded = sp.expand(expr)
     if expanded == 0:
         return True, "expand"
@@ -319,6 +358,79 @@ def _evaluate(expr, point: dict, dps: int):
         return mpmath.mpc(re, im)
 
 
+class _NotFast(Exception):
+    """An expression (or a value on the way) that the fixed-precision evaluator leaves to :func:`_evaluate`."""
+
+
+#: SymPy functions of one argument → the name of the mpmath function (principal branches, as SymPy's).
+_MP_FUNCTIONS = {
+    sp.sin: "sin", sp.cos: "cos", sp.tan: "tan", sp.cot: "cot", sp.exp: "exp", sp.log: "log",
+    sp.asin: "asin", sp.acos: "acos", sp.atan: "atan", sp.sinh: "sinh", sp.cosh: "cosh", sp.tanh: "tanh",
+}
+
+
+def _evaluate_fast(expr, point: dict, mp):
+    """``expr`` at ``point`` in mpmath's fixed working precision (the caller's ``mp.workdps``), one pass over the
+    tree with shared subexpressions evaluated once; :class:`_NotFast` for anything it does not know (then the
+    adaptive :func:`_evaluate` decides). ``point`` maps each symbol to an mpmath number.
+
+    Fixed precision is not adaptive: a sum of terms of size ``S`` keeps ``S·10**-digits`` of error. The caller runs
+    it with 20 more digits than the tolerance needs and accepts only agreement from it; a difference it finds is
+    re-evaluated adaptively (:func:`_evaluate`) before it counts.
+    """
+    memo: dict = {}
+
+    def ev(e):
+        value = memo.get(e)
+        if value is not None:
+            return value
+        if e.is_Symbol:
+            if e not in point:
+                raise _NotFast(e)
+            value = point[e]
+        elif e.is_Integer:
+            value = mp.mpf(int(e))
+        elif e.is_Rational:
+            value = mp.mpf(int(e.p)) / int(e.q)
+        elif e.is_Float:
+            value = mp.mpf(e._mpf_)
+        elif e.is_Add:
+            value = mp.fsum([ev(a) for a in e.args])
+        elif e.is_Mul:
+            value = mp.fprod([ev(a) for a in e.args])
+        elif e.is_Pow:
+            base, exponent = e.args
+            if exponent is sp.S.Half:
+                value = mp.sqrt(ev(base))
+            elif exponent.is_Integer:
+                b = ev(base)
+                if b == 0 and exponent < 0:
+                    raise _NotFast(e)
+                value = b ** int(exponent)
+            else:
+                value = mp.power(ev(base), ev(exponent))
+        elif e is sp.pi:
+            value = +mp.pi
+        elif e is sp.E:
+            value = mp.e + 0
+        elif e is sp.I:
+            value = mp.mpc(0, 1)
+        elif type(e) in _MP_FUNCTIONS and len(e.args) == 1:
+            value = getattr(mp, _MP_FUNCTIONS[type(e)])(ev(e.args[0]))
+        else:
+            raise _NotFast(e)
+        memo[e] = value
+        return value
+
+    try:
+        value = ev(expr)
+    except (ZeroDivisionError, ValueError, OverflowError) as exc:
+        raise _NotFast(expr) from exc
+    if not mp.isfinite(value):
+        raise _NotFast(expr)
+    return value
+
+
 def _proportionality_factor(fa, fb, states) -> sp.Expr | None:
     """The factor k with fb = k·fa when k is free of the state symbols and non-zero; else None."""
     if fa == 0 or fb == 0:
@@ -384,12 +496,15 @@ def compare(
         frozen.append((label, fa, fb))
     factors: dict[str, sp.Expr] = {}
     states = set(mapping.values())
+    known: dict = {}  # difference → zero_exact's verdict, found while looking for factors
     for label, fa, fb in frozen:
-        if up_to_factor and not zero_exact(fa - fb)[0]:
-            k = _proportionality_factor(fa, fb, states)
-            if k is not None and k != 1:
-                factors[label] = k
-                fa = k * fa
+        if up_to_factor:
+            known[fa - fb] = verdict = zero_exact(fa - fb)
+            if not verdict[0]:
+                k = _proportionality_factor(fa, fb, states)
+                if k is not None and k != 1:
+                    factors[label] = k
+                    fa = k * fa
         pairs.append((label, fa, fb))
         diffs.append(fa - fb)
 
@@ -399,7 +514,7 @@ def compare(
     simplified = list(diffs)
     if exact:
         for i, d in enumerate(diffs):
-            ok, how = zero_exact(d)
+            ok, how = known[d] if d in known else zero_exact(d)
             exact_ok[i] = ok
             if ok:
                 simplified[i] = sp.Integer(0)
@@ -415,10 +530,20 @@ def compare(
     tolerance = 10.0 ** (5 - dps)  # relative; evaluation runs at dps + 10 digits
     differing: list[str] = []
     counterexample = None
+    import mpmath
+
     for _ in range(points):
         point = _random_point(symbols, rng)
-        for (label, fa, fb), d in zip(pairs, diffs):
-            if d == 0:
+        with mpmath.workdps(dps + 20):  # the fast path: 10 digits more than evalf's, agreement only
+            mp_point = {s: mpmath.mpf(repr(v)) for s, v in point.items()}
+            fast = []
+            for d in diffs:
+                try:
+                    fast.append(None if d == 0 else abs(_evaluate_fast(d, mp_point, mpmath.mp)) <= tolerance)
+                except _NotFast:
+                    fast.append(False)
+        for (label, fa, fb), d, agrees in zip(pairs, diffs, fast):
+            if d == 0 or agrees:
                 continue
             delta = abs(_evaluate(d, point, dps))  # the difference itself: evalf keeps cancelling digits
             if delta <= tolerance:

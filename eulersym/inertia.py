@@ -45,7 +45,7 @@ import numbers
 from dataclasses import dataclass
 from typing import Any, Iterable, Sequence
 
-import numpy as np
+from eulersym._numpy import np
 import sympy as sp
 
 from eulersym.errors import InvalidInput
@@ -106,7 +106,7 @@ def _scalar(argument: str, value: Any) -> Any:
         if not isinstance(value, sp.Expr) or value.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
             raise InvalidInput(argument, value, "a finite real number or SymPy expression")
         return value
-    if isinstance(value, bool) or not isinstance(value, (numbers.Number, np.number)):
+    if isinstance(value, bool) or not isinstance(value, numbers.Number):
         raise InvalidInput(argument, value, "a real number or a SymPy expression")
     if isinstance(value, numbers.Complex) and not isinstance(value, numbers.Real):
         raise InvalidInput(argument, value, "a real number or a SymPy expression")
@@ -124,17 +124,27 @@ def _positive(argument: str, value: Any) -> Any:
     return _scalar(argument, positive(argument, value))
 
 
+def _flat(value: Any) -> bool:
+    """A list or tuple of scalars (no component is a sequence or an array): a 1-D array to NumPy."""
+    return isinstance(value, (list, tuple)) and not any(hasattr(c, "__len__") or hasattr(c, "__array__")
+                                                         for c in value)
+
+
 def _vector3(argument: str, value: Any) -> tuple:
     """Three components (SymPy, or floats when no component is SymPy)."""
     if isinstance(value, sp.MatrixBase):
         if value.shape not in ((3, 1), (1, 3)):
             raise InvalidInput(argument, value, "a vector of 3 components (3×1 or 1×3 Matrix, list or array)")
         return tuple(value)
-    try:
-        items = list(np.asarray(value, dtype=object).reshape(-1)) if not isinstance(value, str) else None
-    except Exception:  # pragma: no cover - exotic containers
-        items = None
-    if items is None or len(items) != 3 or np.ndim(np.asarray(value, dtype=object)) != 1:
+    if _flat(value):
+        items, flat = list(value), True  # what NumPy would make of it, without its import
+    else:
+        try:
+            items = list(np.asarray(value, dtype=object).reshape(-1)) if not isinstance(value, str) else None
+        except Exception:  # pragma: no cover - exotic containers
+            items = None
+        flat = items is not None and np.ndim(np.asarray(value, dtype=object)) == 1
+    if items is None or len(items) != 3 or not flat:
         raise InvalidInput(argument, value, "a vector of 3 components (3×1 or 1×3 Matrix, list or array)")
     return tuple(_scalar(f"{argument}[{i}]", c) if _is_sympy(c) else _finite_keep(f"{argument}[{i}]", c)
                  for i, c in enumerate(items))
@@ -147,7 +157,7 @@ def _finite_keep(argument: str, value: Any) -> Any:
 
 
 def _finite(argument: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.number)):
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise InvalidInput(argument, value, "a finite real number or a SymPy expression")
     value = float(value)
     if not math.isfinite(value):
@@ -209,6 +219,9 @@ def _as_tensor(argument: str, value: Any, *, body: bool, allow_moments: bool = F
         raise InvalidInput(argument, value, "a 3×3 symmetric inertia tensor (Matrix, nested list or array)")
     if isinstance(value, sp.MatrixBase):
         kind, shape = "sympy", value.shape
+    elif _flat(value):  # NumPy's shape and kind of a flat list or tuple, without its import
+        shape = (len(value),)
+        kind = "sympy" if any(_is_sympy(e) for e in value) else "numpy"
     else:
         try:
             arr = np.asarray(value, dtype=object)
@@ -217,7 +230,7 @@ def _as_tensor(argument: str, value: Any, *, body: bool, allow_moments: bool = F
         shape = arr.shape
         kind = "sympy" if any(_is_sympy(e) for e in arr.reshape(-1)) else "numpy"
     if allow_moments and shape in ((3,), (3, 1), (1, 3)):
-        items = list(value) if not isinstance(value, np.ndarray) else list(value.reshape(-1))
+        items = list(value) if isinstance(value, (list, tuple, sp.MatrixBase)) else list(np.asarray(value).reshape(-1))
         if kind == "sympy":
             moments = [_scalar(f"{argument}[{i}]", m) for i, m in enumerate(items)]
             _check_moments(argument, moments, value)
@@ -446,7 +459,14 @@ class Region:
 
 @functools.lru_cache(maxsize=4096)
 def _definite(f: Any, var: Any, lo: Any, hi: Any) -> Any:
-    """One-dimensional definite integral (cached: the same factors recur across the tensor's components)."""
+    """One-dimensional definite integral (cached: the same factors recur across the tensor's components).
+
+    A polynomial in ``var`` by its antiderivative, ``F(hi) − F(lo)`` (what ``sympy.integrate`` does for one, without
+    importing its heuristics); anything else by ``sympy.integrate``.
+    """
+    if f.is_polynomial(var):
+        F = sp.Poly(f, var).integrate().as_expr()
+        return F.xreplace({var: hi}) - F.xreplace({var: lo})
     return sp.integrate(f, (var, lo, hi))
 
 

@@ -21,10 +21,10 @@ from __future__ import annotations
 
 import functools
 
-import numpy as np
+from eulersym._numpy import np
 import sympy as sp
 
-from eulersym.errors import InvalidInput, SingularConfiguration
+from eulersym.errors import CheckFailed, InvalidInput, SingularConfiguration
 from eulersym.rotation import _convention, _three, elementary, euler_matrix, quaternion_multiply, to_euler
 from eulersym.validation import finite_array
 from eulersym.symbols import euler_angles as _EULER_ANGLES, t
@@ -247,7 +247,10 @@ def space_rate_in_body(G_body, convention: str = "zxz") -> sp.Matrix:
 
     Differentiates the space components ``G_space = Aᵀ G_body`` and maps the result back to the body frame; §4.4's
     operator relation ``(dG/dt)_space = (dG/dt)_body + ω × G`` is this, once ω is recognised (``eulersym check``
-    entry ``4.4.rotating_frame``).
+    entry ``4.4.rotating_frame``). By the product rule ``A d/dt(Aᵀ G) = A Aᵀ Ġ + A Ȧᵀ G``; with
+    ``A = F1 F2 F3`` (the three elementary rotations, each orthogonal) ``A Aᵀ = 1`` and
+    ``A Ȧᵀ = Σ_k P_k (F_k Ḟ_kᵀ) P_kᵀ`` with ``P_k = F1 ⋯ F_(k−1)`` (:func:`_rotating_frame_matrix`): short
+    products, each reduced with ``sin² + cos² = 1`` as it is formed, instead of one long expansion.
 
     Examples
     --------
@@ -260,5 +263,37 @@ def space_rate_in_body(G_body, convention: str = "zxz") -> sp.Matrix:
     G = sp.Matrix(G_body)
     if G.shape != (3, 1):
         raise InvalidInput("G_body", G_body, "a 3-vector of body components")
-    A = euler_matrix(*_EULER_ANGLES, convention=convention)
-    return (A * (A.T * G).diff(t)).applyfunc(sp.expand)
+    W = _rotating_frame_matrix(_convention(convention))
+    return (G.applyfunc(lambda g: g.diff(t)) + W * G).applyfunc(sp.expand)
+
+
+def _reduce_sin_squares(expr, angles) -> sp.Expr:
+    """Expand and write even powers of ``sin(a)`` through ``cos(a)`` (``sin² = 1 − cos²``), then expand: the
+    normal form of a polynomial in sin and cos modulo ``sin² + cos² − 1`` (sin of degree ≤ 1), so an identity
+    reduces to 0."""
+    expr = sp.expand(expr)
+    sines = {sp.sin(a): a for a in angles}
+    powers = {p: p.base ** (p.exp % 2) * (1 - sp.cos(sines[p.base]) ** 2) ** (p.exp // 2)
+              for p in expr.atoms(sp.Pow) if p.base in sines and p.exp.is_Integer and p.exp >= 2}
+    return sp.expand(expr.xreplace(powers)) if powers else expr
+
+
+@functools.lru_cache(maxsize=32)
+def _rotating_frame_matrix(convention: str) -> sp.Matrix:
+    """``A Ȧᵀ`` for ``A = F1 F2 F3 = P_c(ψ) P_b(θ) P_a(φ)``, term by term of the product rule.
+
+    ``Ȧᵀ = Σ_k F3ᵀ ⋯ Ḟ_kᵀ ⋯ F1ᵀ`` and ``F_j F_jᵀ = 1`` (checked for each factor) leave
+    ``A Ȧᵀ = Σ_k P_k (F_k Ḟ_kᵀ) P_kᵀ``, ``P_k = F1 ⋯ F_(k−1)``; every product is reduced in the angles it holds.
+    """
+    a, b, c = convention
+    phi, theta, psi = _EULER_ANGLES
+    W, P, held = sp.zeros(3, 3), sp.eye(3), []
+    for axis, angle in ((c, psi), (b, theta), (a, phi)):
+        F = elementary(axis, angle)
+        held.append(angle)
+        if (F * F.T).applyfunc(lambda e: _reduce_sin_squares(e, (angle,))) != sp.eye(3):
+            raise CheckFailed(f"the elementary rotation about {axis} is not orthogonal: {F}")
+        S = (F * F.applyfunc(lambda e: e.diff(t)).T).applyfunc(lambda e: _reduce_sin_squares(e, (angle,)))
+        W += (P * S * P.T).applyfunc(lambda e: _reduce_sin_squares(e, held))
+        P = P * F
+    return W

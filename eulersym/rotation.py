@@ -31,11 +31,10 @@ import math
 import random
 from typing import Any
 
-import numpy as np
+from eulersym._numpy import np
 import sympy as sp
 
 from eulersym.errors import InvalidInput
-from eulersym.quaternion import hamilton
 from eulersym.validation import finite_array
 
 __all__ = [
@@ -607,6 +606,8 @@ def quaternion_multiply(p, q):
     if _is_numeric(p0, p1, p2, p3, q0, q1, q2, q3):
         _numbers("p", [p0, p1, p2, p3], what="a quaternion")
         _numbers("q", [q0, q1, q2, q3], what="a quaternion")
+    from eulersym.quaternion import hamilton  # NumPy's import, only when quaternions are multiplied
+
     out = list(hamilton((p0, p1, p2, p3), (q0, q1, q2, q3)))
     if _is_numeric(*p, *q):
         return np.array(out, dtype=float)
@@ -692,11 +693,19 @@ def degrees_of_freedom(n_points: int = 3, *, seed: int = 0) -> int:
     """
     if not isinstance(n_points, int) or isinstance(n_points, bool) or n_points < 3:
         raise InvalidInput("n_points", n_points, "an integer >= 3 (three non-collinear points fix a rigid body)")
-    xs = sp.symbols(f"x0:{3 * n_points}")
-    pts = [sp.Matrix(xs[3 * i : 3 * i + 3]) for i in range(n_points)]
-    constraints = [((pts[i] - pts[j]).T * (pts[i] - pts[j]))[0, 0] for i in range(n_points) for j in range(i)]
-    jac = sp.Matrix(constraints).jacobian(xs)
+    from sympy.polys.matrices import DomainMatrix
+
+    # exact polynomial arithmetic over QQ (differentiation and evaluation in a polynomial ring: no SymPy
+    # expression trees, whose fresh symbols cost assumption queries)
+    ring, *xs = sp.ring([f"x{k}" for k in range(3 * n_points)], sp.QQ)
+    pts = [xs[3 * i : 3 * i + 3] for i in range(n_points)]
+    constraints = [sum((a - b) ** 2 for a, b in zip(pts[i], pts[j])) for i in range(n_points) for j in range(i)]
     rng = random.Random(seed)
-    point = {x: sp.Rational(rng.randint(-97, 97), rng.randint(1, 13)) for x in xs}
-    rank = jac.xreplace(point).rank()
-    return 3 * n_points - rank
+    point = [sp.QQ(rng.randint(-97, 97), rng.randint(1, 13)) for _ in xs]
+
+    def at_point(poly):
+        return sum((coefficient * math.prod(v**e for v, e in zip(point, monomial) if e)
+                    for monomial, coefficient in poly.terms()), sp.QQ(0))
+
+    jac = DomainMatrix([[at_point(c.diff(x)) for x in xs] for c in constraints], (len(constraints), len(xs)), sp.QQ)
+    return 3 * n_points - jac.rank()

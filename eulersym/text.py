@@ -120,6 +120,10 @@ _phid, _thetad, _psid = phi.diff(t), theta.diff(t), psi.diff(t)
 _particles = [(m1, (x1, y1, z1)), (m2, (x2, y2, z2))]
 
 
+def _Eq(lhs, rhs):  # the text's equations as printed: not evaluated (deciding lhs == rhs costs assumption queries)
+    return sp.Eq(lhs, rhs, evaluate=False)
+
+
 def _text_D(angle):  # §4.2, as printed
     return sp.Matrix([[_c(angle), _s(angle), 0], [-_s(angle), _c(angle), 0], [0, 0, 1]])
 
@@ -254,7 +258,7 @@ def _entries() -> list[ClosedForm]:
           _call("eulersym.inertia:angular_momentum", sp.diag(I1, I2, I3), _omega)),
         # §4.4 -------------------------------------------------------------------------------------------------
         E("4.4.rotating_frame", "4.4", "(dG/dt)_space = (dG/dt)_body + ω × G, in body components.",
-          G.diff(t) + sp.Matrix([
+          G.applyfunc(lambda g: g.diff(t)) + sp.Matrix([
               _phid * _s(theta) * _s(psi) + _thetad * _c(psi),
               _phid * _s(theta) * _c(psi) - _thetad * _s(psi),
               _phid * _c(theta) + _psid,
@@ -265,18 +269,18 @@ def _entries() -> list[ClosedForm]:
           lambda: _omega_cross_L()[0]),
         E("4.4.euler_equations", "4.4", "Euler's equations: I1 ω̇1 − (I2 − I3) ω2 ω3 = N1 and cyclic.",
           [
-              sp.Eq(I1 * omega1.diff(t) - (I2 - I3) * omega2 * omega3, N1),
-              sp.Eq(I2 * omega2.diff(t) - (I3 - I1) * omega3 * omega1, N2),
-              sp.Eq(I3 * omega3.diff(t) - (I1 - I2) * omega1 * omega2, N3),
+              _Eq(I1 * omega1.diff(t) - (I2 - I3) * omega2 * omega3, N1),
+              _Eq(I2 * omega2.diff(t) - (I3 - I1) * omega3 * omega1, N2),
+              _Eq(I3 * omega3.diff(t) - (I1 - I2) * omega1 * omega2, N3),
           ],
           "dynamics.euler_equations() from (dL/dt)_body + ω × L = N", _call("eulersym.dynamics:euler_equations")),
         # §4.5 -------------------------------------------------------------------------------------------------
         E("4.5.torque_free_symmetric", "4.5", "Torque-free, I1 = I2: I1 ω̇1 = (I1 − I3) ω2 ω3, "
           "I1 ω̇2 = −(I1 − I3) ω1 ω3, I3 ω̇3 = 0.",
           [
-              sp.Eq(I1 * omega1.diff(t), (I1 - I3) * omega2 * omega3),
-              sp.Eq(I1 * omega2.diff(t), -(I1 - I3) * omega1 * omega3),
-              sp.Eq(I3 * omega3.diff(t), 0),
+              _Eq(I1 * omega1.diff(t), (I1 - I3) * omega2 * omega3),
+              _Eq(I1 * omega2.diff(t), -(I1 - I3) * omega1 * omega3),
+              _Eq(I3 * omega3.diff(t), 0),
           ],
           "dynamics.euler_equations(I=(I1, I1, I3), torque=(0, 0, 0))",
           _call("eulersym.dynamics:euler_equations", I=(I1, I1, I3), torque=(0, 0, 0))),
@@ -284,7 +288,7 @@ def _entries() -> list[ClosedForm]:
           (I1 - I3) / I1 * omega3, "dynamics.symmetric_precession_rate()",
           _call("eulersym.dynamics:symmetric_precession_rate")),
         E("4.5.transverse_oscillator", "4.5", "ω̈1 + Ω_prec² ω1 = 0: ω precesses uniformly about the symmetry axis.",
-          sp.Eq(omega1.diff(t, 2) + ((I1 - I3) / I1 * omega3) ** 2 * omega1, 0),
+          _Eq(omega1.diff(t, 2) + ((I1 - I3) / I1 * omega3) ** 2 * omega1, 0),
           "dynamics.symmetric_transverse_equation()", _call("eulersym.dynamics:symmetric_transverse_equation"),
           up_to_factor=True),
         E("4.5.lagrangian", "4.5", "The heavy symmetric top's Lagrangian.",
@@ -330,9 +334,9 @@ def _entries() -> list[ClosedForm]:
         # Example 4.2 ------------------------------------------------------------------------------------------
         E("ex4.2.linearized", "Example 4.2", "About axis 2: I1 η̇1 = (I2 − I3) ω0 η3, η̇2 = 0, I3 η̇3 = (I1 − I2) ω0 η1.",
           [
-              sp.Eq(I1 * eta1.diff(t), (I2 - I3) * omega0 * eta3),
-              sp.Eq(eta2.diff(t), 0),
-              sp.Eq(I3 * eta3.diff(t), (I1 - I2) * omega0 * eta1),
+              _Eq(I1 * eta1.diff(t), (I2 - I3) * omega0 * eta3),
+              _Eq(eta2.diff(t), 0),
+              _Eq(I3 * eta3.diff(t), (I1 - I2) * omega0 * eta1),
           ],
           "dynamics.linearized_euler_equations(axis=2)", _call("eulersym.dynamics:linearized_euler_equations", 2),
           up_to_factor=True),
@@ -346,12 +350,12 @@ def _entries() -> list[ClosedForm]:
         # Example 4.3 ------------------------------------------------------------------------------------------
         E("ex4.3.nutation_equation", "Example 4.3",
           "I1 θ̈ = I1 φ̇² sin θ cos θ − I3 ω3 φ̇ sin θ + M g l sin θ.",
-          sp.Eq(I1 * theta.diff(t, 2),
+          _Eq(I1 * theta.diff(t, 2),
                 I1 * _phid**2 * _s(theta) * _c(theta) - I3 * omega3 * _phid * _s(theta) + M * g * l * _s(theta)),
           "top.nutation_equation() (θ Euler–Lagrange equation, ψ̇ = ω3 − φ̇ cos θ)",
           _call("eulersym.top:nutation_equation")),
         E("ex4.3.quadratic", "Example 4.3", "Steady precession: I1 cos θ φ̇² − I3 ω3 φ̇ + M g l = 0.",
-          sp.Eq(I1 * _c(theta) * _phid**2 - I3 * omega3 * _phid + M * g * l, 0),
+          _Eq(I1 * _c(theta) * _phid**2 - I3 * omega3 * _phid + M * g * l, 0),
           "top.steady_precession_condition()", _call("eulersym.top:steady_precession_condition"), up_to_factor=True),
         E("ex4.3.roots", "Example 4.3", "φ̇ = [I3 ω3 ± √(I3² ω3² − 4 I1 M g l cos θ)] / (2 I1 cos θ) (slow: −, fast: +).",
           ((I3 * omega3 - root) / (2 * I1 * _c(theta)), (I3 * omega3 + root) / (2 * I1 * _c(theta))),
@@ -369,7 +373,7 @@ def _entries() -> list[ClosedForm]:
         E("ex4.3.double_root", "Example 4.3",
           "Steady precession is a double root of the turning-point cubic: f′(cos θ) = 0 is the quadratic "
           "I1 cos θ φ̇² − I3 ω3 φ̇ + M g l = 0.",
-          sp.Eq(I1 * _c(theta) * _phid**2 - I3 * omega3 * _phid + M * g * l, 0),
+          _Eq(I1 * _c(theta) * _phid**2 - I3 * omega3 * _phid + M * g * l, 0),
           "top.steady_precession_double_root() (f(cos θ) = f′(cos θ) = 0 at θ̇ = 0)",
           _call("eulersym.top:steady_precession_double_root"), up_to_factor=True),
     ]

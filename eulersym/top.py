@@ -28,12 +28,12 @@ import functools
 import math
 import numbers
 
-import numpy as np
+from eulersym._numpy import np
 import sympy as sp
 
 from eulersym.errors import CheckFailed, InvalidInput, SingularConfiguration
 from eulersym.inertia import kinetic_energy as _kinetic_energy
-from eulersym.kinematics import omega_body
+from eulersym.kinematics import _reduce_sin_squares, omega_body
 from eulersym.symbols import I1, I3, M, g, l, omega3, phi, psi, t, theta
 from eulersym.validation import is_symbolic, moments, positive
 
@@ -75,18 +75,6 @@ _THETA = theta
 _OMEGA3 = omega3
 
 
-def _reduce_sin_squares(expr, angles) -> sp.Expr:
-    """Expand and write even powers of ``sin(a)`` through ``cos(a)`` (``sin² = 1 − cos²``), then expand."""
-    expr = sp.expand(expr)
-    for a in angles:
-        s = sp.sin(a)
-        expr = expr.replace(
-            lambda e, s=s: e.is_Pow and e.base == s and e.exp.is_Integer and e.exp >= 2,
-            lambda e, a=a: sp.sin(a) ** (e.exp % 2) * (1 - sp.cos(a) ** 2) ** (e.exp // 2),
-        )
-    return sp.expand(expr)
-
-
 @functools.lru_cache(maxsize=1)
 def lagrangian() -> sp.Expr:
     """``L = T − V`` of the heavy symmetric top, derived from ω(Euler rates) and the principal inertia.
@@ -111,14 +99,33 @@ def lagrangian() -> sp.Expr:
     return T - V
 
 
+@functools.lru_cache(maxsize=3)
+def _euler_lagrange(k: int) -> sp.Eq:
+    """The Euler–Lagrange equation of coordinate ``_Q[k]`` alone (the θ equation needs no other)."""
+    q, qd = _Q[k], _QDOT[k]
+    return sp.Eq(sp.expand(_partial(qd).diff(t) - _partial(q)), 0, evaluate=False)
+
+
+@functools.lru_cache(maxsize=6)
+def _partial(var) -> sp.Expr:
+    """``∂L/∂var`` for ``var`` a coordinate ``q(t)`` or a rate ``q̇(t)``, the two independent as the Lagrangian
+    calculus takes them: L with q and q̇ frozen into plain symbols, differentiated, thawed (what ``sp.diff(L, var)``
+    does, without its substitution of a function by a dummy on every call)."""
+    frozen, mapping = _frozen_lagrangian()
+    if var not in mapping:  # L does not hold it at all
+        return sp.Integer(0)
+    return sp.diff(frozen, mapping[var]).xreplace({v: k for k, v in mapping.items()})
+
+
 @functools.lru_cache(maxsize=1)
+def _frozen_lagrangian() -> tuple:
+    from eulersym.compare import freeze_functions
+
+    return freeze_functions(lagrangian())
+
+
 def _equations() -> tuple:
-    L = lagrangian()
-    out = []
-    for q, qd in zip(_Q, _QDOT):
-        expr = sp.expand(sp.diff(L, qd).diff(t) - sp.diff(L, q))
-        out.append(sp.Eq(expr, 0, evaluate=False))
-    return tuple(out)
+    return tuple(_euler_lagrange(k) for k in range(3))
 
 
 def equations_of_motion() -> list:
@@ -148,8 +155,7 @@ def cyclic_coordinates() -> tuple:
     >>> cyclic_coordinates()
     (phi(t), psi(t))
     """
-    L = lagrangian()
-    return tuple(q for q in _Q if sp.expand(sp.diff(L, q)) == 0)
+    return tuple(q for q in _Q if sp.expand(_partial(q)) == 0)
 
 
 @functools.lru_cache(maxsize=1)
@@ -166,8 +172,7 @@ def conserved_momenta() -> tuple:
     >>> sp.factor(p_psi)
     I3*(cos(theta(t))*Derivative(phi(t), t) + Derivative(psi(t), t))
     """
-    L = lagrangian()
-    return tuple(sp.expand(sp.diff(L, q.diff(t))) for q in cyclic_coordinates())
+    return tuple(sp.expand(_partial(q.diff(t))) for q in cyclic_coordinates())
 
 
 @functools.lru_cache(maxsize=1)
@@ -181,8 +186,7 @@ def energy() -> sp.Expr:
     >>> compare(energy(), T_plus_V).exact
     True
     """
-    L = lagrangian()
-    return sp.expand(sum(qd * sp.diff(L, qd) for qd in _QDOT) - L)
+    return sp.expand(sum(qd * _partial(qd) for qd in _QDOT) - lagrangian())
 
 
 @functools.lru_cache(maxsize=1)
@@ -215,10 +219,11 @@ def effective_potential() -> sp.Expr:
     """
     E = energy().xreplace(_rates_from_momenta())
     thd = theta.diff(t)
-    kinetic = sp.expand(E).coeff(thd, 2) * thd**2
+    E = sp.expand(E)
+    kinetic = E.coeff(thd, 2) * thd**2
     if sp.expand(kinetic - I1 * thd**2 / 2) != 0:
         raise CheckFailed(f"the θ̇ term of the energy is not ½ I1 θ̇²: {kinetic}")
-    rest = sp.expand(E - kinetic)
+    rest = sp.expand(E - kinetic)  # E is expanded: the θ̇² terms cancel as they are added
     if rest.has(thd):
         raise CheckFailed("the effective potential depends on θ̇")
     groups: dict = {}  # group the terms by their power of sin θ, and factor each group (display only)
@@ -252,8 +257,9 @@ def turning_point_cubic() -> sp.Expr:
     V = effective_potential()
     udot2 = sp.expand(sp.sin(theta) ** 2 * 2 * (ENERGY - V) / I1)
     udot2 = _reduce_sin_squares(udot2, (theta,)).xreplace({sp.cos(theta): U})
-    f = sp.expand(sp.cancel(udot2))
-    if f.has(theta) or not f.is_polynomial(U) or sp.degree(f, U) != 3:
+    f = udot2 if udot2.is_polynomial(U) else sp.expand(sp.cancel(udot2))  # sin²θ cancels as it stands
+    if f.has(theta) or not f.is_polynomial(U) or max(term.as_powers_dict().get(U, 0)
+                                                     for term in sp.Add.make_args(f)) != 3:
         raise CheckFailed(f"u̇² is not a cubic in u: {f}")
     return f
 
@@ -266,7 +272,7 @@ def _cubic_coefficients():
 
 def _top_numbers(E, p_phi, p_psi, I1_, I3_, M_, g_, l_) -> tuple:
     for name, value in (("E", E), ("p_phi", p_phi), ("p_psi", p_psi)):
-        if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.floating, np.integer)) \
+        if isinstance(value, bool) or not isinstance(value, numbers.Real) \
                 or not math.isfinite(float(value)):
             raise InvalidInput(name, value, "a finite real number")
     moments("I", (I1_, I1_, I3_))
@@ -472,7 +478,7 @@ def nutation_equation() -> sp.Eq:
     >>> nutation_equation()
     Eq(I1*Derivative(theta(t), (t, 2)), I1*sin(theta(t))*cos(theta(t))*Derivative(phi(t), t)**2 - I3*omega3(t)*sin(theta(t))*Derivative(phi(t), t) + M*g*l*sin(theta(t)))
     """
-    eq = _equations()[1]
+    eq = _euler_lagrange(1)
     thdd = theta.diff(t, 2)
     coefficient = sp.expand(eq.lhs).coeff(thdd)
     rest = sp.expand(eq.lhs - coefficient * thdd)
@@ -493,7 +499,7 @@ def _theta_value(theta_value):
             raise SingularConfiguration("theta", theta_value, "sin(theta) != 0 (the steady-precession balance is "
                                         "divided by sin(theta); at theta = 0 or pi see sleeping_top_threshold)")
         return value
-    if isinstance(theta_value, bool) or not isinstance(theta_value, (numbers.Real, np.floating, np.integer)) \
+    if isinstance(theta_value, bool) or not isinstance(theta_value, numbers.Real) \
             or not math.isfinite(float(theta_value)):
         raise InvalidInput("theta", theta_value, "a finite real angle")
     if abs(math.sin(float(theta_value))) < 1e-12:
@@ -597,7 +603,7 @@ def precession_limits(theta=theta, omega3=omega3) -> tuple:
     """
     spin = omega3
     if spin is not _OMEGA3:
-        if isinstance(spin, bool) or not isinstance(spin, (numbers.Real, np.floating, np.integer, sp.Basic)):
+        if isinstance(spin, bool) or not isinstance(spin, (numbers.Real, sp.Basic)):
             raise InvalidInput("omega3", spin, "a non-zero real spin")
         if sp.sympify(spin).is_zero or (not is_symbolic(spin) and float(spin) == 0):
             raise InvalidInput("omega3", spin, "a non-zero spin (the slow precession M g l/(I3 omega3) divides by it)")
@@ -609,7 +615,13 @@ def precession_limits(theta=theta, omega3=omega3) -> tuple:
 
 @functools.lru_cache(maxsize=32)
 def _precession_limits(value) -> tuple:
-    """The series of :func:`precession_limits` for one θ (a pure derivation, cached)."""
+    """The leading terms of :func:`precession_limits` for one θ (a pure derivation, cached).
+
+    With ``ω3 = 1/ε`` (ε > 0) each rate holds ``√R`` with ``R ~ I3²/ε²``; written ``√(ε² R)/ε`` (exact for ε > 0),
+    ``h(ε) = ε · rate`` is analytic at ε = 0 (``ε² R → I3² > 0``), so the rate's leading term is ``h_k ε^(k−1)`` for
+    the first non-zero Taylor coefficient ``h_k = h⁽ᵏ⁾(0)/k!`` of h — the Laurent series of the rate, term by term
+    until one survives.
+    """
     eps = sp.Symbol("epsilon", positive=True)
     cosine = sp.cos(value)
     frozen = {} if cosine.is_number else {cosine: sp.Dummy("c", real=True)}
@@ -617,12 +629,23 @@ def _precession_limits(value) -> tuple:
     out = []
     for rate in steady_precession_rates(value):
         expr = rate.xreplace({_OMEGA3: 1 / eps}).xreplace(frozen)
-        series = sp.expand(sp.series(expr, eps, 0, 2).removeO())
-        terms = [term.as_coeff_exponent(eps) for term in sp.Add.make_args(series)]
-        order = min(exponent for _, exponent in terms)
-        lead = sp.Add(*(coefficient for coefficient, exponent in terms if exponent == order)) * eps**order
-        out.append(sp.factor(lead).xreplace(thaw).xreplace({eps: 1 / _OMEGA3}))
+        roots = {p: sp.sqrt(sp.expand(eps**2 * p.base)) / eps
+                 for p in expr.atoms(sp.Pow) if p.exp == sp.S.Half and p.base.has(eps)}
+        h = sp.expand(expr.xreplace(roots) * eps)
+        for k in range(_LAURENT_TERMS):
+            coefficient = sp.cancel(h.diff(eps, k).xreplace({eps: 0}) / math.factorial(k))
+            if coefficient.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
+                raise CheckFailed(f"ε·rate is not analytic at ε = 0: {h}")
+            if coefficient != 0:
+                break
+        else:
+            raise CheckFailed(f"no non-zero term of ε·rate up to order {_LAURENT_TERMS - 1}: {h}")
+        out.append(sp.factor(coefficient * eps ** (k - 1)).xreplace(thaw).xreplace({eps: 1 / _OMEGA3}))
     return tuple(out)
+
+
+#: How many Taylor coefficients of ε·rate :func:`_precession_limits` tries (the slow rate needs three: 0, 0, M g l/I3).
+_LAURENT_TERMS = 6
 
 
 @functools.lru_cache(maxsize=1)
@@ -634,7 +657,7 @@ def _upright_cubic() -> tuple:
     e_upright = sp.expand(energy().xreplace(rest).xreplace({theta: 0}))
     upright = {P_PHI: p_phi, P_PSI: p_psi, ENERGY: e_upright}
     f = sp.expand(turning_point_cubic().xreplace(upright))
-    if sp.expand(f.subs(U, 1)) != 0 or sp.expand(sp.diff(f, U).subs(U, 1)) != 0:
+    if sp.expand(f.xreplace({U: 1})) != 0 or sp.expand(sp.diff(f, U).xreplace({U: 1})) != 0:
         raise CheckFailed(f"u = 1 is not a double root for the upright top: {f}")
     return w, f
 
@@ -659,7 +682,7 @@ def sleeping_top_nutation_frequency() -> sp.Expr:
     -(4*I1*M*g*l - I3**2*omega3(t)**2)/I1**2
     """
     w, f = _upright_cubic()
-    return sp.expand(-sp.diff(f, U, 2).subs(U, 1) / 2).xreplace({w: _OMEGA3})
+    return sp.expand(-sp.diff(f, U, 2).xreplace({U: 1}) / 2).xreplace({w: _OMEGA3})
 
 
 @functools.lru_cache(maxsize=1)
@@ -691,8 +714,7 @@ def steady_precession_double_root() -> sp.Eq:
     if sp.simplify(value) != 0:
         raise CheckFailed(f"θ̇ = 0 is not a root of the cubic: f(cos θ) = {value}")
     slope = _reduce_sin_squares(sp.diff(f, U).xreplace(at), (theta,))
-    reduced = sp.factor(sp.cancel(slope / (-2 * (1 - sp.cos(theta) ** 2) / I1)))
-    reduced = sp.expand(reduced)
+    reduced = sp.expand(sp.cancel(slope / (-2 * (1 - sp.cos(theta) ** 2) / I1)))
     if reduced.has(sp.sin(theta)) or sp.Poly(reduced, phid).degree() != 2:
         raise CheckFailed(f"f′(cos θ) is not sin²θ times a quadratic in φ̇: {slope}")
     return sp.Eq(reduced, 0, evaluate=False)
@@ -722,7 +744,9 @@ def sleeping_top_threshold() -> sp.Expr:
     4*I1*M*g*l/I3**2
     """
     w, f = _upright_cubic()
-    rest = sp.Poly(sp.numer(sp.together(sp.cancel(f / (1 - U) ** 2))), U)  # linear in u: its root is u3
+    rest, remainder = sp.div(sp.Poly(f, U), sp.Poly((1 - U) ** 2, U))  # f/(1 − u)²: linear in u, its root is u3
+    if not remainder.is_zero:
+        raise CheckFailed(f"(1 − u)² does not divide the upright cubic {f}")
     if rest.degree() != 1:
         raise CheckFailed(f"unexpected third root(s) of {rest.as_expr()}")
     c1, c0 = rest.all_coeffs()

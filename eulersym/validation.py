@@ -20,7 +20,7 @@ import math
 import numbers
 from typing import Any, Iterable, Sequence
 
-import numpy as np
+from eulersym._numpy import np
 
 from eulersym.errors import InvalidInput
 
@@ -42,7 +42,7 @@ def is_symbolic(value: Any) -> bool:
 
 
 def _as_float(argument: str, value: Any, expected: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise InvalidInput(argument, value, expected)
     out = float(value)
     if not math.isfinite(out):

@@ -96,3 +96,47 @@ def test_property_rewrites_stay_equal_and_perturbations_differ(coeffs, rewrite):
     e = a * sp.sin(x) ** 2 + b * sp.cos(x) * sp.sin(y) + c * x**2 + d * sp.cos(2 * x)
     assert compare(e, rewrite(e)).equal
     assert not compare(e, e + sp.sin(x) / 7).equal
+
+
+def test_numeric_test_alone_still_finds_a_difference():
+    e = sp.sin(x) ** 2 * sp.cos(y) + x**3 / 7
+    assert compare(e, e + sp.Rational(1, 10**20), exact=False).exact is False  # far above the 1e-25 tolerance
+    assert compare(e, e + sp.Rational(1, 10**28), exact=False).equal  # below it
+
+
+def test_functions_the_fast_evaluator_does_not_know_are_evaluated_by_evalf():
+    assert compare(sp.sign(x) * x * sp.atan2(y, 2), sp.Abs(x) * sp.atan2(y, 2), exact=False).equal
+    assert not compare(sp.Abs(x) * sp.atan2(y, 2), x * sp.atan2(y, 2), exact=False).equal  # x < 0 at some points
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.integers(-4, 4), min_size=5, max_size=5), st.integers(0, 10**6))
+def test_property_fast_evaluation_matches_evalf(coeffs, seed):
+    import mpmath
+    import random
+
+    from eulersym.compare import _evaluate, _evaluate_fast, _random_point
+
+    a, b, c, d, k = coeffs
+    e = (a * sp.sin(x) ** 2 * sp.cos(y) + b * sp.sqrt(x**2 + 1) / (3 + sp.cos(x)) + c * sp.exp(y) / 5
+         + d * sp.tan(x / 2) + sp.Rational(k, 3) * x**3 * y + sp.pi * sp.log(2 + y**2))
+    point = _random_point([x, y], random.Random(seed))
+    with mpmath.workdps(50):
+        fast = _evaluate_fast(e, {s: mpmath.mpf(repr(v)) for s, v in point.items()}, mpmath.mp)
+    slow = _evaluate(e, point, 30)
+    assert abs(fast - slow) <= 1e-35 * max(1, abs(slow))
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.integers(-3, 3), min_size=6, max_size=6))
+def test_property_ring_zero_test_agrees_with_expand_and_reduction(coeffs):
+    from eulersym.compare import _polynomial_zero
+
+    a, b, c, d, e, f = coeffs
+    s, co = sp.sin(x), sp.cos(x)
+    p = (a * s + b * co * y + c) * (d * s**2 + e * co * sp.sin(y) + f * y**2) + (s + y) ** 3
+    assert _polynomial_zero(p - sp.expand(p)) == "expand"
+    assert _polynomial_zero(p * (s**2 + co**2) - p) == "trig-polynomial reduction"
+    assert _polynomial_zero(p + sp.Rational(1, 7) * sp.sin(y) ** 2 + sp.Rational(1, 7) * sp.cos(y) ** 2) is None
+    assert zero_exact(p - sp.expand(p)) == (True, "expand")
+    assert _polynomial_zero(p / (2 + y**2) - p / (2 + y**2) + sp.Float(0.5) * x) is None  # not for this test

@@ -468,3 +468,11 @@ def test_non_symmetric_property(A):
         return
     with pytest.raises(InvalidInput, match="symmetric"):
         principal_axes(np.eye(3) * 20 + skew, body=False)
+
+
+def test_complex_numpy_components_are_refused_not_truncated():
+    # NumPy's complex scalars are numbers but not real: refused by name (they used to be cast, dropping the
+    # imaginary part with only a ComplexWarning)
+    for I in ([[np.complex128(1 + 1j), 0, 0], [0, 2, 0], [0, 0, 2]], (np.complex128(1 + 1j), 2.0, 2.0)):
+        with pytest.raises(InvalidInput, match=r"I\[0"):
+            kinetic_energy(I, [1.0, 0.0, 0.0])

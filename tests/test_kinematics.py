@@ -57,6 +57,15 @@ def test_rotating_frame_relation():
     assert compare(space_rate_in_body(G), G.diff(t) + omega_body().cross(G)).exact
 
 
+@pytest.mark.parametrize("convention", ["zxz", "zyz", "xyz", "zyx"])
+def test_rotating_frame_rate_is_the_definition(convention):
+    # the product-rule derivation against the definition A d/dt(Aᵀ G), expanded as written (no reduction)
+    G = sp.Matrix([f(t) for f in sp.symbols("G1:4", cls=sp.Function)])
+    A = euler_matrix(phi, theta, psi, convention)
+    assert compare(space_rate_in_body(G, convention), A * (A.T * G).diff(t)).exact
+    assert compare(space_rate_in_body(G, convention), G.diff(t) + omega_body(convention).cross(G)).exact
+
+
 def _omega_numeric(convention, angles, rates):
     f = sp.lambdify([phi, theta, psi, *sp.symbols("pd td sd")],
                     omega_body(convention).xreplace(dict(zip([q.diff(t) for q in (phi, theta, psi)],

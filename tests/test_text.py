@@ -73,3 +73,18 @@ def test_report_prints_text_derived_and_verdict(capsys):
     text.report("4.2", latex=True)
     out = capsys.readouterr().out
     assert "§4.2" in out and "\\sin" in out and "EQUAL" in out
+
+
+def test_check_imports_only_what_it_derives_with():
+    """`eulersym check` derives with SymPy alone: NumPy, SciPy and sympy.physics are not imported (issue 13)."""
+    import subprocess
+    import sys
+
+    code = ("import io, contextlib, sys\nfrom eulersym.cli import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()) as out:\n    status = main(['check'])\n"
+            "assert status == 0, out.getvalue()\n"
+            "print(sorted(m for m in sys.modules if m.split('.')[0] in ('numpy', 'scipy') "
+            "or m.startswith('sympy.physics')))")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "[]"
