@@ -12,12 +12,12 @@ Where the time goes (``eulersym bench sweeps --only dop853``): a step is 12 kern
 registers (tuples of ten floats; no arrays, which the compiler must assume alias one another), one line per stage
 names the stages its sum takes (the tableau's non-zeros: 50 of its 66 a_sj, 8 of its 12 b_j and of its 13 error
 weights, checked against scipy's arrays at import; skipping an exact zero adds nothing, the sums keep scipy's
-order), products and sums are fused (``FASTMATH``), the body's parameters are unpacked once per member (the
+order), IEEE arithmetic throughout (:data:`FASTMATH`), the body's parameters are unpacked once per member (the
 kernel's 1/I1, 1/I2 and (I1 − I2)/I3 are then computed once, not per call), the kernel is inlined into the step
 (no call, no exception check per stage), f at a step's end is evaluated only once the step is accepted (the error
 estimate does not use it), and division follows IEEE (``error_model="numpy"``: no zero test per division; a zero
 divisor gives ∞ or NaN, caught as below, instead of an exception lost inside ``prange``). Measured on the bench's
-asymmetric top, one thread: 74 ns per kernel call before, 25 ns now (~1500 floating-point operations a step at
+asymmetric top, one thread: 74 ns per kernel call before, ~30 ns now (~1500 floating-point operations a step at
 ~1.7 per cycle: near this CPU's scalar limit; interleaving two members in one loop gained 6 %, not kept).
 
 A member that overflows returns −1 (its start, a stage or its new state not finite), one whose tolerance no step
@@ -70,11 +70,12 @@ WE5 = _weights(_dc.E5, FINAL)
 WE3 = _weights(_dc.E3, FINAL)
 C1, C2, C3, C4, C5, C6, C7, C8, C9, C10, C11 = C[1:]
 
-#: Fused multiply-adds (``a*b + c`` rounded once) and nothing else of fastmath: no reassociation, no assumption of
-#: finite values (the overflow check stays), sums in scipy's order. Which products are fused is decided once, when
-#: :func:`members` is compiled, and every member runs that one machine code: a member's bits depend on its start
-#: only (on a given CPU and numba; in-process, chunked and on Dask workers alike). 36 → 29 ns per kernel call.
-FASTMATH = {"contract"}
+#: No fastmath, not even fused multiply-adds (``contract``, 29 instead of 36 ns per kernel call): which products LLVM
+#: fuses depends on the compilation's context, and a freshly compiled :func:`members` and the copy numba loads from
+#: its disk cache gave different bits for 1.7 % of a 10⁵-member sweep (in-process against a Dask worker;
+#: tests/test_sweeps_members.py runs both). With IEEE arithmetic a member's bits depend on its start only: in-process,
+#: chunked and on Dask workers alike, compiled now or loaded from the cache.
+FASTMATH = False
 
 _rhs = numba.njit(inline="always", fastmath=FASTMATH, error_model="numpy")(_kernel.rhs_flat)
 
