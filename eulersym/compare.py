@@ -17,9 +17,11 @@ Exact strategies, cheapest first:
 
 Numeric: each difference is evaluated with mpmath at ``points`` seeded random points at ``dps`` digits; positive
 symbols get positive values. A difference above the tolerance is a counterexample, which proves inequality. Each
-difference is first evaluated in one pass at a fixed ``dps + 20`` digits (:func:`_evaluate_fast`); only what that
-pass cannot confirm as agreeing (a difference above the tolerance, NaN, a function it does not know) is evaluated
-again by SymPy's ``evalf`` at ``dps + 10`` digits, which decides.
+difference is first evaluated in one pass in interval arithmetic at ``dps + 20`` digits (:func:`_evaluate_fast`);
+only what that pass cannot confirm as agreeing (an interval not inside the tolerance — a large difference, or large
+terms cancelling —, NaN, a function it does not know) is evaluated again by SymPy's ``evalf`` at ``dps + 10``
+digits from exact rationals, which decides: a difference it certifies to its digits counts whatever the size of the
+two sides; one it cannot certify is measured relative to them.
 
 Exact zero tests run in a polynomial ring where the difference is a polynomial in symbols and sines and cosines of
 symbols (:func:`_polynomial_zero`: the ring's arithmetic does the expansion), and with SymPy's ``expand`` otherwise.
@@ -341,21 +343,38 @@ def _random_point(symbols, rng: random.Random) -> dict:
     return point
 
 
-def _evaluate(expr, point: dict, dps: int):
-    """``expr`` at ``point`` as an mpmath number with ``dps + 10`` digits (NaN when it has no numeric value).
+#: The most digits evalf may work at to certify a difference of large, cancelling terms (a difference of terms of
+#: size 10**300 needs ~340).
+_MAX_DIGITS = 1000
 
-    SymPy's evalf is adaptive: a sum whose terms cancel is re-evaluated at higher precision, so a small difference
-    of large terms keeps its digits.
+
+def _evaluate(expr, point: dict, dps: int, *, certified: bool = False):
+    """``expr`` at ``point`` as an mpmath number with ``dps + 10`` digits (NaN when it has no numeric value); with
+    ``certified``, ``(value, True)`` when evalf reached that precision (the value's digits are right, however much
+    its terms cancelled), ``(value, False)`` otherwise.
+
+    SymPy's evalf is adaptive when the point is given as ``subs`` (exact rationals): a sum whose terms cancel is
+    re-evaluated at higher precision, so a small difference of large terms keeps its digits. Where it cannot reach
+    the precision asked (an exact zero has no relative precision) the value at the point is taken as it comes.
     """
     import mpmath
+    from sympy.core.evalf import PrecisionExhausted
 
-    subs = {s: sp.Float(repr(v), dps + 10) for s, v in point.items()}
-    value = sp.sympify(expr).xreplace(subs).evalf(dps + 10)
+    expr = sp.sympify(expr)
+    certain = True
+    try:
+        value = expr.evalf(dps + 10, subs={s: sp.Rational(repr(v)) for s, v in point.items()}, strict=True,
+                           maxn=_MAX_DIGITS)
+    except PrecisionExhausted:
+        certain = False
+        value = expr.xreplace({s: sp.Float(repr(v), dps + 10) for s, v in point.items()}).evalf(dps + 10)
     if not value.is_number or value.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
-        return mpmath.mpf("nan")
-    with mpmath.workdps(dps + 10):
-        re, im = (mpmath.mpf(str(part)) for part in value.as_real_imag())
-        return mpmath.mpc(re, im)
+        result, certain = mpmath.mpf("nan"), False
+    else:
+        with mpmath.workdps(dps + 10):
+            re, im = (mpmath.mpf(str(part)) for part in value.as_real_imag())
+            result = mpmath.mpc(re, im)
+    return (result, certain) if certified else result
 
 
 class _NotFast(Exception):
@@ -370,14 +389,16 @@ _MP_FUNCTIONS = {
 
 
 def _evaluate_fast(expr, point: dict, mp):
-    """``expr`` at ``point`` in mpmath's fixed working precision (the caller's ``mp.workdps``), one pass over the
-    tree with shared subexpressions evaluated once; :class:`_NotFast` for anything it does not know (then the
-    adaptive :func:`_evaluate` decides). ``point`` maps each symbol to an mpmath number.
+    """``expr`` at ``point`` in mpmath's interval arithmetic (``mp`` is ``mpmath.iv`` at the caller's precision),
+    one pass over the tree with shared subexpressions evaluated once; :class:`_NotFast` for anything it does not
+    know (then the adaptive :func:`_evaluate` decides). ``point`` maps each symbol to an interval.
 
-    Fixed precision is not adaptive: a sum of terms of size ``S`` keeps ``S·10**-digits`` of error. The caller runs
-    it with 20 more digits than the tolerance needs and accepts only agreement from it; a difference it finds is
-    re-evaluated adaptively (:func:`_evaluate`) before it counts.
+    Fixed precision is not adaptive: a sum of terms of size ``S`` keeps ``S·10**-digits`` of error — which the
+    interval carries, so a difference of huge terms gives a wide interval, never a false zero. The caller accepts
+    only an interval inside the tolerance; anything else is re-evaluated adaptively (:func:`_evaluate`).
     """
+    import mpmath
+
     memo: dict = {}
 
     def ev(e):
@@ -393,7 +414,7 @@ def _evaluate_fast(expr, point: dict, mp):
         elif e.is_Rational:
             value = mp.mpf(int(e.p)) / int(e.q)
         elif e.is_Float:
-            value = mp.mpf(e._mpf_)
+            value = mp.mpf(str(e))
         elif e.is_Add:
             value = mp.fsum([ev(a) for a in e.args])
         elif e.is_Mul:
@@ -413,9 +434,7 @@ def _evaluate_fast(expr, point: dict, mp):
             value = +mp.pi
         elif e is sp.E:
             value = mp.e + 0
-        elif e is sp.I:
-            value = mp.mpc(0, 1)
-        elif type(e) in _MP_FUNCTIONS and len(e.args) == 1:
+        elif type(e) in _MP_FUNCTIONS and len(e.args) == 1 and hasattr(mp, _MP_FUNCTIONS[type(e)]):
             value = getattr(mp, _MP_FUNCTIONS[type(e)])(ev(e.args[0]))
         else:
             raise _NotFast(e)
@@ -424,11 +443,13 @@ def _evaluate_fast(expr, point: dict, mp):
 
     try:
         value = ev(expr)
-    except (ZeroDivisionError, ValueError, OverflowError) as exc:
+        with mpmath.workprec(mp.prec):  # the endpoints at the interval's precision
+            lo, hi = mpmath.mpf(value.a), mpmath.mpf(value.b)
+    except (ZeroDivisionError, ValueError, OverflowError, TypeError, AttributeError) as exc:  # complex, no iv form
         raise _NotFast(expr) from exc
-    if not mp.isfinite(value):
+    if not (mpmath.isfinite(lo) and mpmath.isfinite(hi)):
         raise _NotFast(expr)
-    return value
+    return lo, hi
 
 
 def _proportionality_factor(fa, fb, states) -> sp.Expr | None:
@@ -534,22 +555,31 @@ def compare(
 
     for _ in range(points):
         point = _random_point(symbols, rng)
-        with mpmath.workdps(dps + 20):  # the fast path: 10 digits more than evalf's, agreement only
-            mp_point = {s: mpmath.mpf(repr(v)) for s, v in point.items()}
+        iv, saved = mpmath.iv, mpmath.iv.dps
+        iv.dps = dps + 20  # the fast path, in intervals: agreement only when the whole interval is within tolerance
+        try:
+            mp_point = {s: iv.mpf(repr(v)) for s, v in point.items()}
             fast = []
             for d in diffs:
                 try:
-                    fast.append(None if d == 0 else abs(_evaluate_fast(d, mp_point, mpmath.mp)) <= tolerance)
+                    lo, hi = (0, 0) if d == 0 else _evaluate_fast(d, mp_point, iv)
+                    fast.append(-tolerance <= lo and hi <= tolerance)
                 except _NotFast:
                     fast.append(False)
+        finally:
+            iv.dps = saved
         for (label, fa, fb), d, agrees in zip(pairs, diffs, fast):
             if d == 0 or agrees:
                 continue
-            delta = abs(_evaluate(d, point, dps))  # the difference itself: evalf keeps cancelling digits
+            delta, certain = _evaluate(d, point, dps, certified=True)  # evalf keeps cancelling digits
+            delta = abs(delta)
             if delta <= tolerance:
                 continue
-            va, vb = _evaluate(fa, point, dps), _evaluate(fb, point, dps)
-            scale = max(1.0, abs(va), abs(vb))
+            if certain:  # a difference known to its digits is a difference, however large a and b are
+                scale = 1.0
+            else:  # a value evalf could not certify: relative to the size of a and b
+                va, vb = _evaluate(fa, point, dps), _evaluate(fb, point, dps)
+                scale = max(1.0, abs(va), abs(vb))
             if not (delta <= tolerance * scale):  # NaN counts as a difference
                 if label not in differing:
                     differing.append(label)
