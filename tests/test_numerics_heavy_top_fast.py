@@ -148,3 +148,14 @@ def test_any_start_at_an_accuracy_stays_within_it_of_the_round_off_path(theta, p
     assert np.max(np.abs(fast.gamma - exact.gamma)) <= accuracy
     assert np.max(np.abs(np.sum(fast.q**2, axis=1) - 1)) <= 1e-15
     assert np.max(np.abs(np.sum(fast.gamma**2, axis=1) - 1)) <= 2e-15  # rn² + rf² = 2 to a few ulp
+
+
+@pytest.mark.parametrize("euler0", [(0.0, 1.0, 0.0), (0.3, 0.7, -2.0), (2.5, 2.9, 3.0), (1.0, 1e-3, 0.5)])
+@pytest.mark.parametrize("accuracy", [1e-11, 1e-6])
+def test_the_start_is_exact_at_any_accuracy(euler0, accuracy):
+    """At t = 0 the angles are the start's to round-off, like ω, q and Γ, whatever accuracy the rest is asked."""
+    from eulersym.numerics.heavy_top_exact import euler_to_quaternion
+
+    m = heavy_top_exact((0.0012, 0.0012, 0.0004), 1.0, 9.81, 0.02, (0.5, -0.3, 150.0), euler_to_quaternion(euler0),
+                        np.linspace(0.0, 1.0, 201), accuracy=accuracy)
+    assert np.allclose(m.euler[0], euler0, rtol=0, atol=1e-14)

@@ -9,7 +9,6 @@ import pickle
 import subprocess
 import sys
 import textwrap
-import time
 import tracemalloc
 
 import numpy as np
@@ -209,14 +208,13 @@ def test_a_model_sweep_too_big_is_refused_before_deriving_or_allocating(tmp_path
     """)
     scene = Scene.from_toml(path)
     tracemalloc.start()
-    start = time.perf_counter()
     try:
         with pytest.raises(InvalidInput, match="memory budget") as info:
             simulate(scene)
         _, peak = tracemalloc.get_traced_memory()
     finally:
         tracemalloc.stop()
-    assert time.perf_counter() - start < 5 and peak < 50 * 2**20, peak
+    assert peak < 50 * 2**20, peak
     assert "1000000000 members" in str(info.value) and "a lower bound" in str(info.value)
     assert not cache.exists() or not any(cache.rglob("*.py"))  # nothing derived
 

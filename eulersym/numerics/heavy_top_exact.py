@@ -324,7 +324,8 @@ def _W_chebyshev(poles, c2, K, tolerance=0.0):
     a *= K / (2.0 * _ODD)
     absa = np.abs(a)
     scale = np.maximum(np.maximum(np.abs(WK[:, 0]), absa.sum(axis=1)), 1e-300)
-    bad = (absa[:, -3:].max(axis=1) > 32 * eps * scale) | (np.abs(a.sum(axis=1)) > 64 * eps * scale)
+    bad = ((absa[:, -3:].max(axis=1) > 32 * eps * scale) | (np.abs(a.sum(axis=1)) > 64 * eps * scale)
+           | ~np.isfinite(absa).all(axis=1) | ~np.isfinite(scale))  # a NaN compares False: refuse it by name
     # the last coefficient above an ulp of the scale (beyond: the fit's own round-off), and the tolerance's cut
     above = absa > (eps * scale)[:, None]
     keep = np.where(above.any(axis=1), _HALF - np.argmax(above[:, ::-1], axis=1), 1)
@@ -801,6 +802,23 @@ def _evaluate(mo, t, accuracy=None):
     return block
 
 
+def _start_angles(approx, q):
+    """The zxz angles of the unit quaternion ``q`` on the branches of ``approx`` (rows of angles within the accuracy
+    asked of them): each angle moved by its wrapped difference to q's own, where q gives one (θ ≠ 0, π: else φ and
+    ψ are split as the closed form split them, and stay)."""
+    q0, q1, q2, q3 = (float(v) for v in q)
+    theta = 2.0 * math.atan2(math.hypot(q1, q2), math.hypot(q0, q3))
+    out = np.array(approx, dtype=float)
+    out[:, 1] = theta
+    if min(math.hypot(q1, q2), math.hypot(q0, q3)) > 1e-8:
+        plus, minus = 2.0 * math.atan2(q3, q0), 2.0 * math.atan2(q2, q1)
+        for k, exact in ((0, 0.5 * (plus + minus)), (2, 0.5 * (plus - minus))):
+            step = exact - out[:, k]
+            step -= 2.0 * math.pi * np.rint(step / (2.0 * math.pi))
+            out[:, k] += np.where(np.abs(step) < 1e-3, step, 0.0)  # a half-turn apart: the flip's other branch
+    return out
+
+
 def euler_to_quaternion(euler):
     """The attitude quaternion ``qz(φ) ⊗ qx(θ) ⊗ qz(ψ)`` (scalar first) of zxz Euler angles ``(φ, θ, ψ)``.
 
@@ -1031,6 +1049,8 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None, accuracy=None):
             omega[start] = w[k]
             q[start] = q_start
             gamma[start] = _gamma_of(q_start)
+            if accuracy is not None:  # the start's angles to round-off too, like its ω, q and Γ
+                euler[start] = _start_angles(euler[start], q_start)
         for lst, val in zip(outs, (omega, gamma, q, euler, mo.nutation_period, mo.turning)):
             lst.append(val)
     arrays = [np.stack(x) if len(x) > 1 else np.asarray(x[0])[None] for x in outs]  # one member: views
