@@ -490,20 +490,3 @@ def test_only_the_members_the_closed_form_refuses_are_integrated(monkeypatch):
             else:
                 assert np.array_equal(r.omega[k], clean.omega[k]) and np.array_equal(r.gamma[k], clean.gamma[k])
     assert np.array_equal(mixed.omega, chunked.omega)
-
-
-def test_default_memory_budget_read_once_per_interval(monkeypatch):
-    """budgets() reuses the default memory budget it read for MEMORY_READ_INTERVAL seconds, then reads it again."""
-    from eulersym.scene import cost as scene_cost
-    from eulersym.scene.spec import Scene
-
-    reads = []
-    monkeypatch.setattr(scene_cost.model, "default_memory_budget", lambda: reads.append(1) or 12345 * len(reads))
-    monkeypatch.setattr(scene_cost, "_memory_read", [-float("inf"), 0])
-    clock = [100.0]
-    monkeypatch.setattr(scene_cost.time, "monotonic", lambda: clock[0])
-    scene = Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1)
-    assert scene_cost.budgets(scene)[0] == 12345 and scene_cost.budgets(scene)[0] == 12345 and len(reads) == 1
-    clock[0] += scene_cost.MEMORY_READ_INTERVAL + 0.01
-    assert scene_cost.budgets(scene)[0] == 2 * 12345 and len(reads) == 2
-    assert scene_cost.budgets(scene, memory="1 MiB")[0] == 2**20 and len(reads) == 2  # a budget given: no read

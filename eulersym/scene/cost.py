@@ -27,7 +27,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-import time
 from typing import Mapping
 
 import numpy as np
@@ -142,8 +141,9 @@ def inertia_range(values: Mapping) -> tuple:
 
 
 def rate_bound(scene_or_values, facts=None) -> float:
-    """An upper estimate of |ω| over the run (rad per unit time) — the one rate bound of a scene, for its work
-    estimate and its 2**52 rad phase limit: the initial spin |ω|, what a constant torque adds by t_end, the heavy
+    """An estimate of the largest |ω| over the run (rad per unit time; the scale of the motion, not a strict bound:
+    an asymmetric body's |ω| may grow by up to √(I_max/I_min)) — the one rate of a scene, for its work estimate and
+    its 2**52 rad phase limit: the initial spin |ω|, what a constant torque adds by t_end, the heavy
     top's pendulum rate √(M g l / I_min); for a model scene with its kernel's ``facts`` (body numbers per member,
     :class:`~eulersym.scene.model_kernel.ModelFacts`) the pendulum rate √(M g |c| / I_min) and the rotor's
     |h| / I_min (without ``facts``: the spin alone, a lower bound).
@@ -261,24 +261,10 @@ def _output_values(scene, regime: str) -> int:
     return n
 
 
-#: Seconds for which :func:`budgets` reuses the default memory budget it read (the memory available changes slowly).
-MEMORY_READ_INTERVAL = 1.0
-_memory_read = [-math.inf, 0]  # (when, bytes): the last default memory budget read
-
-
-def _default_memory() -> int:
-    now = time.monotonic()
-    if now - _memory_read[0] > MEMORY_READ_INTERVAL:
-        _memory_read[:] = [now, model.default_memory_budget()]
-    return _memory_read[1]
-
-
 def budgets(scene, memory=None, work=None) -> tuple:
     """``(memory bytes, work evaluations)``: the command line's, else the scene's, else the defaults (work:
     :data:`ONE_MEMBER_WORK_BUDGET` for one member, :data:`eulersym.sweeps.cost.DEFAULT_WORK_BUDGET` for a sweep;
-    memory: :func:`eulersym.sweeps.cost.default_memory_budget`, half the memory available, read at most once per
-    :data:`MEMORY_READ_INTERVAL` seconds in a process — a run of many small scenes does not read ``/proc/meminfo``
-    each time).
+    memory: :func:`eulersym.sweeps.cost.default_memory_budget`, from the memory available now).
 
     Examples
     --------
@@ -289,7 +275,7 @@ def budgets(scene, memory=None, work=None) -> tuple:
     (1000000000.0, 50000000000.0)
     """
     mem = memory if memory is not None else scene.memory
-    mem = _default_memory() if mem is None else model.parse_size("--memory-budget", mem)
+    mem = model.default_memory_budget() if mem is None else model.parse_size("--memory-budget", mem)
     wk = work if work is not None else scene.work
     default = ONE_MEMBER_WORK_BUDGET if scene.batch == 1 else model.DEFAULT_WORK_BUDGET
     wk = default if wk is None else model.parse_work("--work-budget", wk)
