@@ -325,9 +325,11 @@ def main(argv) -> int:
         w = r["whole"]
         line = lambda d: (f"{100 * d['beyond']:.1f} % beyond {r['accuracy']:g}, median {d['median']:.1e}, "  # noqa: E731
                           f"p99 {d['p99']:.1e}, max {d['max']:.1e}")
+        same = all(w["default"][k] <= w["DOP853"][k] for k in ("beyond", "median", "p99"))
         print(f"  every member against the sweep at accuracy {_WHOLE_SWEEP_ACCURACY:g} (itself within "
               f"{w['reference_error']:.1e} of the samples' rtol 1e-12 runs):\n    default {line(w['default'])}\n"
-              f"    DOP853  {line(w['DOP853'])}\n  ({load_text()} at the end)")
+              f"    DOP853  {line(w['DOP853'])}\n  the default at least as accurate as DOP853 over the whole sweep "
+              f"(share beyond, median, p99): {verdict(same)}\n  ({load_text()} at the end)")
     if "refusal" in only:
         r = bench_refusal()
         print(f"refusal: {r['case']}\n  exit {r['rc']} in {r['seconds']:.2f} s, {r['cpu']:.2f} CPU-s, imports included "
