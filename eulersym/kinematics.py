@@ -82,7 +82,7 @@ def omega_body(convention: str = "zxz") -> sp.Matrix:
     [-sin(psi(t))*Derivative(theta(t), t) + sin(theta(t))*cos(psi(t))*Derivative(phi(t), t)],
     [                           cos(theta(t))*Derivative(phi(t), t) + Derivative(psi(t), t)]])
     """
-    return _omega_body(_convention(convention))
+    return _omega_body(_convention(convention)).copy()  # the cached matrix stays the caller's to change
 
 
 @functools.lru_cache(maxsize=32)
@@ -104,7 +104,7 @@ def omega_space(convention: str = "zxz") -> sp.Matrix:
     >>> omega_space()[2]
     cos(theta(t))*Derivative(psi(t), t) + Derivative(phi(t), t)
     """
-    return _omega_space(_convention(convention))
+    return _omega_space(_convention(convention)).copy()  # the cached matrix stays the caller's to change
 
 
 @functools.lru_cache(maxsize=32)
@@ -144,7 +144,7 @@ def euler_rate_matrix(convention: str = "zxz") -> sp.Matrix:
     >>> sp.trigsimp(euler_rate_matrix().det())
     -sin(theta(t))
     """
-    return _euler_rate_matrix(_convention(convention))
+    return _euler_rate_matrix(_convention(convention)).copy()  # the cached matrix stays the caller's to change
 
 
 @functools.lru_cache(maxsize=32)

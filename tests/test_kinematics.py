@@ -136,3 +136,14 @@ def test_property_quaternion_rate_gives_the_angular_velocity(qv, w):
 def test_hostile_input_gives_eulersym_errors(call):
     with pytest.raises(InvalidInput):
         call()
+
+
+def test_changing_a_returned_matrix_does_not_change_the_next_one():
+    """The derivations are cached; what a caller gets is its own copy."""
+    from eulersym.kinematics import euler_rate_matrix, omega_body, omega_space
+
+    for fn in (omega_body, omega_space, euler_rate_matrix):
+        first = fn("zyx")
+        before = fn("zyx")
+        first[0] = 0
+        assert fn("zyx") == before != first
