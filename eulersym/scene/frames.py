@@ -18,7 +18,7 @@ import numpy as np
 from eulersym.numerics.invariants import rotation_matrix
 from eulersym.quaternion import from_matrix, hamilton
 
-__all__ = ["quaternion_to_rotation", "rotation_to_quaternion", "rotate_to_body", "Rotation"]
+__all__ = ["quaternion_to_rotation", "rotation_to_quaternion", "rotate_to_body", "is_identity", "Rotation"]
 
 _AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -189,3 +189,17 @@ def rotate_to_body(q, v):
     q0, u = q[0], -np.asarray(q[1:4])
     w = np.cross(u, v, axis=0) + q0 * v
     return v + 2 * np.cross(u, w, axis=0)
+
+
+_EYE = np.eye(3)
+
+
+def is_identity(P) -> bool:
+    """True when the frame change ``P`` (3 × 3) is exactly the identity: the body frame is the principal frame.
+
+    Examples
+    --------
+    >>> is_identity(np.eye(3)), is_identity(np.diag([1.0, -1.0, -1.0]))
+    (True, False)
+    """
+    return bool((np.asarray(P) == _EYE).all())

@@ -11,7 +11,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from eulersym.scene.frames import Rotation, quaternion_to_rotation, rotation_to_quaternion
+from eulersym.scene.frames import Rotation, is_identity, quaternion_to_rotation, rotation_to_quaternion
 from eulersym.scene.plan import ivp_tolerances
 
 __all__ = ["Problem", "prepare", "member_moments"]
@@ -102,7 +102,6 @@ class Problem:
         return "attitude" in self.propagate
 
 
-_EYE = np.eye(3)
 
 
 def _field(scene, members: Mapping, name: str, batch: int) -> np.ndarray:
@@ -162,7 +161,7 @@ def prepare(scene, plan, moments: np.ndarray, axes: np.ndarray, *, model=None, *
     rot0 = _initial_rotation(scene, members, batch)
     if scene.omega_frame == "space":
         omega0 = rot0.inv().apply(omega0)
-    identity = bool((P == _EYE).all())  # given principal moments: the body frame is the principal frame
+    identity = is_identity(P)  # given principal moments: the body frame is the principal frame
     rot0_pr = rot0 if identity else rot0 * Rotation.from_matrix(P)
     q0 = np.atleast_2d(rotation_to_quaternion(rot0_pr))
     a, b, c, d = q0[0].tolist() if batch == 1 else q0.T  # Γ = R(q)ᵀ ẑ, the third row of R(q)

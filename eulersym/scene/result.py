@@ -14,7 +14,7 @@ from typing import Mapping
 
 import numpy as np
 
-from eulersym.scene.frames import Rotation, quaternion_to_rotation, rotation_to_quaternion
+from eulersym.scene.frames import Rotation, is_identity, quaternion_to_rotation, rotation_to_quaternion
 from eulersym.scene.plan import Plan
 
 __all__ = ["Result", "outputs", "report", "report_notes"]
@@ -130,7 +130,7 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     outputs = problem.outputs
     t, moments, P, batch = problem.t, problem.moments, problem.axes, problem.batch
     omega_pr, q_pr, gamma = traj.omega, traj.q, traj.gamma
-    identity = bool((P == _EYE).all())
+    identity = is_identity(P)
     omega_body = omega_pr if identity else omega_pr @ P.T
     attitude = euler_angles = gamma_body = None
     model = problem.model
@@ -220,7 +220,6 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     }
 
 
-_EYE = np.eye(3)
 
 
 def _canonical(q, unit=False):

@@ -12,6 +12,7 @@ import numpy as np
 
 from eulersym.errors import InvalidInput
 from eulersym.scene import chunked, cost, derive, model_kernel
+from eulersym.scene.frames import is_identity
 from eulersym.scene.plan import make_plan
 from eulersym.scene.problem import member_moments, prepare
 from eulersym.scene.progress import Progress
@@ -20,7 +21,6 @@ from eulersym.scene.spec import Scene
 
 __all__ = ["simulate"]
 
-_EYE = np.eye(3)
 
 
 def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, work=None) -> Result:
@@ -113,7 +113,7 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         timings["derive"] += time.perf_counter() - clock
 
     clock = time.perf_counter()
-    tensor_given = scene.tensor is not None or scene.shape is not None or not bool((P == _EYE).all())
+    tensor_given = scene.tensor is not None or scene.shape is not None or not is_identity(P)
     if streamed:
         out = chunked.run(problem, plan, chunk=chunk, layout=layout, bound=bound, turning=turning,
                           tensor_given=tensor_given, client=client, progress=bar.fraction if bar.enabled else None,
