@@ -101,6 +101,8 @@ def motion(problem, plan, *, progress=None) -> tuple:
         values = [getattr(traj, f.name) for _, _, traj, _ in pieces]
         if f.name == "n_calls":
             joined[f.name] = sum(int(v) for v in values)
+        elif f.name == "q_unit":
+            joined[f.name] = all(values)
         elif all(isinstance(v, np.ndarray) for v in values):
             joined[f.name] = np.concatenate(values, axis=0)
         elif all(v is None for v in values) or f.default is None:

@@ -136,7 +136,7 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     model = problem.model
     if q_pr is not None and ("attitude" in outputs or "euler_angles" in outputs or model is not None):
         if identity and model is None:  # the principal frame is the body frame: q as propagated, canonical sign
-            attitude = _canonical(q_pr, unit=traj.turning is not None)  # the closed form's q: its own array
+            attitude = _canonical(q_pr, unit=traj.q_unit)  # the closed form's q: its own array
             if "euler_angles" in outputs:
                 euler_angles = _euler_angles(problem, traj, attitude)
         else:

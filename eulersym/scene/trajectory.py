@@ -30,6 +30,8 @@ class Trajectory:
     state : ndarray (batch, 10, n) or None
         The heavy top's state (ω, Γ, q) components first, where the engine keeps it so (the memory ``omega``,
         ``gamma`` and ``q`` view): the generated kernels' layout, without a copy.
+    q_unit : bool
+        ``q`` is unit to round-off already (a closed form's): the result sets its sign without normalising it.
 
     Examples
     --------
@@ -44,3 +46,4 @@ class Trajectory:
     euler: np.ndarray | None = None
     turning: np.ndarray | None = None
     state: np.ndarray | None = None
+    q_unit: bool = False

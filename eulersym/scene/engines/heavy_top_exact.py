@@ -35,4 +35,4 @@ def run(problem, *, progress=None) -> Trajectory:
         progress(1.0)
     state = None if motion.rows is None else motion.rows.reshape(-1, 13, len(problem.t))[:, :10]
     return Trajectory(motion.omega, motion.q, motion.gamma, 0, euler=motion.euler,
-                      turning=np.reshape(motion.turning_points, (-1, 2)), state=state)
+                      turning=np.reshape(motion.turning_points, (-1, 2)), state=state, q_unit=True)
