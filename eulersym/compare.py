@@ -414,7 +414,7 @@ def _evaluate_fast(expr, point: dict, mp):
         elif e.is_Rational:
             value = mp.mpf(int(e.p)) / int(e.q)
         elif e.is_Float:
-            value = mp.mpf(str(e))
+            value = mp.mpf(mpmath.mpf(e._mpf_))  # the Float's binary value, exactly
         elif e.is_Add:
             value = mp.fsum([ev(a) for a in e.args])
         elif e.is_Mul:
