@@ -17,7 +17,7 @@ import math
 import numpy as np
 from scipy.special import elliprf, elliprj
 
-from eulersym.numerics.exact import _sncndn_reduced
+from eulersym.numerics.exact import _sncndn
 
 __all__ = ["batch_motion"]
 
@@ -34,22 +34,7 @@ def _jacobi(u, mc):
         bvals.append(b)
         a, b = 0.5 * (a + b), np.sqrt(a * b)
     agm = 0.5 * (a + b)
-    K = math.pi / (2.0 * agm)
-    r = np.mod(np.abs(u), 4.0 * K)
-    upper = r >= 2.0 * K
-    r = np.where(upper, r - 2.0 * K, r)
-    sign = np.where(upper, -1.0, 1.0)
-    sign_sn = np.where(u < 0, -sign, sign)
-    back = r > K
-    x = np.where(back, 2.0 * K - r, r)
-    sign_cn = np.where(back, -sign, sign)
-    near = x > 0.5 * K
-    z = np.maximum(np.where(near, K - x, x), 0.0)
-    sz, cz, dz = _sncndn_reduced(z, avals, bvals, agm)
-    sn = np.where(near, cz / dz, sz)
-    cn = np.where(near, rootmc * sz / dz, cz)
-    dn = np.where(near, rootmc / dz, dz)
-    return sign_sn * sn, sign_cn * cn, dn
+    return _sncndn(u, rootmc, (avals, bvals, agm))
 
 
 def _quadratic_roots(A, B, C):

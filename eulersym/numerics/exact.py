@@ -194,7 +194,8 @@ def jacobi_sncndn(u, mc, *, rootmc=None):
 
 
 def _sncndn(u: np.ndarray, rootmc: float, landen):
-    """sn, cn, dn of a 1-d float array (checked by the caller), ``0 < √m_c ≤ 1``, Landen sequence given."""
+    """sn, cn, dn of a float array (checked by the caller), ``0 < √m_c ≤ 1``, Landen sequence given; ``rootmc`` and
+    the sequence may be arrays broadcasting against ``u`` (one modulus per member of a batch)."""
     avals, bvals, agm = landen
     K = math.pi / (2.0 * agm)
     r = np.mod(np.abs(u), 4.0 * K)  # sn is odd, cn and dn even: reduce |u| so small arguments stay exact
