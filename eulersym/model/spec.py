@@ -72,6 +72,7 @@ from typing import Any, Mapping
 
 from eulersym.errors import InvalidInput
 from eulersym.model import names as N
+from eulersym.shapes import SHAPE_ORIGINS, SHAPES
 
 __all__ = ["Model", "MODEL_SECTIONS", "SCENE_KEYS", "SHAPES", "SHAPE_ORIGINS", "DEFAULT_G"]
 
@@ -80,25 +81,6 @@ MODEL_SECTIONS = ("parameters", "body", "pivot", "torque", "rotor")
 #: Top-level keys of a scene file that are not the model's (ignored by :meth:`Model.from_dict`), besides
 #: any key that starts with ``sweep``.
 SCENE_KEYS = ("description", "initial", "time", "output")
-#: Shapes → their dimension names, in the order of the :mod:`eulersym.inertia` function's arguments.
-SHAPES = {
-    "cube": ("a",),
-    "cuboid": ("a", "b", "c"),
-    "sphere": ("R",),
-    "cylinder": ("R", "h"),
-    "cone": ("R", "h"),
-    "ellipsoid": ("a", "b", "c"),
-    "rod": ("L",),
-    "point": (),
-}
-#: Shapes → the origins they accept (first: the default). The others have their centre as origin.
-SHAPE_ORIGINS = {
-    "cube": ("center", "corner"),
-    "cuboid": ("center", "corner"),
-    "cylinder": ("center", "base"),
-    "cone": ("apex", "center"),
-    "rod": ("center", "end"),
-}
 #: Gravity when a ``[pivot]`` gives no ``g``.
 DEFAULT_G = 9.81
 #: Euler / Tait–Bryan sequences an orientation may name (as :func:`eulersym.rotation.euler_matrix`).

@@ -40,7 +40,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from eulersym import validation
+from eulersym import shapes as _shapes, validation
 from eulersym.errors import InvalidInput
 from eulersym.scene import model_kernel
 from eulersym.scene.cost import PHASE_LIMIT, inertia_range, largest, rate_bound, refuse_phase
@@ -57,17 +57,10 @@ __all__ = ["Scene", "load", "OUTPUTS", "METHODS", "SHAPES", "SHAPE_ORIGINS", "CO
 OUTPUTS = ("omega", "attitude", "euler_angles", "invariants", "polhode", "summary")
 #: ``method`` values: ``auto`` lets the plan choose.
 METHODS = ("auto", "closed-form", "splitting", "DOP853", "RK45", "Radau", "LSODA")
-#: Named shapes → their dimension names, in the order of the ``eulersym.inertia`` function's arguments.
-SHAPES = {
-    "cube": ("a",),
-    "cuboid": ("a", "b", "c"),
-    "sphere": ("R",),
-    "cylinder": ("R", "h"),
-    "cone": ("R", "h"),
-    "ellipsoid": ("a", "b", "c"),
-}
-#: Shapes that take ``origin=`` and its valid values (first = default).
-SHAPE_ORIGINS = {"cube": ("center", "corner"), "cuboid": ("center", "corner"), "cone": ("apex", "center")}
+#: Named shapes a scene's body may be → their dimension names (:data:`eulersym.shapes.SHAPES`: its solids).
+SHAPES = {name: _shapes.SHAPES[name] for name in ("cube", "cuboid", "sphere", "cylinder", "cone", "ellipsoid")}
+#: Shapes that take ``origin=`` in a scene and its valid values (first = default; :data:`eulersym.shapes.SHAPE_ORIGINS`).
+SHAPE_ORIGINS = {name: _shapes.SHAPE_ORIGINS[name] for name in ("cube", "cuboid", "cone")}
 #: Euler / Tait–Bryan sequences (lower case: the text's passive, body-fixed sequence; A = A3(c) A2(b) A1(a)).
 CONVENTIONS = ("zxz", "xyx", "yzy", "zyz", "xzx", "yxy", "xyz", "yzx", "zxy", "xzy", "zyx", "yxz")
 #: Accuracies the plan accepts (relative error wanted on the outputs).
