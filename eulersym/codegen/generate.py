@@ -38,6 +38,7 @@ from pathlib import Path
 
 import sympy as sp
 
+from eulersym._process import alive as _alive
 from eulersym.codegen.catalogue import CATALOGUE, available, build
 from eulersym.codegen.emitter import emit_module
 from eulersym.codegen.runtime import RUNTIME_NAME, RUNTIME_SOURCE
@@ -187,18 +188,6 @@ def _only_kernels(directory: Path, files: dict) -> None:
 
 def _sibling(directory: Path, kind: str, pid: int) -> Path:
     return directory.parent / f".{directory.name}.{kind}-{pid}"
-
-
-def _alive(pid: int) -> bool:
-    if pid == os.getpid():
-        return True
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except OSError:  # exists, but not ours
-        return True
-    return True
 
 
 def _recover(directory: Path) -> None:

@@ -14,6 +14,7 @@ import re
 
 import numpy as np
 
+from eulersym._process import alive as _alive
 from eulersym.errors import InvalidInput
 from eulersym.scene.result import report
 from eulersym.sweeps.summary import largest_tilt
@@ -34,18 +35,6 @@ _TMP_NAME = re.compile(r"^\..+\.eulersym-tmp-(\d+)(\.[A-Za-z0-9]+)?$")
 def _temporary(path: str) -> str:
     folder, name = os.path.split(os.path.abspath(path))
     return os.path.join(folder, f".{name}{_TMP_MARK}{os.getpid()}{os.path.splitext(path)[1]}")
-
-
-def _alive(pid: int) -> bool:
-    if pid == os.getpid():
-        return True
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except OSError:
-        return True
-    return True
 
 
 def clean_leftovers(folder: str) -> list:
