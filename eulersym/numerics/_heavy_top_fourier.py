@@ -1,0 +1,281 @@
+"""The closed-form heavy top at an accuracy asked, as Fourier series in the nutation phase.
+
+Between its secular rotations every output of :mod:`eulersym.numerics.heavy_top_exact` is a smooth periodic function
+of the phase ``τ = λ t + τ0`` (period ``2K``, reduced to ``r`` in [−K, K] with ``τ = 2K j + r``), as long as neither
+pole is a turning point (no signed half angle). Write the two angles of the attitude as
+
+    χ(t) = Σ(t) + p(r),   Σ = rate·t + per·(j + r/(2K)) = rate·t + per·τ/(2K),
+
+where ``rate`` and ``per`` (the increment per nutation period) are the motion's constants to double-double (a
+``_Pole``'s fields): Σ is linear in t, its slope is the mean rate ``rate + per·λ/(2K)``, and p is periodic. With
+half angles ``h = Σ/2`` and ``ψ̄ = h₊ − h₋``, ``φ̄ = h₊ + h₋``, these are periodic in r (no branch cut: no pole is
+passed):
+
+- the attitude's pairs ``(q_c + i q_s) e^{−i h}`` (near and far pole; which components, :func:`_pairs`);
+- ``(ω1 + i ω2) e^{iψ̄}`` and ``(Γ1 + i Γ2) e^{iψ̄}``; ``Γ3``, ``θ``; ``φ − φ̄`` and ``ψ − ψ̄``.
+
+The series, per call (no cache): at ``M`` equispaced phases ``r_k = 2K k/M`` (M = 32, then 64, 128) the Jacobi
+functions give the pole distances ``R² = base + Δ·(cn², sn²)``, the rates ``χ̇ = rate + coef·λ/((1 − n) + n cn²(x))``
+(the derivative of the motion's third-kind term ``coef·W(x)``, no elliptic integral) and ω's two components, as
+:func:`heavy_top_exact._evaluate` assembles them. The FFT of χ̇ integrated term by term (``c_k/(i k π λ/K)``) is p,
+its constant fixed by the start's angle ``χ(0)``; then one FFT of the six complex rows above. Each row keeps the
+harmonics ``|k| ≤ H`` where its tail ``Σ_{|k|>H} |c_k|`` is below half the tolerance ``0.1·accuracy`` (×max|ω| for
+ω; absolute for q, Γ and the angles in radians). At the output times: ``z = e^{iπ r/K}``, its powers by complex
+products (a power ``z^k`` within ``(2 + log₂ k)`` ulp), one matrix product ``coefficients @ z^k`` for all six rows,
+then the secular rotations ``e^{ih}`` (``cos`` and ``sin`` from NumPy's vectorised tangent), φ and ψ wrapped to
+[−π, π], |q| = 1 renormalised.
+
+Error bounds (all against ``tolerance = 0.1·accuracy``): truncation ≤ tolerance/2 per row by the kept tail; the
+aliasing of the FFT is bounded by the last harmonics below ``M/2``, which must be below tolerance/100 (the series is
+refused otherwise), and checked once more by the mean rate of the sampled χ̇ against the 36-digit one (their
+difference × the nutation period below tolerance/4); the phase ``r`` and the secular half angles in double only
+where their rounding bounds ``4ε(λ max|t| + |τ0| + 2K)`` and ``4ε(|rate|/2·max|t| + |per|/2·j_max + 2π)`` stay
+below tolerance/2 (else double-double, as the direct evaluation does), so the error does not grow with t; the
+powers and the product add ``(H + 2)·(2H + 1)·ε`` of the coefficients' sum.
+
+Declines (None: the direct evaluation runs): no accuracy asked, a steady motion, a pole that is a turning point,
+fewer than :data:`FROM` times (below it the fixed cost of the series does not pay), and any series that does not
+converge at M = 128 (a pass close to a pole, a start near the separatrix m → 1), or whose mean rate disagrees.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from eulersym.numerics.exact import _agm_landen, _phase, _sncndn
+
+#: From this many output times on (at an accuracy asked) the series is worth its fixed cost.
+FROM = 256
+
+_EPS = float(np.finfo(float).eps)
+_SIZES = (32, 64, 128)
+_MARGIN = 4  # the last orders below M/2 that must be at the aliasing floor
+
+
+def _tables(size):
+    """For ``size`` samples at ``θ_j = 2π j/size``: the grid as fractions of the period; the matrix (size, size + 1)
+    that maps samples of f to the samples of the periodic antiderivative of ``f − f̄`` that is zero at θ_0
+    (spectrally ``c_k/(i k)``) and, in its last column, to the mean f̄; and the matrix (size, size) of the real
+    Fourier coefficients ``a0, a1, b1, a2, b2, …, a_{size/2}`` of ``a0 + Σ a_k cos kθ + b_k sin kθ`` (complex
+    dtype, for complex rows: their real and imaginary parts' coefficients at once)."""
+    theta = 2.0 * math.pi * np.arange(size) / size
+    spectrum = np.fft.rfft(np.eye(size), axis=1)
+    spectrum[:, 1:-1] /= 1j * np.arange(1, size // 2)
+    spectrum[:, 0] = spectrum[:, -1] = 0.0
+    Q = np.fft.irfft(spectrum, n=size, axis=1)
+    Q -= Q[:, :1]
+    k = np.arange(1, size // 2)
+    D = np.empty((size, size))
+    D[:, 0] = 1.0 / size
+    D[:, 1:-1:2] = (2.0 / size) * np.cos(np.outer(theta, k))
+    D[:, 2:-1:2] = (2.0 / size) * np.sin(np.outer(theta, k))
+    D[:, -1] = (1.0 / size) * np.cos(size / 2 * theta)
+    return np.arange(size) / size, np.concatenate([Q, np.full((size, 1), 1.0 / size)], axis=1), D.astype(complex)
+
+
+_TABLES = {size: _tables(size) for size in _SIZES}
+
+
+def _pairs(sigma):
+    """(near pair, far pair) of quaternion components, as :mod:`heavy_top_exact` assigns them."""
+    return ((1, 2), (0, 3)) if sigma > 0 else ((0, 3), (1, 2))
+
+
+def _cos_sin(x):
+    """cos and sin of x from ``τ = tan(x/2)``: ``2/(1 + τ²) − 1`` and ``τ·2/(1 + τ²)`` (NumPy's tan is vectorised
+    where its sin and cos are not: five times faster), a few ulp."""
+    tau = np.tan(0.5 * x)
+    cos = tau * tau
+    cos += 1.0
+    np.divide(2.0, cos, out=cos)
+    tau *= cos
+    cos -= 1.0
+    return cos, tau
+
+
+def _secular(mo):
+    """The slopes and offsets of the secular half angles ``Σ/2 = rate·t/2 + per·τ/(4K)`` (near, far) and of the
+    nutation angle ``θ = π (τ − τ0)/K``: ``angle = slope·t + offset`` (three pairs of floats)."""
+    tau0 = mo.u0 + mo.u0_lo
+    pairs = [(0.5 * p.rate[0] + 0.5 * p.per[0] * mo.lam / mo.period, 0.5 * p.per[0] * tau0 / mo.period)
+             for p in (mo.near, mo.far)]
+    return pairs + [(math.pi * mo.lam / mo.K, 0.0)]
+
+
+def _angles(mo, t, tolerance, tmax, dd_linear, four_pi):
+    """The secular half angles (near, far) and θ at t (rows of (3, n)): ``slope·t + offset`` in double where the
+    rounding bounds of the phase, ``4ε(λ max|t| + |τ0| + 2K)``, and of the half angles stay below tolerance/2;
+    else from the phase reduced in double-double and the half angles' ``rate·t + per·j`` by ``dd_linear``."""
+    lines = _secular(mo)
+    out = np.empty((3,) + t.shape)
+    phase_bound = 4.0 * _EPS * (abs(mo.lam) * tmax + abs(mo.u0) + mo.period)
+    half_bound = 4.0 * _EPS * max(abs(slope) * tmax + abs(offset) for slope, offset in lines[:2])
+    if max(phase_bound, half_bound) <= 0.5 * tolerance:
+        for row, (slope, offset) in zip(out, lines):
+            np.multiply(t, slope, out=row)
+            if offset:
+                row += offset
+        return out
+    poles = (mo.near, mo.far)
+    r, j = _phase(mo, t)
+    r0, _ = _phase(mo, np.zeros(1))
+    half = [np.array([[0.5 * p.rate[i]] for p in poles]) for i in (0, 1)]
+    per = [np.array([[0.5 * p.per[i]] for p in poles]) for i in (0, 1)]
+    out[0:2] = dd_linear(half, t, per, j, (0.5 * four_pi[0], 0.5 * four_pi[1]))
+    out[0:2] += np.array([[0.5 * p.per[0] / mo.period] for p in poles]) * r
+    np.subtract(r, r0[0], out=out[2])
+    out[2] *= math.pi / mo.K
+    return out
+
+
+def _series(mo, tolerance, half0):
+    """The coefficients of the six real periodic rows (the real parts of the q near pair, the q far pair and
+    ω1 + iω2, each turned back by its secular angle, then their imaginary parts) on the basis ``1, cos θ, sin θ,
+    cos 2θ, sin 2θ, …`` up to order H, shape (6, 2H + 1); None where they do not converge at 128 samples, or their
+    mean rates disagree with the motion's. ``half0``: the secular half angles at t = 0."""
+    plus, minus = (1, 0) if mo.sigma > 0 else (0, 1)
+    near, far = mo.near, mo.far
+    frequency = math.pi * mo.lam / mo.K  # dθ/dt
+    means = [p.rate[0] + p.per[0] * mo.lam / mo.period for p in (near, far)]
+    start = np.array([[0.5 * near.chi0 - half0[0]], [0.5 * far.chi0 - half0[1]]])
+    r0 = mo.u0 - mo.period * round(mo.u0 / mo.period)  # the start's phase, modulo the half period 2K
+    landen = _agm_landen(mo.rootmc)
+    bases = np.array([[near.base], [far.base]])
+    ns, one_minus_ns = np.array([[near.n], [far.n]]), np.array([[near.one_minus_n], [far.one_minus_n]])
+    coefs, rates0 = np.array([[near.coef * mo.lam], [far.coef * mo.lam]]), np.array([[near.rate[0]], [far.rate[0]]])
+    for size in _SIZES:
+        grid, integrate, fourier = _TABLES[size]
+        half = size // 2
+        r = grid * mo.period
+        r += r0
+        sn, cn, dn = _sncndn(r, mo.rootmc, landen)
+        R2 = np.empty((2, size))
+        np.multiply(cn, cn, out=R2[0])
+        np.multiply(sn, sn, out=R2[1])
+        x2 = np.empty((2, size))  # cn² at W's argument: r (near pole), r ∓ K (far pole: half a grid on)
+        x2[0] = R2[0]
+        x2[1, :half], x2[1, half:] = R2[0, half:], R2[0, :half]
+        R2 *= mo.delta
+        R2 += bases  # the pole distances 1 ∓ w
+        R = np.sqrt(R2)
+        x2 *= ns
+        x2 += one_minus_ns
+        rates = np.divide(coefs, x2)  # χ̇ = rate + coef·λ·W′(x)
+        rates += rates0
+        integral = rates @ integrate
+        sampled = integral[:, -1].tolist()
+        if not max(abs(sampled[0] - means[0]), abs(sampled[1] - means[1])) * mo.nutation_period <= 0.25 * tolerance:
+            continue  # (a NaN is refused too)
+        h = integral[:, :-1]
+        h *= 0.5 / frequency
+        h += start  # the periodic parts of the half angles χ/2 − Σ/2
+        B_ = (mo.sigma * 2.0 * mo.delta * mo.lam) * dn * cn * sn / (R[0] * R[1])
+        A_ = (0.5 * near.B) * R[1] / R[0] + (0.5 * far.B) * R[0] / R[1]
+        rows = np.empty((3, size), dtype=complex)
+        turn = np.exp(1j * h)
+        np.multiply(math.sqrt(0.5) * R, turn, out=rows[0:2])
+        np.multiply(1j * A_ - B_, turn[minus], out=rows[2])
+        rows[2] /= turn[plus]
+        c = rows @ fourier
+        full = np.concatenate([c.real, c.imag])  # rows: q near, q far, ω1 + iω2 (real parts), their imaginary parts
+        order = np.abs(full)
+        order[0:2] *= 1.0 / tolerance
+        order[3:5] *= 1.0 / tolerance
+        wscale = 1.0 / (tolerance * math.hypot(math.sqrt(float(np.max(A_ * A_ + B_ * B_))), mo.omega3))
+        order[2::3] *= wscale
+        by_order = order[:, 1:-1].reshape(6, half - 1, 2).sum(axis=2).max(axis=0).tolist()  # |a_k| + |b_k|, k < size/2
+        by_order.append(float(order[:, -1].max()))
+        if not sum(by_order[-_MARGIN - 1:]) <= 0.01:  # the aliasing floor (a NaN is refused too)
+            continue
+        tail, H = 0.0, len(by_order)
+        while H > 1 and tail + by_order[H - 1] <= 0.5:  # drop the orders whose tail stays below half the tolerance
+            tail += by_order[H - 1]
+            H -= 1
+        return full[:, :2 * H + 1]
+    return None
+
+
+def _basis(cos1, sin1, H):
+    """The rows ``1, cos θ, sin θ, cos 2θ, sin 2θ, …`` up to order H from cos θ and sin θ (shape (2H + 1, n)):
+    the powers ``e^{ikθ}`` by complex products of the powers already found (log₂ H steps; an order k within
+    ~(2 + log₂ k) ulp)."""
+    Z = np.empty((H,) + cos1.shape, dtype=complex)
+    Z.real[0] = cos1
+    Z.imag[0] = sin1
+    have = 1
+    while have < H:
+        more = min(have, H - have)
+        np.multiply(Z[:more], Z[have - 1], out=Z[have:have + more])
+        have += more
+    B = np.empty((2 * H + 1,) + cos1.shape)
+    B[0] = 1.0
+    B[1::2] = Z.real
+    B[2::2] = Z.imag
+    return B
+
+
+def fourier_rows(mo, t, accuracy, dd_linear, four_pi):
+    """ω, Γ, q and the Euler angles of one motion at the times t as the (13, n) block of
+    :func:`heavy_top_exact._evaluate`, from Fourier series in the phase (see the module docstring), or None where
+    the series is declined. ``dd_linear`` and ``four_pi``: that module's double-double reduction and 4π."""
+    if (accuracy is None or t.size < FROM or mo.steady or mo.near.signed or mo.far.signed
+            or not 0.0 < accuracy < 1.0):
+        return None
+    tolerance = 0.1 * float(accuracy)
+    coefficients = _series(mo, tolerance, [offset for _, offset in _secular(mo)[:2]])
+    if coefficients is None:
+        return None
+    H = coefficients.shape[1] // 2
+    angles = _angles(mo, t, tolerance, float(np.max(np.abs(t))), dd_linear, four_pi)
+    cos, sin = _cos_sin(angles)
+    Y = coefficients @ _basis(cos[2], sin[2], H)  # q near, q far, ω1 + iω2 turned back: real parts; imaginary
+    block = np.empty((13,) + t.shape)
+    # the attitude's pairs turned by e^{ih}, (x + iy)(c + is), written where they belong, then |q| = 1
+    (n0, n1), (f0, f1) = (6 + k for k in _pairs(mo.sigma)[0]), (6 + k for k in _pairs(mo.sigma)[1])
+    re = block[n0:2 * f0 - n0:f0 - n0]  # the (near, far) real parts as one view: rows (7, 6) or (6, 7)
+    im = block[n1:2 * f1 - n1:f1 - n1]
+    x, y = Y[0:2], Y[3:5]
+    np.multiply(x, cos[0:2], out=re)
+    re -= y * sin[0:2]
+    np.multiply(x, sin[0:2], out=im)
+    im += y * cos[0:2]
+    size = re * re
+    size += im * im  # |q near pair|², |q far pair|²
+    norm = size[0] + size[1]
+    np.sqrt(norm, out=norm)
+    np.divide(1.0, norm, out=norm)
+    block[6:10] *= norm
+    plus, minus = (1, 0) if mo.sigma > 0 else (0, 1)
+    a, b, c, d = re[plus], im[plus], re[minus], im[minus]
+    # Γ = R(q)ᵀ ẑ: Γ2 + iΓ1 = 2 P₊ conj(P₋) = sin θ e^{iψ}, Γ3 = ±(|P_far|² − |P_near|²)
+    ac, bd, ad, bc = a * c, b * d, a * d, b * c
+    np.subtract(bc, ad, out=block[3])
+    np.add(ac, bd, out=block[4])
+    block[3:5] *= 2.0
+    np.subtract(size[1], size[0], out=block[5])
+    norm *= norm
+    block[5] *= norm
+    if mo.sigma < 0:
+        np.negative(block[5], out=block[5])
+    # the Euler angles (zxz): θ = 2 atan2(|sin θ/2|, |cos θ/2|), ψ = arg(P₊ conj P₋), φ = arg(P₊ P₋)
+    np.sqrt(size, out=size)
+    S, C = (size[0], size[1]) if mo.sigma > 0 else (size[1], size[0])
+    np.arctan2(S, C, out=block[11])
+    block[11] *= 2.0
+    np.arctan2(block[3], block[4], out=block[12])
+    ac -= bd
+    ad += bc
+    np.arctan2(ad, ac, out=block[10])
+    # ω1 + iω2 turned by e^{−iψ̄} = e^{−ih₊} e^{ih₋}
+    tc = cos[plus] * cos[minus]
+    tc += sin[plus] * sin[minus]
+    ts = cos[plus] * sin[minus]
+    ts -= sin[plus] * cos[minus]
+    np.multiply(Y[2], tc, out=block[0])
+    block[0] -= Y[5] * ts
+    np.multiply(Y[2], ts, out=block[1])
+    block[1] += Y[5] * tc
+    block[2] = mo.omega3
+    return block
