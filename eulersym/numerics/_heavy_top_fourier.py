@@ -52,6 +52,7 @@ FROM = 256
 _EPS = float(np.finfo(float).eps)
 _SIZES = (32, 64, 128)
 _MARGIN = 4  # the last orders below M/2 that must be at the aliasing floor
+_CUT = 32.0  # the series keep every order above 32 ulp of their scale (their sampling noise reaches ~10), and what half the tolerance needs
 
 
 def _tables(size):
@@ -189,10 +190,12 @@ def _series(mo, tolerance, half0):
         by_order.append(float(order[:, -1].max()))
         if not sum(by_order[-_MARGIN - 1:]) <= 0.01:  # the aliasing floor (a NaN is refused too)
             continue
-        tail, H = 0.0, len(by_order)
-        while H > 1 and tail + by_order[H - 1] <= 0.5:  # drop the orders whose tail stays below half the tolerance
-            tail += by_order[H - 1]
-            H -= 1
+        floor = _CUT * _EPS / tolerance  # a few ulp of each row's scale: the series' own round-off
+        H = max([k + 1 for k, v in enumerate(by_order) if v > floor] or [1])
+        tail = sum(by_order[H:])
+        while tail > 0.5:  # where the tolerance asks for more than round-off: the orders its tail needs
+            H += 1
+            tail -= by_order[H - 1]
         return full[:, :2 * H + 1]
     return None
 
