@@ -52,6 +52,7 @@ FROM = 256
 _EPS = float(np.finfo(float).eps)
 _SIZES = (32, 64, 128)
 _MARGIN = 4  # the last orders below M/2 that must be at the aliasing floor
+_MC_ELLIPJ = 1e-3  # from this m_c on, SciPy's ellipj(u, 1 − m_c) samples sn, cn, dn to a few ulp
 _CUT = 32.0  # the series keep every order above 32 ulp of their scale (their sampling noise reaches ~10), and what half the tolerance needs
 
 
@@ -84,10 +85,10 @@ def _pairs(sigma):
     return ((1, 2), (0, 3)) if sigma > 0 else ((0, 3), (1, 2))
 
 
-def _cos_sin(x):
-    """cos and sin of x from ``τ = tan(x/2)``: ``2/(1 + τ²) − 1`` and ``τ·2/(1 + τ²)`` (NumPy's tan is vectorised
-    where its sin and cos are not: five times faster), a few ulp."""
-    tau = np.tan(0.5 * x)
+def _cos_sin(half):
+    """cos and sin of ``2·half`` from ``τ = tan(half)``: ``2/(1 + τ²) − 1`` and ``τ·2/(1 + τ²)`` (NumPy's tan is
+    vectorised where its sin and cos are not: five times faster), a few ulp."""
+    tau = np.tan(half)
     cos = tau * tau
     cos += 1.0
     np.divide(2.0, cos, out=cos)
@@ -105,11 +106,17 @@ def _secular(mo):
     return pairs + [(math.pi * mo.lam / mo.K, 0.0)]
 
 
+def _quarter(lines):
+    """Half of each (slope, offset): the rows :func:`_cos_sin` takes."""
+    return [(0.5 * slope, 0.5 * offset) for slope, offset in lines]
+
+
 def _angles(mo, t, tolerance, tmax, dd_linear, four_pi):
-    """The secular half angles (near, far) and θ at t (rows of (3, n)): ``slope·t + offset`` in double where the
+    """Half of the secular half angles (near, far) and of θ at t (rows of (3, n), for :func:`_cos_sin`):
+    ``slope·t + offset`` in double where the
     rounding bounds of the phase, ``4ε(λ max|t| + |τ0| + 2K)``, and of the half angles stay below tolerance/2;
     else from the phase reduced in double-double and the half angles' ``rate·t + per·j`` by ``dd_linear``."""
-    lines = _secular(mo)
+    lines = _quarter(_secular(mo))
     out = np.empty((3,) + t.shape)
     phase_bound = 4.0 * _EPS * (abs(mo.lam) * tmax + abs(mo.u0) + mo.period)
     half_bound = 4.0 * _EPS * max(abs(slope) * tmax + abs(offset) for slope, offset in lines[:2])
@@ -128,30 +135,45 @@ def _angles(mo, t, tolerance, tmax, dd_linear, four_pi):
     out[0:2] += np.array([[0.5 * p.per[0] / mo.period] for p in poles]) * r
     np.subtract(r, r0[0], out=out[2])
     out[2] *= math.pi / mo.K
+    out *= 0.5
     return out
 
 
+def _grid_jacobi(r, mo, landen):
+    """sn, cn, dn at the sample phases: SciPy's ``ellipj`` (one compiled loop) where ``m_c ≥`` :data:`_MC_ELLIPJ`
+    (its parameter ``m = 1 − m_c`` then loses nothing that matters: a few ulp), else Landen's recurrence in
+    ``m_c`` (:func:`eulersym.numerics.exact._sncndn`)."""
+    if mo.mc >= _MC_ELLIPJ:
+        from scipy.special import ellipj  # on first use: importing this module stays light
+
+        return ellipj(r, 1.0 - mo.mc)[:3]
+    return _sncndn(r, mo.rootmc, landen)
+
+
 def _series(mo, tolerance, half0):
-    """The coefficients of the six real periodic rows (the real parts of the q near pair, the q far pair and
-    ω1 + iω2, each turned back by its secular angle, then their imaginary parts) on the basis ``1, cos θ, sin θ,
-    cos 2θ, sin 2θ, …`` up to order H, shape (6, 2H + 1); None where they do not converge at 128 samples, or their
-    mean rates disagree with the motion's. ``half0``: the secular half angles at t = 0."""
+    """The coefficients of the nine real periodic rows (the real parts of the q near pair, the q far pair,
+    ω1 + iω2 and Γ1 + iΓ2, each turned back by its secular angle, Γ3; then the four imaginary parts) on the basis
+    ``1, cos θ, sin θ, cos 2θ, sin 2θ, …`` up to order H, shape (9, 2H + 1); None where they do not converge at
+    128 samples, or their mean rates disagree with the motion's. ``half0``: the secular half angles at t = 0."""
     plus, minus = (1, 0) if mo.sigma > 0 else (0, 1)
     near, far = mo.near, mo.far
     frequency = math.pi * mo.lam / mo.K  # dθ/dt
     means = [p.rate[0] + p.per[0] * mo.lam / mo.period for p in (near, far)]
     start = np.array([[0.5 * near.chi0 - half0[0]], [0.5 * far.chi0 - half0[1]]])
     r0 = mo.u0 - mo.period * round(mo.u0 / mo.period)  # the start's phase, modulo the half period 2K
-    landen = _agm_landen(mo.rootmc)
-    bases = np.array([[near.base], [far.base]])
-    ns, one_minus_ns = np.array([[near.n], [far.n]]), np.array([[near.one_minus_n], [far.one_minus_n]])
-    coefs, rates0 = np.array([[near.coef * mo.lam], [far.coef * mo.lam]]), np.array([[near.rate[0]], [far.rate[0]]])
+    landen = None if mo.mc >= _MC_ELLIPJ else _agm_landen(mo.rootmc)
+    bases, ns, one_minus_ns, coefs, rates0 = np.array(
+        [[near.base, far.base], [near.n, far.n], [near.one_minus_n, far.one_minus_n],
+         [near.coef * mo.lam, far.coef * mo.lam], [near.rate[0], far.rate[0]]])[:, :, None]
+    # from R² = (1 − w, 1 + w): A·sin θ = ½(B_n R_f² + B_f R_n²) and Γ3 = σ w = σ (R_f² − R_n²)/2
+    mix = np.array([[0.5 * far.B, 0.5 * near.B], [-0.5 * mo.sigma, 0.5 * mo.sigma]])
+    along = -mo.sigma * 2.0 * mo.delta * mo.lam  # −B sin θ = −σ 2λΔ dn cn sn
     for size in _SIZES:
         grid, integrate, fourier = _TABLES[size]
         half = size // 2
         r = grid * mo.period
         r += r0
-        sn, cn, dn = _sncndn(r, mo.rootmc, landen)
+        sn, cn, dn = _grid_jacobi(r, mo, landen)
         R2 = np.empty((2, size))
         np.multiply(cn, cn, out=R2[0])
         np.multiply(sn, sn, out=R2[1])
@@ -160,7 +182,6 @@ def _series(mo, tolerance, half0):
         x2[1, :half], x2[1, half:] = R2[0, half:], R2[0, :half]
         R2 *= mo.delta
         R2 += bases  # the pole distances 1 ∓ w
-        R = np.sqrt(R2)
         x2 *= ns
         x2 += one_minus_ns
         rates = np.divide(coefs, x2)  # χ̇ = rate + coef·λ·W′(x)
@@ -172,21 +193,29 @@ def _series(mo, tolerance, half0):
         h = integral[:, :-1]
         h *= 0.5 / frequency
         h += start  # the periodic parts of the half angles χ/2 − Σ/2
-        B_ = (mo.sigma * 2.0 * mo.delta * mo.lam) * dn * cn * sn / (R[0] * R[1])
-        A_ = (0.5 * near.B) * R[1] / R[0] + (0.5 * far.B) * R[0] / R[1]
-        rows = np.empty((3, size), dtype=complex)
+        R = np.sqrt(R2)
+        sin_theta = R[0] * R[1]
+        mixed = mix @ R2
+        rows = np.empty((5, size), dtype=complex)
         turn = np.exp(1j * h)
         np.multiply(math.sqrt(0.5) * R, turn, out=rows[0:2])
-        np.multiply(1j * A_ - B_, turn[minus], out=rows[2])
-        rows[2] /= turn[plus]
+        np.divide(turn[minus], turn[plus], out=rows[4])  # e^{−i(ψ − ψ̄)}
+        np.multiply(dn, cn, out=rows[2].real)
+        rows[2].real *= sn
+        rows[2].real *= along
+        rows[2].imag = mixed[0]
+        rows[2] /= sin_theta
+        rows[2] *= rows[4]  # (iA − B) e^{−i(ψ − ψ̄)}
+        rows[3].real = 0.0
+        rows[3].imag = sin_theta
+        rows[3] *= rows[4]  # i sin θ e^{−i(ψ − ψ̄)}
+        rows[4] = mixed[1]
         c = rows @ fourier
-        full = np.concatenate([c.real, c.imag])  # rows: q near, q far, ω1 + iω2 (real parts), their imaginary parts
+        full = np.concatenate([c.real, c.imag[:4]])  # the real parts of the five rows, the imaginary of four
         order = np.abs(full)
-        order[0:2] *= 1.0 / tolerance
-        order[3:5] *= 1.0 / tolerance
-        wscale = 1.0 / (tolerance * math.hypot(math.sqrt(float(np.max(A_ * A_ + B_ * B_))), mo.omega3))
-        order[2::3] *= wscale
-        by_order = order[:, 1:-1].reshape(6, half - 1, 2).sum(axis=2).max(axis=0).tolist()  # |a_k| + |b_k|, k < size/2
+        order *= 1.0 / tolerance
+        order[2::5] *= 1.0 / math.hypot(float(np.abs(rows[2]).max()), mo.omega3)  # ω: relative to its scale
+        by_order = order[:, 1:-1].reshape(9, half - 1, 2).sum(axis=2).max(axis=0).tolist()  # |a_k| + |b_k|
         by_order.append(float(order[:, -1].max()))
         if not sum(by_order[-_MARGIN - 1:]) <= 0.01:  # the aliasing floor (a NaN is refused too)
             continue
@@ -231,15 +260,15 @@ def fourier_rows(mo, t, accuracy, dd_linear, four_pi):
     if coefficients is None:
         return None
     H = coefficients.shape[1] // 2
-    angles = _angles(mo, t, tolerance, float(np.max(np.abs(t))), dd_linear, four_pi)
+    angles = _angles(mo, t, tolerance, max(float(t.max()), -float(t.min())), dd_linear, four_pi)
     cos, sin = _cos_sin(angles)
-    Y = coefficients @ _basis(cos[2], sin[2], H)  # q near, q far, ω1 + iω2 turned back: real parts; imaginary
+    Y = coefficients @ _basis(cos[2], sin[2], H)  # turned back: q near, q far, ω1 + iω2, Γ1 + iΓ2 (re), Γ3; (im)
     block = np.empty((13,) + t.shape)
     # the attitude's pairs turned by e^{ih}, (x + iy)(c + is), written where they belong, then |q| = 1
     (n0, n1), (f0, f1) = (6 + k for k in _pairs(mo.sigma)[0]), (6 + k for k in _pairs(mo.sigma)[1])
     re = block[n0:2 * f0 - n0:f0 - n0]  # the (near, far) real parts as one view: rows (7, 6) or (6, 7)
     im = block[n1:2 * f1 - n1:f1 - n1]
-    x, y = Y[0:2], Y[3:5]
+    x, y = Y[0:2], Y[5:7]
     np.multiply(x, cos[0:2], out=re)
     re -= y * sin[0:2]
     np.multiply(x, sin[0:2], out=im)
@@ -250,35 +279,28 @@ def fourier_rows(mo, t, accuracy, dd_linear, four_pi):
     np.sqrt(norm, out=norm)
     np.divide(1.0, norm, out=norm)
     block[6:10] *= norm
-    plus, minus = (1, 0) if mo.sigma > 0 else (0, 1)
-    a, b, c, d = re[plus], im[plus], re[minus], im[minus]
-    # Γ = R(q)ᵀ ẑ: Γ2 + iΓ1 = 2 P₊ conj(P₋) = sin θ e^{iψ}, Γ3 = ±(|P_far|² − |P_near|²)
-    ac, bd, ad, bc = a * c, b * d, a * d, b * c
-    np.subtract(bc, ad, out=block[3])
-    np.add(ac, bd, out=block[4])
-    block[3:5] *= 2.0
-    np.subtract(size[1], size[0], out=block[5])
-    norm *= norm
-    block[5] *= norm
-    if mo.sigma < 0:
-        np.negative(block[5], out=block[5])
-    # the Euler angles (zxz): θ = 2 atan2(|sin θ/2|, |cos θ/2|), ψ = arg(P₊ conj P₋), φ = arg(P₊ P₋)
+    # the Euler angles (zxz): θ = 2 atan2(|sin θ/2|, |cos θ/2|), φ, ψ = h₊ ± h₋ from the pairs' half angles h
     np.sqrt(size, out=size)
     S, C = (size[0], size[1]) if mo.sigma > 0 else (size[1], size[0])
     np.arctan2(S, C, out=block[11])
     block[11] *= 2.0
-    np.arctan2(block[3], block[4], out=block[12])
-    ac -= bd
-    ad += bc
-    np.arctan2(ad, ac, out=block[10])
-    # ω1 + iω2 turned by e^{−iψ̄} = e^{−ih₊} e^{ih₋}
+    half = np.arctan2(im, re)
+    plus, minus = (1, 0) if mo.sigma > 0 else (0, 1)
+    np.add(half[plus], half[minus], out=block[10])
+    np.subtract(half[plus], half[minus], out=block[12])
+    angles = block[10:13:2]
+    angles -= (2.0 * math.pi) * np.rint(angles * (0.5 / math.pi))
+    # ω1 + iω2 and Γ1 + iΓ2 turned by e^{−iψ̄} = e^{−ih₊} e^{ih₋}
     tc = cos[plus] * cos[minus]
     tc += sin[plus] * sin[minus]
     ts = cos[plus] * sin[minus]
     ts -= sin[plus] * cos[minus]
-    np.multiply(Y[2], tc, out=block[0])
-    block[0] -= Y[5] * ts
-    np.multiply(Y[2], ts, out=block[1])
-    block[1] += Y[5] * tc
+    x, y = Y[2:4], Y[7:9]
+    first, second = block[0:4:3], block[1:5:3]  # (ω1, Γ1), (ω2, Γ2)
+    np.multiply(x, tc, out=first)
+    first -= y * ts
+    np.multiply(x, ts, out=second)
+    second += y * tc
     block[2] = mo.omega3
+    block[5] = Y[4]
     return block
