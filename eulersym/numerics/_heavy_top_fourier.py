@@ -46,12 +46,14 @@ import numpy as np
 
 from eulersym.numerics.exact import _agm_landen, _phase, _sncndn
 
-#: From this many output times on (at an accuracy asked) the series is worth its fixed cost.
-FROM = 256
+#: From this many output times on (at an accuracy asked) the series pays: ~0.13 ms a call at 2 to 48 times where the
+#: direct evaluation's fixed cost is ~0.25 ms (``python -m eulersym.numerics._heavy_top_fourier`` times both).
+FROM = 2
 
 _EPS = float(np.finfo(float).eps)
 _SIZES = (32, 64, 128)
 _MARGIN = 4  # the last orders below M/2 that must be at the aliasing floor
+_ANGLE = 60.0  # radians: a generous scale of the angles' periodic parts, to extrapolate their aliasing
 _MC_ELLIPJ = 1e-3  # from this m_c on, SciPy's ellipj(u, 1 − m_c) samples sn, cn, dn to a few ulp
 _CUT = 32.0  # the series keep every order above 32 ulp of their scale (their sampling noise reaches ~10), and what half the tolerance needs
 
@@ -188,8 +190,12 @@ def _series(mo, tolerance, half0):
         rates += rates0
         integral = rates @ integrate
         sampled = integral[:, -1].tolist()
-        if not max(abs(sampled[0] - means[0]), abs(sampled[1] - means[1])) * mo.nutation_period <= 0.25 * tolerance:
-            continue  # (a NaN is refused too)
+        drift = max(abs(sampled[0] - means[0]), abs(sampled[1] - means[1])) * mo.nutation_period  # rad a period
+        if not drift <= 0.25 * tolerance:  # (a NaN is refused too)
+            # the mean's aliasing error falls like ρ^size: from size s to 128 by (drift/A)^(128/s), A ~ 60 rad
+            if not _ANGLE * (drift / _ANGLE) ** (_SIZES[-1] / size) <= 0.25 * tolerance:
+                return None  # not even the largest grid would do: no more samples
+            continue
         h = integral[:, :-1]
         h *= 0.5 / frequency
         h += start  # the periodic parts of the half angles χ/2 − Σ/2

@@ -711,7 +711,7 @@ def _evaluate(mo, t, accuracy=None):
     ω 0:3, Γ 3:6, q 6:10, the angles 10:13); ``accuracy`` (relative to ω): the phase and the
     secular angles may be computed in double, and W's series cut, where their error bounds stay below a tenth of
     it (None: round-off everywhere)."""
-    if accuracy and t.size >= 256:  # many times at an accuracy asked: Fourier series in the phase, where they converge
+    if accuracy:  # at an accuracy asked: Fourier series in the phase, where they converge (else None: on below)
         from eulersym.numerics._heavy_top_fourier import fourier_rows
 
         block = fourier_rows(mo, t, float(accuracy), _dd_linear, _four_pi())
