@@ -1,41 +1,43 @@
 """The closed-form heavy top at an accuracy asked, as Fourier series in the nutation phase.
 
 Between its secular rotations every output of :mod:`eulersym.numerics.heavy_top_exact` is a smooth periodic function
-of the phase ``τ = λ t + τ0`` (period ``2K``, reduced to ``r`` in [−K, K] with ``τ = 2K j + r``), as long as neither
-pole is a turning point (no signed half angle). Write the two angles of the attitude as
+of the phase ``τ = λ t + τ0`` (period 2K), as long as neither pole is a turning point (no signed half angle). Each
+angle of the attitude (``χ = φ ± ψ``, one per pole) is ``χ(t) = Σ(t) + p(τ)`` with the secular part
 
-    χ(t) = Σ(t) + p(r),   Σ = rate·t + per·(j + r/(2K)) = rate·t + per·τ/(2K),
+    Σ = rate·t + per·τ/(2K)     (rate, per: a ``_Pole``'s constants, per = the increment per nutation period),
 
-where ``rate`` and ``per`` (the increment per nutation period) are the motion's constants to double-double (a
-``_Pole``'s fields): Σ is linear in t, its slope is the mean rate ``rate + per·λ/(2K)``, and p is periodic. With
-half angles ``h = Σ/2`` and ``ψ̄ = h₊ − h₋``, ``φ̄ = h₊ + h₋``, these are periodic in r (no branch cut: no pole is
-passed):
+linear in t, and p periodic. With the half angles ``h = Σ/2`` and ``ψ̄ = h₊ − h₋``, five functions of
+``θ = π (τ − τ0)/K`` (= 2π t over the nutation period) are periodic and entire in the strip of the Jacobi functions:
+the attitude's pairs ``(q_c + i q_s) e^{−ih}`` (near and far pole, :func:`_pairs`), ``(ω1 + iω2) e^{iψ̄}``,
+``(Γ1 + iΓ2) e^{iψ̄}`` and Γ3. (θ, φ − φ̄, ψ − ψ̄ are not: they have the logarithmic singularities of an angle,
+their series converge far slower; the Euler angles are taken from q instead.)
 
-- the attitude's pairs ``(q_c + i q_s) e^{−i h}`` (near and far pole; which components, :func:`_pairs`);
-- ``(ω1 + i ω2) e^{iψ̄}`` and ``(Γ1 + i Γ2) e^{iψ̄}``; ``Γ3``, ``θ``; ``φ − φ̄`` and ``ψ − ψ̄``.
+The series, per call (no cache): at M equispaced phases from the start's (M = 32, then 64, 128) sn, cn, dn
+(SciPy's ``ellipj`` where m_c ≥ 1e-3, else Landen's recurrence in m_c) give the pole distances
+``R² = base + Δ·(cn², sn²)``, the rates ``χ̇ = rate + coef·λ/((1 − n) + n cn²(x))`` (the derivative of the
+motion's third-kind term coef·W(x): no elliptic integral) and ω's components as the direct evaluation forms them.
+A fixed matrix integrates χ̇ spectrally (``c_k/(i k)``) from the start, where ``χ = χ0``; another gives the real
+Fourier coefficients of the nine real rows at once. At the output times: θ and the secular half angles in double
+(``slope·t + offset``) or from the phase reduced in double-double; ``cos``, ``sin`` by NumPy's vectorised
+tangent; ``cos kθ``, ``sin kθ`` by complex products of the powers already found; one matrix product for the nine
+rows; the secular rotations; |q| = 1 renormalised; Γ3 from its series; θ = 2 atan2(|sin θ/2|, |cos θ/2|) and
+φ, ψ = h₊ ± h₋ from the pairs of q (so the angles describe q exactly), wrapped to [−π, π].
 
-The series, per call (no cache): at ``M`` equispaced phases ``r_k = 2K k/M`` (M = 32, then 64, 128) the Jacobi
-functions give the pole distances ``R² = base + Δ·(cn², sn²)``, the rates ``χ̇ = rate + coef·λ/((1 − n) + n cn²(x))``
-(the derivative of the motion's third-kind term ``coef·W(x)``, no elliptic integral) and ω's two components, as
-:func:`heavy_top_exact._evaluate` assembles them. The FFT of χ̇ integrated term by term (``c_k/(i k π λ/K)``) is p,
-its constant fixed by the start's angle ``χ(0)``; then one FFT of the six complex rows above. Each row keeps the
-harmonics ``|k| ≤ H`` where its tail ``Σ_{|k|>H} |c_k|`` is below half the tolerance ``0.1·accuracy`` (×max|ω| for
-ω; absolute for q, Γ and the angles in radians). At the output times: ``z = e^{iπ r/K}``, its powers by complex
-products (a power ``z^k`` within ``(2 + log₂ k)`` ulp), one matrix product ``coefficients @ z^k`` for all six rows,
-then the secular rotations ``e^{ih}`` (``cos`` and ``sin`` from NumPy's vectorised tangent), φ and ψ wrapped to
-[−π, π], |q| = 1 renormalised.
+Error bounds, against ``tolerance = 0.1·accuracy`` (×max|ω| for ω; absolute for q, Γ and the angles):
 
-Error bounds (all against ``tolerance = 0.1·accuracy``): truncation ≤ tolerance/2 per row by the kept tail; the
-aliasing of the FFT is bounded by the last harmonics below ``M/2``, which must be below tolerance/100 (the series is
-refused otherwise), and checked once more by the mean rate of the sampled χ̇ against the 36-digit one (their
-difference × the nutation period below tolerance/4); the phase ``r`` and the secular half angles in double only
-where their rounding bounds ``4ε(λ max|t| + |τ0| + 2K)`` and ``4ε(|rate|/2·max|t| + |per|/2·j_max + 2π)`` stay
-below tolerance/2 (else double-double, as the direct evaluation does), so the error does not grow with t; the
-powers and the product add ``(H + 2)·(2H + 1)·ε`` of the coefficients' sum.
+- truncation: the series keep every order above 32 ulp of their scale (their sampling round-off reaches ~10 ulp)
+  and at least what makes the dropped tail Σ(|a_k| + |b_k|) ≤ tolerance/2: in practice round-off, which the
+  closed form's conservation laws (energy, |Γ|, |q|) rely on;
+- aliasing: the last 5 orders below M/2 must sum to ≤ tolerance/100, and the trapezoidal mean of the sampled χ̇
+  must match the 36-digit mean rate ``rate + per·λ/(2K)`` to tolerance/4 over a period; else M doubles, and where
+  the mean's error, extrapolated like ρ^M, could not reach that at M = 128 the series is declined at once;
+- rounding of the phase and the secular angles: in double only where ``4ε(λ max|t| + |τ0| + 2K)`` and
+  ``4ε(|slope| max|t| + |offset|)`` stay below tolerance/2, else double-double (as the direct evaluation), so the
+  error does not grow with t; the powers and the product add ~(2 + log₂ H)·(2H + 1)·ε of the coefficients' sum.
 
 Declines (None: the direct evaluation runs): no accuracy asked, a steady motion, a pole that is a turning point,
-fewer than :data:`FROM` times (below it the fixed cost of the series does not pay), and any series that does not
-converge at M = 128 (a pass close to a pole, a start near the separatrix m → 1), or whose mean rate disagrees.
+fewer than :data:`FROM` times, a series that does not converge at M = 128 (a pass close to a pole, a start near
+the separatrix m → 1) or whose mean rate disagrees.
 """
 
 from __future__ import annotations
@@ -46,8 +48,8 @@ import numpy as np
 
 from eulersym.numerics.exact import _agm_landen, _phase, _sncndn
 
-#: From this many output times on (at an accuracy asked) the series pays: ~0.13 ms a call at 2 to 48 times where the
-#: direct evaluation's fixed cost is ~0.25 ms (``python -m eulersym.numerics._heavy_top_fourier`` times both).
+#: From this many output times on (at an accuracy asked) the series is used: its fixed cost (the samples) is below
+#: the direct evaluation's already at two times.
 FROM = 2
 
 _EPS = float(np.finfo(float).eps)
@@ -55,7 +57,7 @@ _SIZES = (32, 64, 128)
 _MARGIN = 4  # the last orders below M/2 that must be at the aliasing floor
 _ANGLE = 60.0  # radians: a generous scale of the angles' periodic parts, to extrapolate their aliasing
 _MC_ELLIPJ = 1e-3  # from this m_c on, SciPy's ellipj(u, 1 − m_c) samples sn, cn, dn to a few ulp
-_CUT = 32.0  # the series keep every order above 32 ulp of their scale (their sampling noise reaches ~10), and what half the tolerance needs
+_CUT = 32.0  # every order above 32 ulp of its row's scale is kept (the sampling's round-off reaches ~10 ulp)
 
 
 def _tables(size):
@@ -115,13 +117,14 @@ def _quarter(lines):
 
 def _angles(mo, t, tolerance, tmax, dd_linear, four_pi):
     """Half of the secular half angles (near, far) and of θ at t (rows of (3, n), for :func:`_cos_sin`):
-    ``slope·t + offset`` in double where the
-    rounding bounds of the phase, ``4ε(λ max|t| + |τ0| + 2K)``, and of the half angles stay below tolerance/2;
-    else from the phase reduced in double-double and the half angles' ``rate·t + per·j`` by ``dd_linear``."""
-    lines = _quarter(_secular(mo))
+    ``slope·t + offset`` in double where the rounding bounds of the phase, ``4ε(λ max|t| + |τ0| + 2K)``, and of
+    the half angles, ``4ε(|slope| max|t| + |offset|)``, stay below tolerance/2; else from the phase reduced in
+    double-double and the half angles' ``rate·t + per·j`` by ``dd_linear``."""
+    secular = _secular(mo)
+    lines = _quarter(secular)
     out = np.empty((3,) + t.shape)
     phase_bound = 4.0 * _EPS * (abs(mo.lam) * tmax + abs(mo.u0) + mo.period)
-    half_bound = 4.0 * _EPS * max(abs(slope) * tmax + abs(offset) for slope, offset in lines[:2])
+    half_bound = 4.0 * _EPS * max(abs(slope) * tmax + abs(offset) for slope, offset in secular[:2])
     if max(phase_bound, half_bound) <= 0.5 * tolerance:
         for row, (slope, offset) in zip(out, lines):
             np.multiply(t, slope, out=row)
