@@ -62,7 +62,8 @@ def test_the_scene_top_is_evaluated_by_its_series_within_the_accuracy():
     q = block[6:10]
     assert np.max(np.abs(np.sum(q * q, axis=0) - 1.0)) <= 1e-15  # renormalised
     g = block[3:6]
-    assert np.max(np.abs(np.sum(g * g, axis=0) - 1.0)) <= 1e-13
+    assert np.max(np.abs(np.sum(g * g, axis=0) - 1.0)) <= 2e-15  # Γ = R(q)ᵀ ẑ of the unit q
+    assert np.max(np.abs(g - exact._gamma_of(q))) <= 4e-16
     # the angles describe the quaternion: q = qz(φ) ⊗ qx(θ) ⊗ qz(ψ) up to its sign
     rebuilt = euler_to_quaternion(block[10:13].T).T
     assert np.max(np.minimum(np.abs(rebuilt - q).max(axis=0), np.abs(rebuilt + q).max(axis=0))) <= 1e-13

@@ -6,22 +6,23 @@ angle of the attitude (``χ = φ ± ψ``, one per pole) is ``χ(t) = Σ(t) + p(�
 
     Σ = rate·t + per·τ/(2K)     (rate, per: a ``_Pole``'s constants, per = the increment per nutation period),
 
-linear in t, and p periodic. With the half angles ``h = Σ/2`` and ``ψ̄ = h₊ − h₋``, five functions of
-``θ = π (τ − τ0)/K`` (= 2π t over the nutation period) are periodic and entire in the strip of the Jacobi functions:
-the attitude's pairs ``(q_c + i q_s) e^{−ih}`` (near and far pole, :func:`_pairs`), ``(ω1 + iω2) e^{iψ̄}``,
-``(Γ1 + iΓ2) e^{iψ̄}`` and Γ3. (θ, φ − φ̄, ψ − ψ̄ are not: they have the logarithmic singularities of an angle,
-their series converge far slower; the Euler angles are taken from q instead.)
+linear in t, and p periodic. With the half angles ``h = Σ/2`` and ``ψ̄ = h₊ − h₋``, three complex functions of
+``θ = π (τ − τ0)/K`` (= 2π t over the nutation period) are periodic and analytic in the strip of the Jacobi
+functions: the attitude's pairs ``(q_c + i q_s) e^{−ih}`` (near and far pole, :func:`_pairs`) and
+``(ω1 + iω2) e^{iψ̄}``. (The angles θ, φ − φ̄, ψ − ψ̄ have the logarithmic singularities of an angle and converge
+far slower: they, and Γ, are taken from the unit q instead, so that they describe it exactly.)
 
 The series, per call (no cache): at M equispaced phases from the start's (M = 32, then 64, 128) sn, cn, dn
 (SciPy's ``ellipj`` where m_c ≥ 1e-3, else Landen's recurrence in m_c) give the pole distances
 ``R² = base + Δ·(cn², sn²)``, the rates ``χ̇ = rate + coef·λ/((1 − n) + n cn²(x))`` (the derivative of the
 motion's third-kind term coef·W(x): no elliptic integral) and ω's components as the direct evaluation forms them.
 A fixed matrix integrates χ̇ spectrally (``c_k/(i k)``) from the start, where ``χ = χ0``; another gives the real
-Fourier coefficients of the nine real rows at once. At the output times: θ and the secular half angles in double
-(``slope·t + offset``) or from the phase reduced in double-double; ``cos``, ``sin`` by NumPy's vectorised
-tangent; ``cos kθ``, ``sin kθ`` by complex products of the powers already found; one matrix product for the nine
-rows; the secular rotations; |q| = 1 renormalised; Γ3 from its series; θ = 2 atan2(|sin θ/2|, |cos θ/2|) and
-φ, ψ = h₊ ± h₋ from the pairs of q (so the angles describe q exactly), wrapped to [−π, π].
+Fourier coefficients of the six real rows at once. At the output times (in pieces of 2048, which stay in the
+cache): θ and the secular half angles in double (``slope·t + offset``) or from the phase reduced in double-double;
+``cos``, ``sin`` by NumPy's vectorised tangent; ``cos kθ``, ``sin kθ`` by complex products of the powers already
+found; one matrix product for the six rows; the secular rotations; |q| = 1 renormalised; then from q:
+``Γ2 + iΓ1 = 2 P₊ conj(P₋)``, ``Γ3 = ±(|P_far|² − |P_near|²)``, θ = 2 atan2(|sin θ/2|, |cos θ/2|),
+ψ = atan2(Γ1, Γ2), φ = arg(P₊ P₋), in (−π, π].
 
 Error bounds, against ``tolerance = 0.1·accuracy`` (×max|ω| for ω; absolute for q, Γ and the angles):
 
@@ -37,7 +38,8 @@ Error bounds, against ``tolerance = 0.1·accuracy`` (×max|ω| for ω; absolute 
 
 Declines (None: the direct evaluation runs): no accuracy asked, a steady motion, a pole that is a turning point,
 fewer than :data:`FROM` times, a series that does not converge at M = 128 (a pass close to a pole, a start near
-the separatrix m → 1) or whose mean rate disagrees.
+the separatrix m → 1) or whose mean rate disagrees, and many orders at many times (where the direct evaluation is
+the cheaper: ``n·(H − 8) > 12000``).
 """
 
 from __future__ import annotations
@@ -161,9 +163,9 @@ def _grid_jacobi(r, mo, landen):
 
 
 def _series(mo, tolerance, half0):
-    """The coefficients of the nine real periodic rows (the real parts of the q near pair, the q far pair,
-    ω1 + iω2 and Γ1 + iΓ2, each turned back by its secular angle, Γ3; then the four imaginary parts) on the basis
-    ``1, cos θ, sin θ, cos 2θ, sin 2θ, …`` up to order H, shape (9, 2H + 1); None where they do not converge at
+    """The coefficients of the six real periodic rows (the real parts of the q near pair, the q far pair and
+    ω1 + iω2, each turned back by its secular angle; then their imaginary parts) on the basis
+    ``1, cos θ, sin θ, cos 2θ, sin 2θ, …`` up to order H, shape (6, 2H + 1); None where they do not converge at
     128 samples, or their mean rates disagree with the motion's. ``half0``: the secular half angles at t = 0."""
     plus, minus = (1, 0) if mo.sigma > 0 else (0, 1)
     near, far = mo.near, mo.far
@@ -175,8 +177,7 @@ def _series(mo, tolerance, half0):
     bases, ns, one_minus_ns, coefs, rates0 = np.array(
         [[near.base, far.base], [near.n, far.n], [near.one_minus_n, far.one_minus_n],
          [near.coef * mo.lam, far.coef * mo.lam], [near.rate[0], far.rate[0]]])[:, :, None]
-    # from R² = (1 − w, 1 + w): A·sin θ = ½(B_n R_f² + B_f R_n²) and Γ3 = σ w = σ (R_f² − R_n²)/2
-    mix = np.array([[0.5 * far.B, 0.5 * near.B], [-0.5 * mo.sigma, 0.5 * mo.sigma]])
+    mix = np.array([0.5 * far.B, 0.5 * near.B])  # A·sin θ = ½(B_n R_f² + B_f R_n²), R² = (1 − w, 1 + w)
     along = -mo.sigma * 2.0 * mo.delta * mo.lam  # −B sin θ = −σ 2λΔ dn cn sn
     for size in _SIZES:
         grid, integrate, fourier = _TABLES[size]
@@ -208,28 +209,22 @@ def _series(mo, tolerance, half0):
         h *= 0.5 / frequency
         h += start  # the periodic parts of the half angles χ/2 − Σ/2
         R = np.sqrt(R2)
-        sin_theta = R[0] * R[1]
-        mixed = mix @ R2
-        rows = np.empty((5, size), dtype=complex)
+        rows = np.empty((3, size), dtype=complex)
         turn = np.exp(1j * h)
         np.multiply(math.sqrt(0.5) * R, turn, out=rows[0:2])
-        np.divide(turn[minus], turn[plus], out=rows[4])  # e^{−i(ψ − ψ̄)}
         np.multiply(dn, cn, out=rows[2].real)
         rows[2].real *= sn
         rows[2].real *= along
-        rows[2].imag = mixed[0]
-        rows[2] /= sin_theta
-        rows[2] *= rows[4]  # (iA − B) e^{−i(ψ − ψ̄)}
-        rows[3].real = 0.0
-        rows[3].imag = sin_theta
-        rows[3] *= rows[4]  # i sin θ e^{−i(ψ − ψ̄)}
-        rows[4] = mixed[1]
+        rows[2].imag = mix @ R2
+        rows[2] /= R[0] * R[1]
+        rows[2] *= turn[minus]
+        rows[2] /= turn[plus]  # (iA − B) e^{−i(ψ − ψ̄)}
         c = rows @ fourier
-        full = np.concatenate([c.real, c.imag[:4]])  # the real parts of the five rows, the imaginary of four
+        full = np.concatenate([c.real, c.imag])  # the real parts of the three rows, then their imaginary parts
         order = np.abs(full)
         order *= 1.0 / tolerance
-        order[2::5] *= 1.0 / math.hypot(float(np.abs(rows[2]).max()), mo.omega3)  # ω: relative to its scale
-        by_order = order[:, 1:-1].reshape(9, half - 1, 2).sum(axis=2).max(axis=0).tolist()  # |a_k| + |b_k|
+        order[2::3] *= 1.0 / math.hypot(float(np.abs(rows[2]).max()), mo.omega3)  # ω: relative to its scale
+        by_order = order[:, 1:-1].reshape(6, half - 1, 2).sum(axis=2).max(axis=0).tolist()  # |a_k| + |b_k|
         by_order.append(float(order[:, -1].max()))
         if not sum(by_order[-_MARGIN - 1:]) <= 0.01:  # the aliasing floor (a NaN is refused too)
             continue
@@ -288,12 +283,12 @@ def _rows_at(mo, t, coefficients, tolerance, dd_linear, four_pi, block):
     H = coefficients.shape[1] // 2
     angles = _angles(mo, t, tolerance, max(float(t.max()), -float(t.min())), dd_linear, four_pi)
     cos, sin = _cos_sin(angles)
-    Y = coefficients @ _basis(cos[2], sin[2], H)  # turned back: q near, q far, ω1 + iω2, Γ1 + iΓ2 (re), Γ3; (im)
+    Y = coefficients @ _basis(cos[2], sin[2], H)  # turned back: q near, q far, ω1 + iω2 (re); (im)
     # the attitude's pairs turned by e^{ih}, (x + iy)(c + is), written where they belong, then |q| = 1
     (n0, n1), (f0, f1) = (6 + k for k in _pairs(mo.sigma)[0]), (6 + k for k in _pairs(mo.sigma)[1])
     re = block[n0:2 * f0 - n0:f0 - n0]  # the (near, far) real parts as one view: rows (7, 6) or (6, 7)
     im = block[n1:2 * f1 - n1:f1 - n1]
-    x, y = Y[0:2], Y[5:7]
+    x, y = Y[0:2], Y[3:5]
     np.multiply(x, cos[0:2], out=re)
     re -= y * sin[0:2]
     np.multiply(x, sin[0:2], out=im)
@@ -304,27 +299,32 @@ def _rows_at(mo, t, coefficients, tolerance, dd_linear, four_pi, block):
     np.sqrt(norm, out=norm)
     np.divide(1.0, norm, out=norm)
     block[6:10] *= norm
-    # the Euler angles (zxz): θ = 2 atan2(|sin θ/2|, |cos θ/2|), φ, ψ = h₊ ± h₋ from the pairs' half angles h
+    # Γ = R(q)ᵀ ẑ from the unit q (|Γ| = 1 to round-off): Γ2 + iΓ1 = 2 P₊ conj(P₋), Γ3 = σ (|P_far|² − |P_near|²)
+    plus, minus = (1, 0) if mo.sigma > 0 else (0, 1)
+    a, b, c, d = re[plus], im[plus], re[minus], im[minus]
+    ac, bd, ad, bc = a * c, b * d, a * d, b * c
+    np.subtract(bc, ad, out=block[3])
+    np.add(ac, bd, out=block[4])
+    block[3:5] *= 2.0
+    np.subtract(size[1], size[0], out=block[5])
+    norm *= norm
+    block[5] *= norm if mo.sigma > 0 else -norm
+    # the Euler angles (zxz): θ = 2 atan2(|sin θ/2|, |cos θ/2|); ψ = arg(P₊ conj P₋) = atan2(Γ1, Γ2), φ = arg(P₊ P₋)
     np.sqrt(size, out=size)
     S, C = (size[0], size[1]) if mo.sigma > 0 else (size[1], size[0])
     np.arctan2(S, C, out=block[11])
     block[11] *= 2.0
-    half = np.arctan2(im, re)
-    plus, minus = (1, 0) if mo.sigma > 0 else (0, 1)
-    np.add(half[plus], half[minus], out=block[10])
-    np.subtract(half[plus], half[minus], out=block[12])
-    angles = block[10:13:2]
-    angles -= (2.0 * math.pi) * np.rint(angles * (0.5 / math.pi))
-    # ω1 + iω2 and Γ1 + iΓ2 turned by e^{−iψ̄} = e^{−ih₊} e^{ih₋}
+    np.arctan2(block[3], block[4], out=block[12])
+    ad += bc
+    ac -= bd
+    np.arctan2(ad, ac, out=block[10])
+    # ω1 + iω2 turned by e^{−iψ̄} = e^{−ih₊} e^{ih₋}
     tc = cos[plus] * cos[minus]
     tc += sin[plus] * sin[minus]
     ts = cos[plus] * sin[minus]
     ts -= sin[plus] * cos[minus]
-    x, y = Y[2:4], Y[7:9]
-    first, second = block[0:4:3], block[1:5:3]  # (ω1, Γ1), (ω2, Γ2)
-    np.multiply(x, tc, out=first)
-    first -= y * ts
-    np.multiply(x, ts, out=second)
-    second += y * tc
+    np.multiply(Y[2], tc, out=block[0])
+    block[0] -= Y[5] * ts
+    np.multiply(Y[2], ts, out=block[1])
+    block[1] += Y[5] * tc
     block[2] = mo.omega3
-    block[5] = Y[4]
