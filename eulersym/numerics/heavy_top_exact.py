@@ -40,8 +40,11 @@ exact: the motion is then a uniform rotation of the Euler angles. For 48 output 
 integrals come from an odd Chebyshev series of W on [−K, K], obtained per call by integrating the series of its
 derivative ``1/((1 − n) + n cn²)`` (32 values at the nodes, no elliptic integral) and cut at its noise floor;
 where that series does not reach round-off (a pass close to the vertical) W is evaluated directly (Carlson's
-R_F, R_J). With ``accuracy=`` (a scene passes its own) the phase and the secular angles are computed in double,
-and the series cut shorter, wherever the rounding and truncation bounds stay below a tenth of the accuracy.
+R_F, R_J). With ``accuracy=`` (a scene passes its own) every output is summed instead as a Fourier series in the
+nutation phase between the two secular rotations (:mod:`eulersym.numerics._heavy_top_fourier`, fitted per call from
+32–128 samples, cut at round-off: a few passes per harmonic instead of the per-time Landen and Chebyshev work);
+where those series decline, the direct evaluation computes the phase and the secular angles in double, and cuts its
+series shorter, wherever the rounding and truncation bounds stay below a tenth of the accuracy.
 
 Sweeps: more than :data:`BATCH_PRECISE` members are evaluated all at once with the constants in double precision
 (:mod:`eulersym.numerics._heavy_top_batch`, ``precise=False``; the error then grows like ~1e-16 per nutation period).
@@ -720,9 +723,10 @@ def _cos_sin(x):
 
 def _evaluate(mo, t, accuracy=None):
     """ω, Γ, q and Euler angles of one motion at the times t, as the rows of one (13, n) block (components first:
-    ω 0:3, Γ 3:6, q 6:10, the angles 10:13); ``accuracy`` (relative to ω): the phase and the
-    secular angles may be computed in double, and W's series cut, where their error bounds stay below a tenth of
-    it (None: round-off everywhere)."""
+    ω 0:3, Γ 3:6, q 6:10, the angles 10:13); ``accuracy`` (relative to ω): the Fourier series in the phase where
+    they converge (:mod:`eulersym.numerics._heavy_top_fourier`), else the direct evaluation with the phase and the
+    secular angles in double, and W's series cut, where their error bounds stay below a tenth of it (None:
+    round-off everywhere, directly)."""
     if accuracy:  # at an accuracy asked: Fourier series in the phase, where they converge (else None: on below)
         from eulersym.numerics._heavy_top_fourier import fourier_rows
 
@@ -1024,10 +1028,14 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None, accuracy=None):
         nutation periods; members at a double root, near a pole or the separatrix still go the precise way).
         None (default): precise up to :data:`BATCH_PRECISE` members.
     accuracy : float or None, optional
-        Relative accuracy asked (of ω, relative to its scale) for the precise path: the phase and the secular
-        angles are then computed in double, and the Chebyshev series of the third-kind integrals cut, wherever
-        their rounding and truncation bounds stay below a tenth of it (a scene passes its accuracy). None
-        (default): round-off at every t.
+        Relative accuracy asked (of ω, relative to its scale) for the precise path (a scene passes its accuracy):
+        the outputs are then summed as Fourier series in the nutation phase, fitted per call from 32–128 samples of
+        the closed form (:mod:`eulersym.numerics._heavy_top_fourier`: cut at round-off, the phase and the secular
+        angles in double where their rounding bound stays below a tenth of the accuracy, else in double-double);
+        where those series decline (a pole that is a turning point, a pass close to a pole, a start near the
+        separatrix, a steady motion), the direct evaluation computes the phase and the secular angles in double,
+        and cuts the Chebyshev series of the third-kind integrals, wherever their bounds stay below a tenth of it.
+        None (default): round-off at every t, by the direct evaluation.
 
     Returns
     -------
