@@ -329,10 +329,9 @@ def model_torqued(model) -> bool:
     return any(torque.get(k) is not None for k in ("body", "space", "potential"))
 
 
-def _one(scene, engine, state, regime, *, memory, chunk, facts, n_threads, rate=None) -> model.Estimate:
-    quantities, invariants, tilt = summary_layout(scene, regime, facts)
+def _one(scene, engine, state, regime, *, memory, chunk, facts, n_threads, rate=None, layout=None) -> model.Estimate:
     summary = wants_summary(scene)
-    n_summary = len(summary_names(quantities, invariants=invariants, tilt=tilt)) if summary else 0
+    n_summary = _n_summaries(layout or summary_layout(scene, regime, facts)) if summary else 0
     inputs = 20 + len(scene.sweeps)  # the prepared problem's per-member arrays, the swept values
     if scene.model is not None:  # the kernel's body numbers and parameters per member (ModelFacts)
         inputs += _MODEL_BODY + (len(facts.parameters) if facts is not None else len(scene.parameters or ()))
@@ -392,14 +391,23 @@ def check(scene, plan=None, *, memory=None, work=None, facts=None) -> model.Esti
              scene.model is not None else ")")
     refusals = []
     for engine, state, regime, n_threads in _candidates(scene, plan, facts):
-        e = _one(scene, engine, state, regime, memory=mem, chunk=None, facts=facts, n_threads=n_threads, rate=rate)
-        quantities, invariants, tilt = summary_layout(scene, regime, facts)
+        layout = summary_layout(scene, regime, facts)
+        e = _one(scene, engine, state, regime, memory=mem, chunk=None, facts=facts, n_threads=n_threads, rate=rate,
+                 layout=layout)
+        # the summaries' count enters only a refusal for memory (what would fit): counted there alone
+        n_summary = _n_summaries(layout) if e.peak_bytes > mem else 0
         try:
             return model.check(e, memory=mem, work=wk, argument="scene", label=_label(scene), note=note,
-                               summary_values=len(summary_names(quantities, invariants=invariants, tilt=tilt)))
+                               summary_values=n_summary)
         except InvalidInput as exc:
             refusals.append(exc)
     raise refusals[0]
+
+
+def _n_summaries(layout) -> int:
+    """How many per-member summaries a :func:`summary_layout` keeps."""
+    quantities, invariants, tilt = layout
+    return len(summary_names(quantities, invariants=invariants, tilt=tilt))
 
 
 def describe(e: model.Estimate, memory: int, work: float, *, lower_bound: bool = False) -> str:

@@ -358,9 +358,9 @@ class Scene:
         """
         if self.model is not None:
             return "model"
-        if self.l is not None and np.any(_values(self.l) != 0) and np.any(_values(self.g) != 0):
+        if self.l is not None and _nonzero(self.l) and _nonzero(self.g):
             return "heavy top"
-        if self.torque is not None and any(np.any(_values(c) != 0) for c in self.torque):
+        if self.torque is not None and any(_nonzero(c) for c in self.torque):
             return "torque"
         return "torque-free"
 
@@ -426,8 +426,13 @@ class Scene:
           skip         Euler angles — not asked for
           skip         invariants — not asked for
         """
-        if self.model is not None:
+        if self.model is not None:  # its plan reads the kernel cache on disk: made anew each time
             return make_plan(self, model=self.cached_model_facts())
+        return self._plan
+
+    @functools.cached_property
+    def _plan(self) -> Plan:
+        """The plan of a scene without a model: a pure function of the frozen scene's fields, made once."""
         return make_plan(self)
 
     def parameter_values(self) -> dict:
@@ -460,6 +465,13 @@ class Scene:
             return None
         module = model_kernel.load(path, self.model_digest)
         return model_kernel.facts(self.model, module, path, False, self.parameter_values(), self.batch)
+
+
+def _nonzero(x) -> bool:
+    """True when a (possibly swept) number is non-zero for some member."""
+    if isinstance(x, (int, float)):  # one number (the common case)
+        return x != 0
+    return bool(np.any(_values(x) != 0))
 
 
 def _needs_model(data: Mapping) -> bool:
