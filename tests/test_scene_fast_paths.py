@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 from eulersym.scene import Scene, load, simulate
 from eulersym.scene.plan import make_plan
 from eulersym.scene.result import _drift, _drifts, _tilt_range, _unwrapped
-from eulersym.sweeps.cost import _mem_available_kib, default_memory_budget
+from eulersym.sweeps.cost import _mem_available_kib, default_memory_budget, estimate
 
 finite = st.floats(min_value=-1e6, max_value=1e6, allow_nan=False, allow_infinity=False)
 
@@ -168,3 +168,11 @@ def test_one_member_is_the_same_member_of_a_sweep_bit_for_bit(changes):
     for name, values in alone.invariants.items():
         assert _same_bits(values, both.invariants[name][0]), name
     assert alone.drift.keys() == both.drift.keys()
+
+
+def test_an_estimate_keeps_its_request_sorted_by_name():
+    kwargs = dict(members=7, points=11, state=10, output_values=3, engine="dop853", rate=2.0, t_end=5.0,
+                  accuracy=1e-8, summary_values=4, summary=False, inputs=21, memory=2**30, chunk=None, threads=2)
+    e = estimate(**kwargs)
+    assert e.request == tuple(sorted(kwargs.items()))
+    assert estimate(**dict(e.request)) == e  # what check() re-estimates from (what would fit)

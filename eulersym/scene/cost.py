@@ -27,7 +27,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-from typing import Mapping
+from collections.abc import Mapping
 
 import numpy as np
 
@@ -88,6 +88,10 @@ class _SceneFields(Mapping):
             return getattr(self._scene, name)
         except AttributeError:
             raise KeyError(name) from None
+
+    def get(self, name, default=None):
+        """``Mapping.get`` in one step (no KeyError raised and caught for a field the scene lacks)."""
+        return getattr(self._scene, name, default)
 
     def __iter__(self):
         return (f.name for f in dataclasses.fields(self._scene))

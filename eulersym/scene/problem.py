@@ -109,7 +109,8 @@ def _field(scene, members: Mapping, name: str, batch: int) -> np.ndarray:
     if name in members:
         return np.asarray(members[name], dtype=float)
     value = getattr(scene, name)
-    return np.full(batch, float(value.values[0] if hasattr(value, "values") else value))
+    value = float(value.values[0] if hasattr(value, "values") else value)
+    return np.array([value]) if batch == 1 else np.full(batch, value)
 
 
 def _vector(scene, members: Mapping, name: str, batch: int) -> np.ndarray:

@@ -278,10 +278,13 @@ def estimate(*, members: int, points: int, state: int, output_values: int, engin
                     chunk_bytes=working, peak_bytes=output + working, steps=steps, evaluations=evaluations,
                     seconds=seconds, summary=bool(summary), per_member_output=per_member_output,
                     per_member_working=per_member_working,
-                    request=tuple(sorted(dict(members=members, points=points, state=state, output_values=output_values,
-                                              engine=engine, rate=rate, t_end=t_end, accuracy=accuracy,
-                                              summary_values=summary_values, summary=summary, inputs=inputs,
-                                              memory=memory, chunk=chunk, threads=threads).items())))
+                    request=tuple(zip(_REQUEST, (accuracy, chunk, engine, inputs, members, memory, output_values,
+                                                 points, rate, state, summary, summary_values, t_end, threads))))
+
+
+#: The arguments of :func:`estimate` an :class:`Estimate` keeps (``request``: sorted by name, values in that order).
+_REQUEST = ("accuracy", "chunk", "engine", "inputs", "members", "memory", "output_values", "points", "rate", "state",
+            "summary", "summary_values", "t_end", "threads")
 
 
 def check(e: Estimate, *, memory: int | None = None, work: float | None = None, summary_values: int = 0,
