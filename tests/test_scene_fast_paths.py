@@ -18,6 +18,7 @@ from hypothesis import strategies as st
 from eulersym.scene import Scene, load, simulate
 from eulersym.scene.plan import make_plan
 from eulersym.scene.result import _drift, _drifts, _tilt_range, _unwrapped
+from eulersym.scene.spec import _evenly_spaced
 from eulersym.sweeps.cost import _mem_available_kib, default_memory_budget, estimate
 
 finite = st.floats(min_value=-1e6, max_value=1e6, allow_nan=False, allow_infinity=False)
@@ -176,3 +177,16 @@ def test_an_estimate_keeps_its_request_sorted_by_name():
     e = estimate(**kwargs)
     assert e.request == tuple(sorted(kwargs.items()))
     assert estimate(**dict(e.request)) == e  # what check() re-estimates from (what would fit)
+
+
+@settings(max_examples=500, deadline=None)
+@given(st.floats(min_value=5e-324, max_value=1e300, allow_nan=False, allow_infinity=False),
+       st.integers(min_value=0, max_value=3000))
+def test_evenly_spaced_times_are_linspace_bit_for_bit(t_end, points):
+    assert _same_bits(_evenly_spaced(t_end, points), np.linspace(0.0, t_end, points))
+
+
+@pytest.mark.parametrize("t_end, points", [(1.0, 2001), (0.3, 7), (1e-310, 5), (5e-324, 3), (1e300, 1001), (2.0, 1),
+                                           (7.0, 2)])
+def test_evenly_spaced_times_at_the_edges(t_end, points):
+    assert _same_bits(_evenly_spaced(t_end, points), np.linspace(0.0, t_end, points))

@@ -116,7 +116,8 @@ def _field(scene, members: Mapping, name: str, batch: int) -> np.ndarray:
 def _vector(scene, members: Mapping, name: str, batch: int) -> np.ndarray:
     """A 3-vector field per member, shape (batch, 3)."""
     if not members:  # nothing swept: one member, the numbers as given
-        return np.array([[float(item) for item in getattr(scene, name)]]).repeat(batch, axis=0)
+        row = np.array([[float(item) for item in getattr(scene, name)]])
+        return row if batch == 1 else row.repeat(batch, axis=0)
     cols = []
     for k, item in enumerate(getattr(scene, name)):
         label = f"{name}[{k}]"

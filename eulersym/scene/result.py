@@ -118,10 +118,11 @@ def _drifts(rows: np.ndarray) -> list:
     ref = rows[:, :, 0]
     denom = np.abs(ref)
     denom[denom == 0] = 1.0
-    # max |x − x0| = max(max x − x0, x0 − min x): the same roundings (x − x0 is monotone in x), no (k, batch, n) temporary
-    dev = np.maximum(rows.max(axis=2) - ref, ref - rows.min(axis=2))
+    # max |x − x0| = max(max x − x0, x0 − min x): the same roundings (x − x0 is monotone in x), no (k, batch, n) temporary;
+    # the ufuncs' own reductions (what ndarray.max and .min call)
+    dev = np.maximum(np.maximum.reduce(rows, axis=2) - ref, ref - np.minimum.reduce(rows, axis=2))
     dev /= denom
-    return [float(v) for v in dev.max(axis=1)]
+    return np.maximum.reduce(dev, axis=1).tolist()
 
 
 def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False) -> dict:
@@ -242,8 +243,8 @@ def _tilt_range(gamma) -> tuple:
     """
     cos_theta = gamma[..., 2]
     extremes = np.empty((2, len(cos_theta)))
-    cos_theta.max(axis=1, out=extremes[0])
-    cos_theta.min(axis=1, out=extremes[1])
+    np.maximum.reduce(cos_theta, axis=1, out=extremes[0])
+    np.minimum.reduce(cos_theta, axis=1, out=extremes[1])
     np.maximum(extremes, -1.0, out=extremes)  # np.clip's values, without its wrapper
     np.minimum(extremes, 1.0, out=extremes)
     np.arccos(extremes, out=extremes)

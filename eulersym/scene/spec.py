@@ -408,8 +408,14 @@ class Scene:
 
     @property
     def times(self) -> np.ndarray:
-        """The output times, ``linspace(0, t_end, points)``."""
-        return np.linspace(0.0, self.t_end, self.points)
+        """The output times, ``linspace(0, t_end, points)``.
+
+        Examples
+        --------
+        >>> Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=2, points=5).times.tolist()
+        [0.0, 0.5, 1.0, 1.5, 2.0]
+        """
+        return _evenly_spaced(self.t_end, self.points)
 
     def plan(self) -> Plan:
         """What :func:`simulate` will derive, emit, integrate and skip, and why (pure: runs nothing).
@@ -465,6 +471,28 @@ class Scene:
             return None
         module = model_kernel.load(path, self.model_digest)
         return model_kernel.facts(self.model, module, path, False, self.parameter_values(), self.batch)
+
+
+def _evenly_spaced(t_end: float, points: int) -> np.ndarray:
+    """``np.linspace(0.0, t_end, points)``, bit for bit, without its general machinery (array conversions, dtype
+    and axis handling): ``k · (t_end / (points − 1))`` for k < points − 1, then ``t_end`` itself — NumPy's own
+    arithmetic for a positive scalar span; linspace itself where its step underflows to 0 or points < 2.
+
+    Examples
+    --------
+    >>> _evenly_spaced(1.0, 3).tolist(), _evenly_spaced(0.3, 4).tolist() == np.linspace(0.0, 0.3, 4).tolist()
+    ([0.0, 0.5, 1.0], True)
+    """
+    end = float(t_end)
+    if points < 2 or not end > 0.0:
+        return np.linspace(0.0, end, points)
+    step = end / (points - 1)
+    if step == 0.0:  # a subnormal span: linspace divides first (NumPy gh-5437)
+        return np.linspace(0.0, end, points)
+    times = np.arange(points, dtype=np.float64)
+    times *= step
+    times[-1] = end
+    return times
 
 
 def _nonzero(x) -> bool:
