@@ -16,6 +16,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from eulersym.scene import Scene, load, simulate
+from eulersym.scene.frames import Rotation, rotation_to_quaternion
 from eulersym.scene.plan import make_plan
 from eulersym.scene.result import _drift, _drifts, _tilt_range, _unwrapped
 from eulersym.scene.spec import _evenly_spaced
@@ -190,3 +191,14 @@ def test_evenly_spaced_times_are_linspace_bit_for_bit(t_end, points):
                                            (7.0, 2)])
 def test_evenly_spaced_times_at_the_edges(t_end, points):
     assert _same_bits(_evenly_spaced(t_end, points), np.linspace(0.0, t_end, points))
+
+
+@pytest.mark.parametrize("q", [(0.5, 0.5, 0.5, 0.5), (-0.5, 0.5, -0.5, 0.5), (-0.0, 0.6, 0.0, -0.8),
+                               (0.0, -0.6, 0.0, 0.8), (-1.0, 0.0, 0.0, 0.0)])
+@pytest.mark.parametrize("shape", [(4,), (1, 4)])
+def test_one_rotation_gets_the_sign_np_where_gives_it(q, shape):
+    rot = Rotation(np.reshape(q, shape), single=len(shape) == 1)
+    inside = rot._q[0] if len(shape) == 1 else rot._q
+    ours = rotation_to_quaternion(rot)
+    assert _same_bits(ours, np.where(inside[..., :1] < 0, -inside, inside))
+    assert ours is not inside and not np.shares_memory(ours, inside)

@@ -165,7 +165,8 @@ def prepare(scene, plan, moments: np.ndarray, axes: np.ndarray, *, model=None, *
         omega0 = rot0.inv().apply(omega0)
     identity = is_identity(P)  # given principal moments: the body frame is the principal frame
     rot0_pr = rot0 if identity else rot0 * Rotation.from_matrix(P)
-    q0 = np.atleast_2d(rotation_to_quaternion(rot0_pr))
+    q0 = rotation_to_quaternion(rot0_pr)
+    q0 = q0[None] if q0.ndim == 1 else q0
     a, b, c, d = q0[0].tolist() if batch == 1 else q0.T  # Γ = R(q)ᵀ ẑ, the third row of R(q)
     gamma0 = (np.array([[2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d]]) if batch == 1 else
               np.stack([2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d], axis=1))

@@ -181,7 +181,7 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
                 y[6:10] = np.moveaxis(q_pr, -1, 0)
                 y = y.reshape(10, -1)
             if batch == 1:  # the parameters as numbers (the kernel broadcasts them)
-                params = [float(v) for v in (*moments[0], M[0], g[0], l[0])]
+                params = [*moments[0].tolist(), float(M[0]), float(g[0]), float(l[0])]
             else:
                 params = [np.repeat(a, n) for a in (moments[:, 0], moments[:, 1], moments[:, 2], M, g, l)]
             names = ("energy", "gamma_norm2", "L_dot_gamma", "q_norm2")
