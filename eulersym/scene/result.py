@@ -106,11 +106,8 @@ class Result:
 
 
 def _drift(values: np.ndarray) -> float:
-    """max over members and times of |I(t) − I(0)| / |I(0)| (absolute where I(0) = 0)."""
-    v = np.atleast_2d(values)
-    ref = v[:, :1]
-    denom = np.where(np.abs(ref) > 0, np.abs(ref), 1.0)
-    return float(np.max(np.abs(v - ref) / denom))
+    """max over members and times of |I(t) − I(0)| / |I(0)| (absolute where I(0) = 0), by :func:`_drifts`."""
+    return _drifts(np.atleast_2d(values)[None])[0]
 
 
 def _drifts(rows: np.ndarray) -> list:
