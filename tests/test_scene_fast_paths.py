@@ -1,9 +1,10 @@
 """The scene pipeline's short cuts around the engines give the very bits of the plain computation they replace.
 
 Each fast path of eulersym.scene (and eulersym.sweeps.cost) is checked against the plain NumPy formula it stands
-for, written out here as it was before (the independent truth: equal bits, not just close), on seeded random and
-edge-case input; and a one-member scene's Result equals, bit for bit, that member inside a sweep (the general,
-batched path of every stage).
+for, written out here as it was before (equal bits, not just close), on seeded random and edge-case input; a
+one-member scene's Result equals, bit for bit, that member inside a sweep (the general, batched path of every
+stage); and on 15 scenes (tests/scene_golden.py: the bundled scenes without a model, sweeps, summaries) the
+pipeline around the engine gives the problem and the Result recorded before the overhead was cut, bit for bit.
 """
 
 from __future__ import annotations
@@ -15,7 +16,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from eulersym.scene import Scene, load, simulate
+import scene_golden
+from eulersym.scene import Scene, engines, load, simulate
 from eulersym.scene.frames import Rotation, rotation_to_quaternion
 from eulersym.scene.plan import make_plan
 from eulersym.scene.result import _drift, _drifts, _tilt_range, _unwrapped
@@ -213,3 +215,45 @@ def test_one_rotation_gets_the_sign_np_where_gives_it(q, shape):
     ours = rotation_to_quaternion(rot)
     assert _same_bits(ours, np.where(inside[..., :1] < 0, -inside, inside))
     assert ours is not inside and not np.shares_memory(ours, inside)
+
+
+# ---- around the engine, the bits as they were (tests/scene_golden.py) ------------------------------------------------
+
+GOLDEN = scene_golden.load()
+
+
+@pytest.mark.parametrize("name", sorted(GOLDEN))
+def test_the_pipeline_around_the_engine_gives_the_recorded_bits(name, monkeypatch):
+    """The recorded trajectory in place of the engine: the Result ``simulate`` builds around it is the one the
+    pipeline built before its overhead was cut, field by field, bit for bit."""
+    golden = GOLDEN[name]
+    arrays = golden["arrays"]
+    recorded = {key.split("/", 1)[1]: value for key, value in arrays.items() if key.startswith("trajectory/")}
+    recorded.update(golden["trajectory"])
+    calls = []
+
+    class Replay:
+        @staticmethod
+        def run(problem, *, progress=None):
+            calls.append(problem.batch)
+            for key in scene_golden.PROBLEM:  # the problem as it was prepared
+                given, expected = getattr(problem, key), arrays.get(f"problem/{key}")
+                assert (given is None) == (expected is None), key
+                assert given is None or _same_bits(given, expected), key
+            return scene_golden.trajectory(recorded)
+
+    monkeypatch.setattr(engines, "get", lambda engine: Replay)
+    result = simulate(scene_golden.scenes()[name])
+    assert len(calls) == 1 and calls[0] == len(arrays["trajectory/" + ("block" if "block" in recorded else "omega")])
+    fields = scene_golden.result_fields(result)
+    for key in scene_golden.ARRAYS:
+        expected = arrays.get(f"result/{key}")
+        assert (fields[key] is None) == (expected is None), key
+        if expected is not None:
+            assert _same_bits(fields[key], expected), key
+    for group in ("invariants", "summary"):
+        expected = {key.split("/", 2)[2]: value for key, value in arrays.items() if key.startswith(f"result/{group}/")}
+        assert list(fields[group]) == list(expected), group
+        for key, value in fields[group].items():
+            assert _same_bits(value, expected[key]), (group, key)
+    assert fields["plain"] == golden["result"]
