@@ -9,8 +9,8 @@ atol 1e-14) over the generated Euler–Poisson kernel ``heavy_top_euler_poisson.
 scene evaluates the closed form at its accuracy (``heavy_top_exact(..., accuracy=1e-11)``: double where the
 rounding bounds allow, a cut series); the errors of both runs are measured against another path, the precise closed
 form with Carlson's integrals at every time (round-off; validated against a 40-digit mpmath reference in
-tests/test_numerics_heavy_top_exact.py), relative to max |ω|. Times are the minimum of ``--repeat`` runs after a
-warm-up (the first ``simulate`` pays the imports and the one-time SymPy lambdify of the turning points).
+tests/test_numerics_heavy_top_exact.py), relative to max |ω|. Times are the minimum of ``--repeat`` runs (default 20;
+DOP853, ~0.1 s a run, min(repeat, 5)) after a warm-up (the first ``simulate`` pays the imports).
 Floor: ≥ 100×. Also printed (informational): the motion alone, :func:`~eulersym.numerics.heavy_top_exact` at the
 same times and accuracy, against the same DOP853 run. ``--quick`` shortens the scene to T = 0.2 (the floor is then
 informational).
@@ -55,7 +55,7 @@ def _reference(heavy_top_exact, I, M, g, l, w0, q0, t):
                           turning_points=parts[0].turning_points)
 
 
-def bench_nutation(repeat: int = 5, t_end: float | None = None) -> dict:
+def bench_nutation(repeat: int = 20, t_end: float | None = None) -> dict:
     """The figures of the comparison (see the module docstring)."""
     from scipy.integrate import solve_ivp
 
@@ -86,7 +86,7 @@ def bench_nutation(repeat: int = 5, t_end: float | None = None) -> dict:
                          args=(*I, M, g, l))
 
     t_ours, ours = _best(lambda: simulate(scene), repeat)
-    t_base, base = _best(baseline, max(1, min(repeat, 3)))
+    t_base, base = _best(baseline, max(1, min(repeat, 5)))
     t_motion, _ = _best(lambda: heavy_top_exact(I, M, g, l, w0, q0, t, accuracy=scene.accuracy), repeat)
     exact = _reference(heavy_top_exact, I, M, g, l, w0, q0, t)
     scale = float(np.max(np.abs(exact.omega)))
@@ -111,7 +111,8 @@ def bench_nutation(repeat: int = 5, t_end: float | None = None) -> dict:
 def main(argv) -> int:
     """Print the figures; exit 1 when the floor is missed (not with ``--quick``)."""
     p = argparse.ArgumentParser(prog="eulersym bench heavytop", description=__doc__.splitlines()[0])
-    p.add_argument("--repeat", type=int, default=5, help="timed repeats (minimum taken)")
+    p.add_argument("--repeat", type=int, default=20, help="timed repeats of eulersym (minimum taken); DOP853 (~0.1 s a run) "
+                   "is repeated min(REPEAT, 5) times")
     p.add_argument("--quick", action="store_true", help="T = 0.2 for a smoke test (floor informational)")
     p.add_argument("--csv", metavar="PATH", help="write the figures as CSV")
     args = p.parse_args(list(argv))

@@ -40,7 +40,7 @@ import decimal
 import functools
 from decimal import Decimal
 
-__all__ = ["DIGITS", "pi", "agm", "rf_", "rc_", "rj_", "third_kind_complete"]
+__all__ = ["DIGITS", "pi", "agm", "rf_", "rc_", "rj_", "third_kind_complete", "complete_integrals"]
 
 #: Working precision (decimal digits) of the per-motion constants.
 DIGITS = 36
@@ -143,16 +143,43 @@ def third_kind_complete(n: Decimal, one_minus_n: Decimal, mc: Decimal) -> Decima
     ~4e-24 at ``m_c = 1e-40``).
     Call inside a :func:`decimal.localcontext` of at least :data:`DIGITS` digits.
     """
+    return complete_integrals(mc, ((n, one_minus_n),))[1][0]
+
+
+def complete_integrals(mc: Decimal, characteristics) -> tuple:
+    """``(K(m), [Π(n | m) for (n, 1 − n) in characteristics])`` from one AGM sequence of ``(1, √m_c)``: K = π/(2M)
+    and each Π by :func:`third_kind_complete`'s recurrence, which shares the AGM's ``a_k, g_k`` (one sequence
+    instead of one per integral). ``n = 0`` gives Π = K.
+    Call inside a :func:`decimal.localcontext` of at least :data:`DIGITS` digits.
+
+    Examples
+    --------
+    >>> import decimal
+    >>> with decimal.localcontext() as ctx:
+    ...     ctx.prec = DIGITS
+    ...     mc, n = decimal.Decimal("0.5"), decimal.Decimal("0.3")
+    ...     K, (P0, P) = complete_integrals(mc, ((decimal.Decimal(0), decimal.Decimal(1)), (n, 1 - n)))
+    ...     checks = (abs(K - rf_(decimal.Decimal(0), mc, decimal.Decimal(1))), abs(P0 - K),
+    ...               abs(P - third_kind_complete(n, 1 - n, mc)))
+    >>> max(checks) < decimal.Decimal("1e-33")
+    True
+    """
     eps = Decimal(10) ** (-decimal.getcontext().prec + 1)
     a, g = Decimal(1), mc.sqrt()
-    p = one_minus_n.sqrt()
-    q, total = Decimal(1), Decimal(0)
+    ps = [one_minus_n.sqrt() for _, one_minus_n in characteristics]
+    qs = [Decimal(1)] * len(ps)
+    totals = [Decimal(0)] * len(ps)
     for _ in range(400):
-        pp, ag = p * p, a * g
-        total += q
-        q = q * (pp - ag) / (2 * (pp + ag))
-        p = (pp + ag) / (2 * p)
-        if abs(q) <= eps * abs(total) and abs(a - g) <= eps * a:
+        ag = a * g
+        done = abs(a - g) <= eps * a
+        for k, p in enumerate(ps):
+            pp = p * p
+            totals[k] += qs[k]
+            qs[k] = qs[k] * (pp - ag) / (2 * (pp + ag))
+            ps[k] = (pp + ag) / (2 * p)
+            done = done and abs(qs[k]) <= eps * abs(totals[k])
+        if done:
             break
-        a, g = (a + g) / 2, (a * g).sqrt()
-    return pi() / (2 * (a + g)) * (2 + n / one_minus_n * total)
+        a, g = (a + g) / 2, ag.sqrt()
+    half = pi() / (2 * (a + g))
+    return 2 * half, [half * (2 + n / one_minus_n * total) for (n, one_minus_n), total in zip(characteristics, totals)]

@@ -201,6 +201,7 @@ class _Motion:
 
 _FOUR_PI = None
 _THROUGH = Decimal("1e-26")
+_AGM_FROM = Decimal("1e-20")  # 1 − n from which Π(n | m) is taken by the AGM (below: R_J)
 _MC_DOUBLE = Decimal("1e-6")  # above it, the start's phase τ0 in double  # 1 ∓ w below this at a turning point: the motion passes through the pole
 
 
@@ -271,14 +272,22 @@ def _roots(A, B, C, D, one_m_w0, one_p_w0, Bn, Bf):
     return roots
 
 
-def _W_decimal_half(n, one_minus_n, mc):
-    """W(K) = Π(n | m) = ∫₀ᴷ dx/(1 − n sn² x): by the AGM (:func:`_decimal_elliptic.third_kind_complete`), or for
-    ``1 − n`` below 1e-20 (a pass within ~1e-10 of a pole, where the AGM's sum cancels) by Carlson's ``R_J``."""
-    if n == 0:
-        return _de.rf_(Decimal(0), mc, Decimal(1))
-    if one_minus_n >= Decimal("1e-20"):
-        return _de.third_kind_complete(n, one_minus_n, mc)
-    return _de.rf_(Decimal(0), mc, Decimal(1)) + n / 3 * _de.rj_(Decimal(0), mc, Decimal(1), one_minus_n)
+def _complete(mc, *poles):
+    """K and, for each pole ``(n, 1 − n, B)``, W(K) = Π(n | m) = ∫₀ᴷ dx/(1 − n sn² x) (0 where B = 0: no elliptic
+    term): K and the integrals by one AGM sequence (:func:`_decimal_elliptic.complete_integrals`), or for ``1 − n``
+    below 1e-20 (a pass within ~1e-10 of a pole, where the AGM's sum cancels) by Carlson's ``R_J``."""
+    by_agm = [(n, one_minus_n) for n, one_minus_n, B in poles if B != 0 and one_minus_n >= _AGM_FROM]
+    K, values = _de.complete_integrals(mc, by_agm)
+    values = iter(values)
+    out = [K]
+    for n, one_minus_n, B in poles:
+        if B == 0:
+            out.append(Decimal(0))
+        elif one_minus_n >= _AGM_FROM:
+            out.append(next(values))
+        else:
+            out.append(K + n / 3 * _de.rj_(Decimal(0), mc, Decimal(1), one_minus_n))
+    return out
 
 
 def _W_decimal(s_sq, c_sq, d_sq, n, one_minus_n):
@@ -416,7 +425,6 @@ def _setup(I1, I3, M, g, l, omega, q):
                 "approaches the vertical asymptotically, with no periodic closed form in double precision)")
         lam = (A * span).sqrt() / 2
         rootmc = mc.sqrt()
-        K = _de.pi() / (2 * _de.agm(Decimal(1), rootmc))
         # τ0: sn² τ0 = −x1/Δ, sign of sn = sign of ẇ0 (on [−K, K], cn ≥ 0 and dn > 0)
         s_sq, c_sq, d_sq = -x1 / delta, x2 / delta, x3 / span
         if s_sq <= 0:
@@ -431,8 +439,6 @@ def _setup(I1, I3, M, g, l, omega, q):
         near_n = delta / (y2 + delta)
         near_1mn = y2 / (y2 + delta)
         near_coef = Bn / (lam * (y2 + delta))
-        near_WK = _W_decimal_half(near_n, near_1mn, mc) if Bn != 0 else Decimal(0)
-        near_per = near_coef * 2 * near_WK
         # the far pole, after τ = τ' + K: 1 + w = (z1 + Δ)(1 − n' sn² τ')/dn² τ'
         far_n = (z1 * m + delta) / (z1 + delta)
         far_1mn = z1 * mc / (z1 + delta)
@@ -440,7 +446,8 @@ def _setup(I1, I3, M, g, l, omega, q):
         one_m_m_over_n = delta * mc / (z1 * m + delta)
         far_rate = nu_far + Bf * m_over_n / (z1 + delta)
         far_coef = Bf * one_m_m_over_n / (lam * (z1 + delta))
-        far_WK = _W_decimal_half(far_n, far_1mn, mc) if Bf != 0 else Decimal(0)
+        K, near_WK, far_WK = _complete(mc, (near_n, near_1mn, Bn), (far_n, far_1mn, Bf))
+        near_per = near_coef * 2 * near_WK
         far_per = far_coef * 2 * far_WK
         lam_dd, tau0_dd, per_dd = _dd(lam), _dd(tau0), _dd(2 * K)
         nutation = 2 * K / lam
@@ -492,18 +499,20 @@ def _pairs(sigma):
     return ((1, 2), (0, 3)) if sigma > 0 else ((0, 3), (1, 2))
 
 
-def _W_scalar(x, n, one_minus_n, mc, rootmc, landen):
-    """:func:`_W_direct` for one float x (|x| ≤ K), in ``math`` and SciPy's scalar Carlson integrals."""
+def _W_points(points, mc, rootmc, landen):
+    """:func:`_W_direct` at a few floats: ``[W(x) for (x, n, 1 − n) in points]`` (|x| ≤ K), sn and cn in ``math``,
+    SciPy's Carlson integrals in one call for all of them."""
     from scipy.special import elliprf, elliprj
 
-    s, c, _ = _sncndn_scalar(abs(x), rootmc, landen)
-    s = abs(s)
-    c2 = c * c
-    d2 = c2 + mc * s * s
-    val = s * float(elliprf(c2, d2, 1.0))
-    if n != 0.0:
-        val += (n / 3.0) * s * s * s * float(elliprj(c2, d2, 1.0, one_minus_n + n * c2))
-    return math.copysign(val, x) if x != 0.0 else 0.0
+    s, c2, d2, p, ns = (np.empty(len(points)) for _ in range(5))
+    for k, (x, n, one_minus_n) in enumerate(points):
+        sk, ck, _ = _sncndn_scalar(abs(x), rootmc, landen)
+        s[k], c2[k], ns[k] = abs(sk), ck * ck, n
+        d2[k] = c2[k] + mc * s[k] * s[k]
+        p[k] = one_minus_n + n * c2[k]
+    val = s * elliprf(c2, d2, 1.0)
+    val += (ns / 3.0) * s * s * s * elliprj(c2, d2, 1.0, p)  # n = 0: R_J finite, the term 0
+    return [math.copysign(float(v), x) if x != 0.0 else 0.0 for v, (x, _, _) in zip(val, points)]
 
 
 def _phase0(motion):
@@ -556,18 +565,21 @@ def _finish(motion, near, far, omega, q, start=None):
         j0f = j0n - 1.0 if x0 < -K else j0n
         x0 = x0 + motion["period"] if x0 < -K else x0
         (exact_n, jn_exact), (exact_f, jf_exact) = start["near"], start["far"]
-        for key, pole, x, jj, exact, j_exact in (("n", near, r0, j0n, exact_n, jn_exact),
-                                                 ("f", far, x0, j0f, exact_f, jf_exact)):
+        values = []
+        in_double = []  # off the poles: W at the reduced argument, in double
+        for pole, x, jj, exact, j_exact in ((near, r0, j0n, exact_n, jn_exact), (far, x0, j0f, exact_f, jf_exact)):
             if not pole["B"]:
-                value = 0.0
-            elif exact is None:  # off the poles: W at the reduced argument, in double
-                value = _W_scalar(x, pole["n"], pole["one_minus_n"], motion["mc"], motion["rootmc"], landen)
+                values.append(0.0)
+            elif exact is None:
+                in_double.append((len(values), (x, pole["n"], pole["one_minus_n"])))
+                values.append(None)
             else:  # the decimal value, moved to the branch (half period) the evaluation uses: W(x + 2K) = W(x) + W(2K)
-                value = exact + (j_exact - jj) * 2.0 * pole["WK"]
-            if key == "n":
-                W0n = value
-            else:
-                W0f = value
+                values.append(exact + (j_exact - jj) * 2.0 * pole["WK"])
+        if in_double:
+            found = _W_points([point for _, point in in_double], motion["mc"], motion["rootmc"], landen)
+            for (k, _), value in zip(in_double, found):
+                values[k] = value
+        W0n, W0f = values
     return _Motion(near=_Pole(**near, W0=W0n, j0=j0n, chi0=chi_near0),
                    far=_Pole(**far, W0=W0f, j0=j0f, chi0=chi_far0), **motion)
 
@@ -805,17 +817,24 @@ def _evaluate(mo, t, accuracy=None):
 def _start_angles(approx, q):
     """The zxz angles of the unit quaternion ``q`` on the branches of ``approx`` (rows of angles within the accuracy
     asked of them): each angle moved by its wrapped difference to q's own, where q gives one (θ ≠ 0, π: else φ and
-    ψ are split as the closed form split them, and stay)."""
+    ψ are split as the closed form split them, and stay). Rows of floats in, a list of rows out (a start is one
+    time or a few: scalar arithmetic)."""
     q0, q1, q2, q3 = (float(v) for v in q)
     theta = 2.0 * math.atan2(math.hypot(q1, q2), math.hypot(q0, q3))
-    out = np.array(approx, dtype=float)
-    out[:, 1] = theta
+    exact = None
     if min(math.hypot(q1, q2), math.hypot(q0, q3)) > 1e-8:
         plus, minus = 2.0 * math.atan2(q3, q0), 2.0 * math.atan2(q2, q1)
-        for k, exact in ((0, 0.5 * (plus + minus)), (2, 0.5 * (plus - minus))):
-            step = exact - out[:, k]
-            step -= 2.0 * math.pi * np.rint(step / (2.0 * math.pi))
-            out[:, k] += np.where(np.abs(step) < 1e-3, step, 0.0)  # a half-turn apart: the flip's other branch
+        exact = (0.5 * (plus + minus), 0.5 * (plus - minus))
+    out = []
+    for phi, _, psi in approx:
+        row = [float(phi), theta, float(psi)]
+        if exact is not None:
+            for k, value in zip((0, 2), exact):
+                step = value - row[k]
+                step -= 2.0 * math.pi * round(step / (2.0 * math.pi))
+                if abs(step) < 1e-3:  # a half-turn apart: the flip's other branch
+                    row[k] += step
+        out.append(row)
     return out
 
 
@@ -1043,14 +1062,12 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None, accuracy=None):
         mo = _setup(Iarr[k, 0], Iarr[k, 2], Mv[k], gv[k], lv[k], w[k], snapped)
         block = _evaluate(mo, tt, accuracy)
         omega, gamma, q, euler = block[0:3].T, block[3:6].T, block[6:10].T, block[10:13].T
-        start = tt == 0.0  # the start itself (also where a pass through a pole at t = 0 is below the phase resolution)
-        if start.any():
+        cols = np.flatnonzero(tt == 0.0)  # the start (also where a pass through a pole at t = 0 is below the phase resolution)
+        if cols.size:
             q_start = snapped / math.sqrt(float(np.sum(qq[k] * qq[k])))
-            omega[start] = w[k]
-            q[start] = q_start
-            gamma[start] = _gamma_of(q_start)
+            block[:10, cols] = np.concatenate([w[k], _gamma_of(q_start), q_start])[:, None]
             if accuracy is not None:  # the start's angles to round-off too, like its ω, q and Γ
-                euler[start] = _start_angles(euler[start], q_start)
+                block[10:13, cols] = np.array(_start_angles(block[10:13, cols].T, q_start)).T
         for lst, val in zip(outs, (omega, gamma, q, euler, mo.nutation_period, mo.turning)):
             lst.append(val)
     arrays = [np.stack(x) if len(x) > 1 else np.asarray(x[0])[None] for x in outs]  # one member: views
