@@ -333,9 +333,9 @@ def model_torqued(model) -> bool:
     return any(torque.get(k) is not None for k in ("body", "space", "potential"))
 
 
-def _one(scene, engine, state, regime, *, memory, chunk, facts, n_threads, rate=None, layout=None) -> model.Estimate:
+def _one(scene, engine, state, regime, *, memory, chunk, facts, n_threads, rate=None) -> model.Estimate:
     summary = wants_summary(scene)
-    n_summary = _n_summaries(layout or summary_layout(scene, regime, facts)) if summary else 0
+    n_summary = _n_summaries(summary_layout(scene, regime, facts)) if summary else 0
     inputs = 20 + len(scene.sweeps)  # the prepared problem's per-member arrays, the swept values
     if scene.model is not None:  # the kernel's body numbers and parameters per member (ModelFacts)
         inputs += _MODEL_BODY + (len(facts.parameters) if facts is not None else len(scene.parameters or ()))
@@ -395,11 +395,9 @@ def check(scene, plan=None, *, memory=None, work=None, facts=None) -> model.Esti
              scene.model is not None else ")")
     refusals = []
     for engine, state, regime, n_threads in _candidates(scene, plan, facts):
-        layout = summary_layout(scene, regime, facts)
-        e = _one(scene, engine, state, regime, memory=mem, chunk=None, facts=facts, n_threads=n_threads, rate=rate,
-                 layout=layout)
+        e = _one(scene, engine, state, regime, memory=mem, chunk=None, facts=facts, n_threads=n_threads, rate=rate)
         # the summaries' count enters only a refusal for memory (what would fit): counted there alone
-        n_summary = _n_summaries(layout) if e.peak_bytes > mem else 0
+        n_summary = _n_summaries(summary_layout(scene, regime, facts)) if e.peak_bytes > mem else 0
         try:
             return model.check(e, memory=mem, work=wk, argument="scene", label=_label(scene), note=note,
                                summary_values=n_summary)
