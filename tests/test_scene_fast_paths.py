@@ -10,6 +10,7 @@ pipeline around the engine gives the problem and the Result recorded before the 
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
@@ -257,3 +258,10 @@ def test_the_pipeline_around_the_engine_gives_the_recorded_bits(name, monkeypatc
         for key, value in fields[group].items():
             assert _same_bits(value, expected[key]), (group, key)
     assert fields["plain"] == golden["result"]
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.floats(min_value=-1e300, max_value=1e300, allow_nan=False, allow_infinity=False))
+def test_math_degrees_is_numpys_degrees(x):
+    """The report's turning points in degrees by math.degrees: the same multiplication by 180/π as np.degrees."""
+    assert math.degrees(x) == float(np.degrees(x))

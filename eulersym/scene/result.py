@@ -8,6 +8,7 @@ and ``R_body = R_principal Pᵀ``.
 from __future__ import annotations
 
 import importlib
+import math
 import warnings
 from dataclasses import dataclass, field
 from typing import Mapping
@@ -303,7 +304,7 @@ def report_notes(plan, moments, P, *, theta_min=None, theta_max=None, w3=None, b
     notes = []
     batch = len(moments)
     if plan.regime == "heavy top":
-        axis = [float(v) for v in np.asarray(P, dtype=float)[:, 2]]
+        axis = np.asarray(P, dtype=float)[:, 2].tolist()
         off = max(abs(axis[0]), abs(axis[1]), abs(axis[2] - 1.0)) > 1e-12  # the heavy-top frame's e3 is not the body's
         line = f"({axis[0]:.3g}, {axis[1]:.3g}, {axis[2]:.3g})"
         which = (f"θ of the pivot → centre-of-mass line {line} of the body (model) frame from the vertical, the "
@@ -313,7 +314,7 @@ def report_notes(plan, moments, P, *, theta_min=None, theta_max=None, w3=None, b
                          + (f"({which}; cos θ = Γ·{line})" if off else "(from Γ3 = cos θ)"))
         if turning is not None:
             notes.append("turning points derived from the effective potential: "
-                         f"θ1 = {np.degrees(turning[0]):.4g}°, θ2 = {np.degrees(turning[1]):.4g}°"
+                         f"θ1 = {math.degrees(turning[0]):.4g}°, θ2 = {math.degrees(turning[1]):.4g}°"
                          + (f" ({which})" if off else ""))
         else:
             notes.append(f"largest tilt per member: {theta_max.min():.4g}° … {theta_max.max():.4g}°"
