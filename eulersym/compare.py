@@ -221,9 +221,22 @@ def _trig_polynomial_zero(expr) -> bool | None:
         num = sp.expand(sp.fraction(sp.together(num))[0])
     if num == 0:
         return True
+    found = _trig_ring(num, pairs, (sp.QQ, sp.EX))
+    if found is None:
+        return None
+    poly, basis = found
+    return poly.rem(basis) == 0
+
+
+def _trig_ring(num, pairs, domains):
+    """``(poly, basis)``: ``num`` as a polynomial (lex order) in the generators of ``pairs`` — ``(s_x, c_x)``, a sine
+    and a cosine each, first — and its other symbols, over the first of ``domains`` that holds its coefficients,
+    with ``basis = [s_x² + c_x² − 1, …]`` (a Gröbner basis: the leading terms ``s_x²`` are coprime, so
+    ``poly.rem(basis)`` is zero exactly when ``num`` vanishes modulo the Pythagorean identities); None when
+    ``num`` is not such a polynomial."""
     gens = [g for pair in pairs for g in pair]
     others = sorted(num.free_symbols - set(gens), key=sp.default_sort_key)
-    for domain in (sp.QQ, sp.EX):
+    for domain in domains:
         try:
             ring, *xs = sp.ring(gens + others, domain, order="lex")
             poly = ring.from_expr(num)
@@ -232,8 +245,7 @@ def _trig_polynomial_zero(expr) -> bool | None:
             continue
     else:
         return None
-    basis = [xs[2 * i] ** 2 + xs[2 * i + 1] ** 2 - 1 for i in range(len(pairs))]
-    return poly.rem(basis) == 0
+    return poly, [xs[2 * i] ** 2 + xs[2 * i + 1] ** 2 - 1 for i in range(len(pairs))]
 
 
 def _polynomial_zero(expr) -> str | None:
@@ -250,16 +262,13 @@ def _polynomial_zero(expr) -> str | None:
     if any(not isinstance(a, (sp.sin, sp.cos)) or not a.args[0].is_Symbol for a in trig):
         return None
     args = sorted({a.args[0] for a in trig}, key=sp.default_sort_key)
-    gens = [f(arg) for arg in args for f in (sp.sin, sp.cos)]  # sin x, cos x are the ring's generators themselves
-    others = sorted(expr.free_symbols, key=sp.default_sort_key)
-    try:
-        ring, *xs = sp.ring(gens + others, sp.QQ, order="lex")
-        poly = ring.from_expr(expr)
-    except (ValueError, TypeError, sp.polys.polyerrors.PolynomialError, sp.polys.polyerrors.CoercionFailed):
+    # sin x, cos x are the ring's generators themselves
+    found = _trig_ring(expr, [(sp.sin(arg), sp.cos(arg)) for arg in args], (sp.QQ,))
+    if found is None:
         return None
+    poly, basis = found
     if not poly:
         return "expand"
-    basis = [xs[2 * i] ** 2 + xs[2 * i + 1] ** 2 - 1 for i in range(len(args))]
     return "trig-polynomial reduction" if basis and not poly.rem(basis) else None
 
 

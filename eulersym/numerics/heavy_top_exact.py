@@ -814,6 +814,21 @@ def _evaluate(mo, t, accuracy=None):
     return block
 
 
+def _write_start(block, cols, omega0, snapped, q0, angles):
+    """Write the start's own state into the columns ``cols`` of an evaluation block (t = 0: the closed form's value
+    there is within round-off or the accuracy of it): ω0, q0 (snapped, of unit length), Γ of it and, with
+    ``angles``, its Euler angles on the branches the block's angles took (:func:`_start_angles`)."""
+    a, b, c, d = q0.tolist()
+    norm = math.sqrt(a * a + b * b + c * c + d * d)
+    q = [v / norm for v in snapped.tolist()]
+    a, b, c, d = q
+    values = [*omega0.tolist(), 2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d, *q]
+    for col in cols:
+        block[:10, col] = values
+        if angles:
+            block[10:13, col] = _start_angles([block[10:13, col].tolist()], q)[0]
+
+
 def _start_angles(approx, q):
     """The zxz angles of the unit quaternion ``q`` on the branches of ``approx`` (rows of angles within the accuracy
     asked of them): each angle moved by its wrapped difference to q's own, where q gives one (θ ≠ 0, π: else φ and
@@ -939,13 +954,13 @@ def _gamma_of(q):
 def _snap_to_poles(q):
     """A tilt θ (or π − θ) below 2e-17 rad is taken as exactly upright (down): a change of q0 below half an ulp of
     its unit components, and a pass through the pole that the double phase could not resolve."""
-    q = np.array(q, dtype=np.float64)
-    n2 = float(np.sum(q * q))
-    if q[1] * q[1] + q[2] * q[2] < 1e-34 * n2:
-        q[1] = q[2] = 0.0
-    elif q[0] * q[0] + q[3] * q[3] < 1e-34 * n2:
-        q[0] = q[3] = 0.0
-    return q
+    a, b, c, d = (float(v) for v in np.asarray(q, dtype=np.float64).tolist())
+    n2 = a * a + b * b + c * c + d * d
+    if b * b + c * c < 1e-34 * n2:
+        b = c = 0.0
+    elif a * a + d * d < 1e-34 * n2:
+        a = d = 0.0
+    return np.array([a, b, c, d])
 
 
 #: Up to this many members, :func:`heavy_top_exact` computes every member's constants to 36 digits (~0.2 ms each).
@@ -1064,10 +1079,7 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None, accuracy=None):
         omega, gamma, q, euler = block[0:3].T, block[3:6].T, block[6:10].T, block[10:13].T
         cols = np.flatnonzero(tt == 0.0)  # the start (also where a pass through a pole at t = 0 is below the phase resolution)
         if cols.size:
-            q_start = snapped / math.sqrt(float(np.sum(qq[k] * qq[k])))
-            block[:10, cols] = np.concatenate([w[k], _gamma_of(q_start), q_start])[:, None]
-            if accuracy is not None:  # the start's angles to round-off too, like its ω, q and Γ
-                block[10:13, cols] = np.array(_start_angles(block[10:13, cols].T, q_start)).T
+            _write_start(block, cols.tolist(), w[k], snapped, qq[k], accuracy is not None)
         for lst, val in zip(outs, (omega, gamma, q, euler, mo.nutation_period, mo.turning)):
             lst.append(val)
     arrays = [np.stack(x) if len(x) > 1 else np.asarray(x[0])[None] for x in outs]  # one member: views
