@@ -374,16 +374,16 @@ class Scene:
         (('omega[2]', Sweep(values=(1.0, 2.0, 3.0))),)
         """
         found = []
-        for f in dataclasses.fields(self):
-            value = getattr(self, f.name)
+        for name in _FIELD_NAMES:
+            value = getattr(self, name)
             if isinstance(value, Sweep):
-                found.append((f.name, value))
+                found.append((name, value))
             elif isinstance(value, tuple):
                 for k, item in enumerate(value):
                     if isinstance(item, Sweep):
-                        found.append((f"{f.name}[{k}]", item))
+                        found.append((f"{name}[{k}]", item))
                     elif isinstance(item, tuple) and len(item) == 2 and isinstance(item[1], Sweep):
-                        found.append((f"{f.name}.{item[0]}", item[1]))
+                        found.append((f"{name}.{item[0]}", item[1]))
         return tuple(found)
 
     @property
@@ -471,6 +471,10 @@ class Scene:
             return None
         module = model_kernel.load(path, self.model_digest)
         return model_kernel.facts(self.model, module, path, False, self.parameter_values(), self.batch)
+
+
+#: The Scene's fields, in order (what :attr:`Scene.sweeps` reads).
+_FIELD_NAMES = tuple(f.name for f in dataclasses.fields(Scene))
 
 
 def _evenly_spaced(t_end: float, points: int) -> np.ndarray:
