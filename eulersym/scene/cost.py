@@ -27,7 +27,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-from typing import Mapping
+from collections.abc import Mapping
 
 import numpy as np
 
@@ -88,6 +88,10 @@ class _SceneFields(Mapping):
             return getattr(self._scene, name)
         except AttributeError:
             raise KeyError(name) from None
+
+    def get(self, name, default=None):
+        """``Mapping.get`` in one step (no KeyError raised and caught for a field the scene lacks)."""
+        return getattr(self._scene, name, default)
 
     def __iter__(self):
         return (f.name for f in dataclasses.fields(self._scene))
@@ -330,9 +334,8 @@ def model_torqued(model) -> bool:
 
 
 def _one(scene, engine, state, regime, *, memory, chunk, facts, n_threads, rate=None) -> model.Estimate:
-    quantities, invariants, tilt = summary_layout(scene, regime, facts)
     summary = wants_summary(scene)
-    n_summary = len(summary_names(quantities, invariants=invariants, tilt=tilt)) if summary else 0
+    n_summary = _n_summaries(summary_layout(scene, regime, facts)) if summary else 0
     inputs = 20 + len(scene.sweeps)  # the prepared problem's per-member arrays, the swept values
     if scene.model is not None:  # the kernel's body numbers and parameters per member (ModelFacts)
         inputs += _MODEL_BODY + (len(facts.parameters) if facts is not None else len(scene.parameters or ()))
@@ -393,13 +396,20 @@ def check(scene, plan=None, *, memory=None, work=None, facts=None) -> model.Esti
     refusals = []
     for engine, state, regime, n_threads in _candidates(scene, plan, facts):
         e = _one(scene, engine, state, regime, memory=mem, chunk=None, facts=facts, n_threads=n_threads, rate=rate)
-        quantities, invariants, tilt = summary_layout(scene, regime, facts)
+        # the summaries' count enters only a refusal for memory (what would fit): counted there alone
+        n_summary = _n_summaries(summary_layout(scene, regime, facts)) if e.peak_bytes > mem else 0
         try:
             return model.check(e, memory=mem, work=wk, argument="scene", label=_label(scene), note=note,
-                               summary_values=len(summary_names(quantities, invariants=invariants, tilt=tilt)))
+                               summary_values=n_summary)
         except InvalidInput as exc:
             refusals.append(exc)
     raise refusals[0]
+
+
+def _n_summaries(layout) -> int:
+    """How many per-member summaries a :func:`summary_layout` keeps."""
+    quantities, invariants, tilt = layout
+    return len(summary_names(quantities, invariants=invariants, tilt=tilt))
 
 
 def describe(e: model.Estimate, memory: int, work: float, *, lower_bound: bool = False) -> str:

@@ -173,6 +173,8 @@ def rotation_to_quaternion(rot: Rotation) -> np.ndarray:
         q = rot._q[0] if rot._single else rot._q
     else:  # SciPy's Rotation: scalar last
         q = rot.as_quat()[..., [3, 0, 1, 2]]
+    if q.shape[:-1] in ((), (1,)):  # one rotation: its scalar part says which sign (as np.where would)
+        return -q if q[..., 0] < 0 else q.copy()
     return np.where(q[..., :1] < 0, -q, q)
 
 

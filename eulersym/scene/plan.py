@@ -144,7 +144,7 @@ def classify_moments(moments) -> str:
     """
     m = np.atleast_2d(np.asarray(moments, dtype=float))
     if len(m) == 1:  # one body: the same comparisons on floats
-        a, b, c = (float(x) for x in m[0])
+        a, b, c = m[0].tolist()
         scale = max(a, b, c) * SYMMETRY_RTOL
         e12, e23, e13 = abs(a - b) <= scale, abs(b - c) <= scale, abs(a - c) <= scale
         return "spherical" if e12 and e23 else ("symmetric" if e12 or e23 or e13 else "asymmetric")
@@ -485,7 +485,7 @@ ENGINE_OF_CALL = {
 def _axis3_symmetric(known: np.ndarray) -> bool:
     m = np.atleast_2d(known)
     if len(m) == 1:  # one body: the same comparison on floats
-        a, b, c = (float(x) for x in m[0])
+        a, b, c = m[0].tolist()
         return abs(a - b) <= SYMMETRY_RTOL * max(a, b, c)
     return bool(np.all(np.abs(m[:, 0] - m[:, 1]) <= SYMMETRY_RTOL * np.max(m, axis=1)))
 

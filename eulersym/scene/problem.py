@@ -109,13 +109,15 @@ def _field(scene, members: Mapping, name: str, batch: int) -> np.ndarray:
     if name in members:
         return np.asarray(members[name], dtype=float)
     value = getattr(scene, name)
-    return np.full(batch, float(value.values[0] if hasattr(value, "values") else value))
+    value = float(value.values[0] if hasattr(value, "values") else value)
+    return np.array([value]) if batch == 1 else np.full(batch, value)
 
 
 def _vector(scene, members: Mapping, name: str, batch: int) -> np.ndarray:
     """A 3-vector field per member, shape (batch, 3)."""
     if not members:  # nothing swept: one member, the numbers as given
-        return np.array([[float(item) for item in getattr(scene, name)]]).repeat(batch, axis=0)
+        row = np.array([[float(item) for item in getattr(scene, name)]])
+        return row if batch == 1 else row.repeat(batch, axis=0)
     cols = []
     for k, item in enumerate(getattr(scene, name)):
         label = f"{name}[{k}]"
@@ -163,7 +165,8 @@ def prepare(scene, plan, moments: np.ndarray, axes: np.ndarray, *, model=None, *
         omega0 = rot0.inv().apply(omega0)
     identity = is_identity(P)  # given principal moments: the body frame is the principal frame
     rot0_pr = rot0 if identity else rot0 * Rotation.from_matrix(P)
-    q0 = np.atleast_2d(rotation_to_quaternion(rot0_pr))
+    q0 = rotation_to_quaternion(rot0_pr)
+    q0 = q0[None] if q0.ndim == 1 else q0
     a, b, c, d = q0[0].tolist() if batch == 1 else q0.T  # Γ = R(q)ᵀ ẑ, the third row of R(q)
     gamma0 = (np.array([[2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d]]) if batch == 1 else
               np.stack([2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d], axis=1))

@@ -8,6 +8,7 @@ and ``R_body = R_principal Pᵀ``.
 from __future__ import annotations
 
 import importlib
+import math
 import warnings
 from dataclasses import dataclass, field
 from typing import Mapping
@@ -106,11 +107,8 @@ class Result:
 
 
 def _drift(values: np.ndarray) -> float:
-    """max over members and times of |I(t) − I(0)| / |I(0)| (absolute where I(0) = 0)."""
-    v = np.atleast_2d(values)
-    ref = v[:, :1]
-    denom = np.where(np.abs(ref) > 0, np.abs(ref), 1.0)
-    return float(np.max(np.abs(v - ref) / denom))
+    """max over members and times of |I(t) − I(0)| / |I(0)| (absolute where I(0) = 0), by :func:`_drifts`."""
+    return _drifts(np.atleast_2d(values)[None])[0]
 
 
 def _drifts(rows: np.ndarray) -> list:
@@ -118,10 +116,11 @@ def _drifts(rows: np.ndarray) -> list:
     ref = rows[:, :, 0]
     denom = np.abs(ref)
     denom[denom == 0] = 1.0
-    # max |x − x0| = max(max x − x0, x0 − min x): the same roundings (x − x0 is monotone in x), no (k, batch, n) temporary
-    dev = np.maximum(rows.max(axis=2) - ref, ref - rows.min(axis=2))
+    # max |x − x0| = max(max x − x0, x0 − min x): the same roundings (x − x0 is monotone in x), no (k, batch, n) temporary;
+    # the ufuncs' own reductions (what ndarray.max and .min call)
+    dev = np.maximum(np.maximum.reduce(rows, axis=2) - ref, ref - np.minimum.reduce(rows, axis=2))
     dev /= denom
-    return [float(v) for v in dev.max(axis=1)]
+    return np.maximum.reduce(dev, axis=1).tolist()
 
 
 def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False) -> dict:
@@ -172,7 +171,7 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
             M, g, l = problem.mass, problem.g, problem.l
             n = omega_pr.shape[1]
             if traj.state is not None:  # the engine's own rows (one member: no copy)
-                y = np.moveaxis(traj.state, 1, 0).reshape(10, -1)
+                y = traj.state[0] if batch == 1 else traj.state.transpose(1, 0, 2).reshape(10, -1)
             else:  # the kernel's layout, components first (contiguous rows)
                 y = np.empty((10, batch, n))
                 y[0:3] = np.moveaxis(omega_pr, -1, 0)
@@ -180,17 +179,19 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
                 y[6:10] = np.moveaxis(q_pr, -1, 0)
                 y = y.reshape(10, -1)
             if batch == 1:  # the parameters as numbers (the kernel broadcasts them)
-                params = [float(v) for v in (*moments[0], M[0], g[0], l[0])]
+                params = [*moments[0].tolist(), float(M[0]), float(g[0]), float(l[0])]
             else:
                 params = [np.repeat(a, n) for a in (moments[:, 0], moments[:, 1], moments[:, 2], M, g, l)]
-            vals = np.asarray(gen.invariants_batched(0.0, y, *params))
             names = ("energy", "gamma_norm2", "L_dot_gamma", "q_norm2")
-            rows = vals.reshape(len(names), batch, n)
-            for name, row in zip(names, rows):
-                invariants[name] = row
-            known = dict(zip(names, _drifts(rows)))  # all four at once
-            if np.all(np.abs(moments[:, 0] - moments[:, 1]) <= 1e-12 * np.abs(moments[:, 1])):  # symmetric
-                invariants["p_psi"] = moments[:, 2:3] * omega_pr[..., 2]
+            if _symmetric(moments):  # p_ψ = I3 ω3 is kept too: a fifth row beside the kernel's four
+                names += ("p_psi",)
+            rows = np.empty((len(names), batch * n))
+            gen.invariants_batched(0.0, y, *params, out=rows[:4])
+            if len(names) == 5:
+                np.multiply(moments[:, 2:3], omega_pr[..., 2], out=rows[4].reshape(batch, n))
+            rows = rows.reshape(len(names), batch, n)
+            invariants.update(zip(names, rows))
+            known = dict(zip(names, _drifts(rows)))  # all at once
         drift = {name: known[name] if name in known else (_drift(v) if name != "L_space_deviation" else float(np.max(v)))
                  for name, v in invariants.items()}
     else:
@@ -199,9 +200,7 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     # ---- notes for the report ----------------------------------------------------------------------------------
     theta_min = theta_max = flips = None
     if plan.regime == "heavy top":
-        cos_theta = gamma[..., 2]  # θ decreases with cos θ: the extremes of Γ3 first, one arccos each
-        theta_min = np.degrees(np.arccos(np.clip(cos_theta.max(axis=1), -1.0, 1.0)))
-        theta_max = np.degrees(np.arccos(np.clip(cos_theta.min(axis=1), -1.0, 1.0)))
+        theta_min, theta_max = _tilt_range(gamma)
     elif plan.regime == "torque-free" and plan.body == "asymmetric" and batch == 1:
         k = int(np.argsort(moments[0])[1])
         flips = int(np.count_nonzero(np.diff(np.sign(omega_pr[0, :, k])) != 0))
@@ -220,6 +219,35 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     }
 
 
+
+
+def _symmetric(moments) -> bool:
+    """True when every member's I1 = I2 to 1e-12 (relative to I2): p_ψ = I3 ω3 is then an invariant."""
+    if len(moments) == 1:  # one member: the same comparison on floats
+        a, b = float(moments[0, 0]), float(moments[0, 1])
+        return abs(a - b) <= 1e-12 * abs(b)
+    return bool(np.all(np.abs(moments[:, 0] - moments[:, 1]) <= 1e-12 * np.abs(moments[:, 1])))
+
+
+def _tilt_range(gamma) -> tuple:
+    """``(θ_min, θ_max)`` per member in degrees from Γ3 = cos θ (batch, n): θ decreases with cos θ, so the extremes
+    of Γ3 first, then one arccos each, clipped to [−1, 1].
+
+    Examples
+    --------
+    >>> g = np.zeros((1, 3, 3)); g[0, :, 2] = [1.0, 0.5, 0.0]
+    >>> [a.round(9).tolist() for a in _tilt_range(g)]
+    [[0.0], [90.0]]
+    """
+    cos_theta = gamma[..., 2]
+    extremes = np.empty((2, len(cos_theta)))
+    np.maximum.reduce(cos_theta, axis=1, out=extremes[0])
+    np.minimum.reduce(cos_theta, axis=1, out=extremes[1])
+    np.maximum(extremes, -1.0, out=extremes)  # np.clip's values, without its wrapper
+    np.minimum(extremes, 1.0, out=extremes)
+    np.arccos(extremes, out=extremes)
+    np.degrees(extremes, out=extremes)
+    return extremes[0], extremes[1]
 
 
 def _canonical(q, unit=False):
@@ -256,15 +284,14 @@ def _unwrapped(angles):
     True
     """
     two_pi = 2.0 * np.pi
-    for k in (0, 2):
-        angle = angles[..., k]
-        jumps = np.diff(angle, axis=1)
-        jumps *= 1.0 / two_pi
-        np.rint(jumps, out=jumps)
-        if jumps.any():
-            np.cumsum(jumps, axis=1, out=jumps)
-            jumps *= two_pi
-            angle[:, 1:] -= jumps
+    pair = angles[..., ::2]  # φ and ψ together: every operation is elementwise or along the times
+    jumps = np.subtract(pair[:, 1:], pair[:, :-1])  # np.diff
+    jumps *= 1.0 / two_pi
+    np.rint(jumps, out=jumps)
+    if jumps.any():  # a column without jumps is left as it is (x − 0 = x)
+        np.cumsum(jumps, axis=1, out=jumps)
+        jumps *= two_pi
+        pair[:, 1:] -= jumps
     return angles
 
 
@@ -277,7 +304,7 @@ def report_notes(plan, moments, P, *, theta_min=None, theta_max=None, w3=None, b
     notes = []
     batch = len(moments)
     if plan.regime == "heavy top":
-        axis = [float(v) for v in np.asarray(P, dtype=float)[:, 2]]
+        axis = np.asarray(P, dtype=float)[:, 2].tolist()
         off = max(abs(axis[0]), abs(axis[1]), abs(axis[2] - 1.0)) > 1e-12  # the heavy-top frame's e3 is not the body's
         line = f"({axis[0]:.3g}, {axis[1]:.3g}, {axis[2]:.3g})"
         which = (f"θ of the pivot → centre-of-mass line {line} of the body (model) frame from the vertical, the "
@@ -287,7 +314,7 @@ def report_notes(plan, moments, P, *, theta_min=None, theta_max=None, w3=None, b
                          + (f"({which}; cos θ = Γ·{line})" if off else "(from Γ3 = cos θ)"))
         if turning is not None:
             notes.append("turning points derived from the effective potential: "
-                         f"θ1 = {np.degrees(turning[0]):.4g}°, θ2 = {np.degrees(turning[1]):.4g}°"
+                         f"θ1 = {math.degrees(turning[0]):.4g}°, θ2 = {math.degrees(turning[1]):.4g}°"
                          + (f" ({which})" if off else ""))
         else:
             notes.append(f"largest tilt per member: {theta_max.min():.4g}° … {theta_max.max():.4g}°"

@@ -358,9 +358,9 @@ class Scene:
         """
         if self.model is not None:
             return "model"
-        if self.l is not None and np.any(_values(self.l) != 0) and np.any(_values(self.g) != 0):
+        if self.l is not None and _nonzero(self.l) and _nonzero(self.g):
             return "heavy top"
-        if self.torque is not None and any(np.any(_values(c) != 0) for c in self.torque):
+        if self.torque is not None and any(_nonzero(c) for c in self.torque):
             return "torque"
         return "torque-free"
 
@@ -374,16 +374,16 @@ class Scene:
         (('omega[2]', Sweep(values=(1.0, 2.0, 3.0))),)
         """
         found = []
-        for f in dataclasses.fields(self):
-            value = getattr(self, f.name)
+        for name in _FIELD_NAMES:
+            value = getattr(self, name)
             if isinstance(value, Sweep):
-                found.append((f.name, value))
+                found.append((name, value))
             elif isinstance(value, tuple):
                 for k, item in enumerate(value):
                     if isinstance(item, Sweep):
-                        found.append((f"{f.name}[{k}]", item))
+                        found.append((f"{name}[{k}]", item))
                     elif isinstance(item, tuple) and len(item) == 2 and isinstance(item[1], Sweep):
-                        found.append((f"{f.name}.{item[0]}", item[1]))
+                        found.append((f"{name}.{item[0]}", item[1]))
         return tuple(found)
 
     @property
@@ -408,8 +408,14 @@ class Scene:
 
     @property
     def times(self) -> np.ndarray:
-        """The output times, ``linspace(0, t_end, points)``."""
-        return np.linspace(0.0, self.t_end, self.points)
+        """The output times, ``linspace(0, t_end, points)``.
+
+        Examples
+        --------
+        >>> Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=2, points=5).times.tolist()
+        [0.0, 0.5, 1.0, 1.5, 2.0]
+        """
+        return _evenly_spaced(self.t_end, self.points)
 
     def plan(self) -> Plan:
         """What :func:`simulate` will derive, emit, integrate and skip, and why (pure: runs nothing).
@@ -426,8 +432,13 @@ class Scene:
           skip         Euler angles — not asked for
           skip         invariants — not asked for
         """
-        if self.model is not None:
+        if self.model is not None:  # its plan reads the kernel cache on disk: made anew each time
             return make_plan(self, model=self.cached_model_facts())
+        return self._plan
+
+    @functools.cached_property
+    def _plan(self) -> Plan:
+        """The plan of a scene without a model: a pure function of the frozen scene's fields, made once."""
         return make_plan(self)
 
     def parameter_values(self) -> dict:
@@ -460,6 +471,39 @@ class Scene:
             return None
         module = model_kernel.load(path, self.model_digest)
         return model_kernel.facts(self.model, module, path, False, self.parameter_values(), self.batch)
+
+
+#: The Scene's fields, in order (what :attr:`Scene.sweeps` reads).
+_FIELD_NAMES = tuple(f.name for f in dataclasses.fields(Scene))
+
+
+def _evenly_spaced(t_end: float, points: int) -> np.ndarray:
+    """``np.linspace(0.0, t_end, points)``, bit for bit, without its general machinery (array conversions, dtype
+    and axis handling): ``k · (t_end / (points − 1))`` for k < points − 1, then ``t_end`` itself — NumPy's own
+    arithmetic for a positive scalar span; linspace itself where its step underflows to 0 or points < 2.
+
+    Examples
+    --------
+    >>> _evenly_spaced(1.0, 3).tolist(), _evenly_spaced(0.3, 4).tolist() == np.linspace(0.0, 0.3, 4).tolist()
+    ([0.0, 0.5, 1.0], True)
+    """
+    end = float(t_end)
+    if points < 2 or not end > 0.0:
+        return np.linspace(0.0, end, points)
+    step = end / (points - 1)
+    if step == 0.0:  # a subnormal span: linspace divides first (NumPy gh-5437)
+        return np.linspace(0.0, end, points)
+    times = np.arange(points, dtype=np.float64)
+    times *= step
+    times[-1] = end
+    return times
+
+
+def _nonzero(x) -> bool:
+    """True when a (possibly swept) number is non-zero for some member."""
+    if isinstance(x, (int, float)):  # one number (the common case)
+        return x != 0
+    return bool(np.any(_values(x) != 0))
 
 
 def _needs_model(data: Mapping) -> bool:

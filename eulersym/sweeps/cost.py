@@ -278,10 +278,13 @@ def estimate(*, members: int, points: int, state: int, output_values: int, engin
                     chunk_bytes=working, peak_bytes=output + working, steps=steps, evaluations=evaluations,
                     seconds=seconds, summary=bool(summary), per_member_output=per_member_output,
                     per_member_working=per_member_working,
-                    request=tuple(sorted(dict(members=members, points=points, state=state, output_values=output_values,
-                                              engine=engine, rate=rate, t_end=t_end, accuracy=accuracy,
-                                              summary_values=summary_values, summary=summary, inputs=inputs,
-                                              memory=memory, chunk=chunk, threads=threads).items())))
+                    request=tuple(zip(_REQUEST, (accuracy, chunk, engine, inputs, members, memory, output_values,
+                                                 points, rate, state, summary, summary_values, t_end, threads))))
+
+
+#: The arguments of :func:`estimate` an :class:`Estimate` keeps (``request``: sorted by name, values in that order).
+_REQUEST = ("accuracy", "chunk", "engine", "inputs", "members", "memory", "output_values", "points", "rate", "state",
+            "summary", "summary_values", "t_end", "threads")
 
 
 def check(e: Estimate, *, memory: int | None = None, work: float | None = None, summary_values: int = 0,
@@ -359,14 +362,35 @@ def default_memory_budget() -> int:
     True
     """
     cap = 2 * 1024**3
-    try:
-        with open("/proc/meminfo") as handle:
-            for line in handle:
-                if line.startswith("MemAvailable:"):
-                    return int(min(cap, int(line.split()[1]) * 1024 // 2))
+    try:  # one read of the file's bytes (it is a few hundred bytes; every simulate reads it)
+        fd = os.open("/proc/meminfo", os.O_RDONLY)
+        try:
+            data = os.read(fd, 65536)
+        finally:
+            os.close(fd)
     except OSError:
-        pass
-    return cap
+        return cap
+    kib = _mem_available_kib(data)
+    return cap if kib is None else int(min(cap, kib * 1024 // 2))
+
+
+def _mem_available_kib(meminfo: bytes) -> int | None:
+    """``MemAvailable`` in KiB from the bytes of ``/proc/meminfo`` (None when it has no such line).
+
+    Examples
+    --------
+    >>> _mem_available_kib(b"MemTotal:  4000 kB\\nMemAvailable:   2048 kB\\n")
+    2048
+    >>> _mem_available_kib(b"MemTotal:  4000 kB\\nNotMemAvailable: 1 kB\\n") is None
+    True
+    """
+    key = b"MemAvailable:"
+    at = 0 if meminfo.startswith(key) else meminfo.find(b"\n" + key) + 1  # the first line that starts with it
+    if at == 0 and not meminfo.startswith(key):
+        return None
+    end = meminfo.find(b"\n", at)
+    fields = meminfo[at + len(key):None if end < 0 else end].split()
+    return int(fields[0]) if fields else None
 
 
 _UNITS = {"": 1, "b": 1, "kb": 10**3, "mb": 10**6, "gb": 10**9, "tb": 10**12,

@@ -13,6 +13,9 @@ from eulersym.scene.trajectory import Trajectory
 
 __all__ = ["run"]
 
+#: The columns of the principal moments a symmetric top's closed form takes: (I1, I1, I3).
+_SYMMETRIC = [0, 0, 2]
+
 
 def run(problem, *, progress=None) -> Trajectory:
     """The exact motion of every member of ``problem`` (symmetric tops: the plan checked I1 = I2 to 1e-12).
@@ -27,8 +30,7 @@ def run(problem, *, progress=None) -> Trajectory:
     ((1, 3, 3), 0)
     """
     numerics = importlib.import_module("eulersym.numerics")
-    moments = np.asarray(problem.moments, dtype=float)
-    I = np.stack([moments[:, 0], moments[:, 0], moments[:, 2]], axis=1)  # symmetric to round-off
+    I = np.asarray(problem.moments, dtype=float)[:, _SYMMETRIC]  # (I1, I1, I3): symmetric to round-off
     motion = numerics.heavy_top_exact(I, problem.mass, problem.g, problem.l, problem.omega0, problem.q0, problem.t,
                                       accuracy=problem.accuracy)  # below a tenth of it: double where it suffices
     if progress is not None:
