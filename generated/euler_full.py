@@ -2,7 +2,7 @@
 # Source derivation: eulersym.dynamics.euler_equations(I=<full symmetric tensor>, torque=(N1, N2, N3)) solved for d(omega)/dt
 # eulersym version: 0.1.0
 # SymPy version: 1.14.0
-# Input hash: sha256:1ed1e6a7fec54a0090ff1afec5b5cffdb6561d9124931935870759526c3486e1
+# Input hash: sha256:dd87c921e13e9c65a448a661b31acf7e0fa54f5094320657debd8fcf92935e6c
 # Arguments: rhs(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3); y = (omega1, omega2, omega3)
 # Arguments: jac(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3); y = (omega1, omega2, omega3)
 # Arguments: invariants(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3); y = (omega1, omega2, omega3)
@@ -38,7 +38,7 @@ Invariants: E = ½ ω·Iω and L² = |Iω|² (conserved only without torque).
 
 import numpy as np
 
-from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _too_many, _wrong_length
+from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _shape, _too_many, _wrong_length
 
 __all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched', 'rhs_loop', 'jac_loop', 'invariants_loop']
 
@@ -314,7 +314,7 @@ def rhs_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra, out=None
     if extra:
         raise _too_many('rhs', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
-    out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
+    out = _prepare_out(out, (3,), (_shape(t), y.shape[1:], _shape(I11), _shape(I12), _shape(I13), _shape(I22), _shape(I23), _shape(I33), _shape(N1), _shape(N2), _shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
     return _blocked(_rhs_block, out, 1, (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,), (False, True, False, False, False, False, False, False, False, False, False))
 
 
@@ -346,17 +346,18 @@ def _rhs_block(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out):
     x22 = x10*x12
     x23 = x13*(I11*omega1*omega2 - I12*x16 + I12*x5 + I13*omega2*omega3 + N3 - omega1*x14 - omega1*x15 - x18*x19 + x21*x22)
     x24 = x12*(-x10*x23 - x21)
-    np.multiply(omega1, omega3, out=out[0, ...])
-    out[0, ...] *= I12
-    out[0, ...] += I22*omega2*omega3
-    out[0, ...] += I23*x7
-    out[0, ...] -= I12*x24
-    out[0, ...] -= I13*x23
-    out[0, ...] -= x2
-    out[0, ...] -= x4
-    out[0, ...] -= x6
-    out[0, ...] += N1
-    out[0, ...] *= x0
+    row = out[0, ...]
+    np.multiply(omega1, omega3, out=row)
+    row *= I12
+    row += I22*omega2*omega3
+    row += I23*x7
+    row -= I12*x24
+    row -= I13*x23
+    row -= x2
+    row -= x4
+    row -= x6
+    row += N1
+    row *= x0
     out[1, ...] = x24
     out[2, ...] = x23
     return out
@@ -377,7 +378,7 @@ def jac_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra, out=None
     if extra:
         raise _too_many('jac', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
-    out = _prepare_out(out, (3, 3), (np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
+    out = _prepare_out(out, (3, 3), (_shape(t), y.shape[1:], _shape(I11), _shape(I12), _shape(I13), _shape(I22), _shape(I23), _shape(I33), _shape(N1), _shape(N2), _shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
     return _blocked(_jac_block, out, 2, (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,), (False, True, False, False, False, False, False, False, False, False, False))
 
 
@@ -423,19 +424,22 @@ def _jac_block(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out):
     x46 = -I33*omega1 + x35 + 2*x36 + x37 + x45*x9
     x47 = x13*(-x19*x45 + x22*x46 - x27 - x41)
     x48 = x12*(-x10*x47 - x46)
-    np.multiply(x34, -I12, out=out[0, 0, ...])
-    out[0, 0, ...] -= I13*x33
-    out[0, 0, ...] -= x1
-    out[0, 0, ...] += x17
-    out[0, 0, ...] *= x0
-    np.multiply(x44, -I12, out=out[0, 1, ...])
-    out[0, 1, ...] -= I13*x43
-    out[0, 1, ...] -= x39
-    out[0, 1, ...] *= x0
-    np.multiply(x48, -I12, out=out[0, 2, ...])
-    out[0, 2, ...] -= I13*x47
-    out[0, 2, ...] += x45
-    out[0, 2, ...] *= x0
+    row = out[0, 0, ...]
+    np.multiply(x34, -I12, out=row)
+    row -= I13*x33
+    row -= x1
+    row += x17
+    row *= x0
+    row = out[0, 1, ...]
+    np.multiply(x44, -I12, out=row)
+    row -= I13*x43
+    row -= x39
+    row *= x0
+    row = out[0, 2, ...]
+    np.multiply(x48, -I12, out=row)
+    row -= I13*x47
+    row += x45
+    row *= x0
     out[1, 0, ...] = x34
     out[1, 1, ...] = x44
     out[1, 2, ...] = x48
@@ -460,7 +464,7 @@ def invariants_batched(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, *extra, o
     if extra:
         raise _too_many('invariants', extra, ('t', 'y', 'I11', 'I12', 'I13', 'I22', 'I23', 'I33', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
-    out = _prepare_out(out, (2,), (np.shape(t), y.shape[1:], np.shape(I11), np.shape(I12), np.shape(I13), np.shape(I22), np.shape(I23), np.shape(I33), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
+    out = _prepare_out(out, (2,), (_shape(t), y.shape[1:], _shape(I11), _shape(I12), _shape(I13), _shape(I22), _shape(I23), _shape(I33), _shape(N1), _shape(N2), _shape(N3),), (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,))
     return _blocked(_invariants_block, out, 1, (t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3,), (False, True, False, False, False, False, False, False, False, False, False))
 
 
@@ -486,30 +490,32 @@ def _invariants_block(t, y, I11, I12, I13, I22, I23, I33, N1, N2, N3, out):
     x41 = I23*omega1
     x49 = 2*x17
     x50 = (I23*I23)
-    np.multiply(x16, (0.5)*I11, out=out[0, ...])
-    out[0, ...] += (0.5)*I22*x5
-    out[0, ...] += (0.5)*I33*x7
-    out[0, ...] += omega2*x25
-    out[0, ...] += omega3*x29
-    out[0, ...] += omega3*x30
-    np.multiply(x16, (I11*I11), out=out[1, ...])
-    out[1, ...] += I11*omega2*x26
-    out[1, ...] += (I22*I22)*x5
-    out[1, ...] += I22*omega3*x38
-    out[1, ...] += (I33*I33)*x7
-    out[1, ...] += 2*x1*x41
-    out[1, ...] += x1*x49
-    out[1, ...] += x11*x16
-    out[1, ...] += x11*x5
-    out[1, ...] += x14*x26
-    out[1, ...] += x16*x8
-    out[1, ...] += x20*x31
-    out[1, ...] += x3*x31
-    out[1, ...] += x3*x38
-    out[1, ...] += x41*x49
-    out[1, ...] += x5*x50
-    out[1, ...] += x50*x7
-    out[1, ...] += x7*x8
+    row = out[0, ...]
+    np.multiply(x16, (0.5)*I11, out=row)
+    row += (0.5)*I22*x5
+    row += (0.5)*I33*x7
+    row += omega2*x25
+    row += omega3*x29
+    row += omega3*x30
+    row = out[1, ...]
+    np.multiply(x16, (I11*I11), out=row)
+    row += I11*omega2*x26
+    row += (I22*I22)*x5
+    row += I22*omega3*x38
+    row += (I33*I33)*x7
+    row += 2*x1*x41
+    row += x1*x49
+    row += x11*x16
+    row += x11*x5
+    row += x14*x26
+    row += x16*x8
+    row += x20*x31
+    row += x3*x31
+    row += x3*x38
+    row += x41*x49
+    row += x5*x50
+    row += x50*x7
+    row += x7*x8
     return out
 
 

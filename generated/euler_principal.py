@@ -2,7 +2,7 @@
 # Source derivation: eulersym.dynamics.euler_equations(I=(I1, I2, I3), torque=(N1, N2, N3)) solved for d(omega)/dt
 # eulersym version: 0.1.0
 # SymPy version: 1.14.0
-# Input hash: sha256:8de52cf4cf6f564600a8a5f05cb93d4331d7342d75a756f91a0cc20c70ae859b
+# Input hash: sha256:9d9dbf2be27a3d941459702670600bc2ba0a1264fc360b550924b22aaf7b0bf0
 # Arguments: rhs(t, y, I1, I2, I3, N1, N2, N3); y = (omega1, omega2, omega3)
 # Arguments: jac(t, y, I1, I2, I3, N1, N2, N3); y = (omega1, omega2, omega3)
 # Arguments: invariants(t, y, I1, I2, I3, N1, N2, N3); y = (omega1, omega2, omega3)
@@ -37,7 +37,7 @@ Invariants: E = ½ ω·Iω and L² = |Iω|² (conserved only without torque).
 
 import numpy as np
 
-from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _too_many, _wrong_length
+from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _shape, _too_many, _wrong_length
 
 __all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched', 'rhs_loop', 'jac_loop', 'invariants_loop']
 
@@ -187,7 +187,7 @@ def rhs_batched(t, y, I1, I2, I3, N1, N2, N3, *extra, out=None):
     if extra:
         raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I2', 'I3', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
-    out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I1, I2, I3, N1, N2, N3,))
+    out = _prepare_out(out, (3,), (_shape(t), y.shape[1:], _shape(I1), _shape(I2), _shape(I3), _shape(N1), _shape(N2), _shape(N3),), (t, y, I1, I2, I3, N1, N2, N3,))
     return _blocked(_rhs_block, out, 1, (t, y, I1, I2, I3, N1, N2, N3,), (False, True, False, False, False, False, False, False))
 
 
@@ -202,18 +202,21 @@ def _rhs_block(t, y, I1, I2, I3, N1, N2, N3, out):
     x5 = 1/I3
     x6 = I1*omega1
     x7 = I2*omega2
-    np.multiply(omega2, x1, out=out[0, ...])
-    out[0, ...] -= omega2*x2
-    out[0, ...] += N1
-    out[0, ...] *= x0
-    np.multiply(omega1, x2, out=out[1, ...])
-    out[1, ...] -= omega1*x4
-    out[1, ...] += N2
-    out[1, ...] *= x3
-    np.multiply(omega2, x6, out=out[2, ...])
-    out[2, ...] -= omega1*x7
-    out[2, ...] += N3
-    out[2, ...] *= x5
+    row = out[0, ...]
+    np.multiply(omega2, x1, out=row)
+    row -= omega2*x2
+    row += N1
+    row *= x0
+    row = out[1, ...]
+    np.multiply(omega1, x2, out=row)
+    row -= omega1*x4
+    row += N2
+    row *= x3
+    row = out[2, ...]
+    np.multiply(omega2, x6, out=row)
+    row -= omega1*x7
+    row += N3
+    row *= x5
     return out
 
 
@@ -232,7 +235,7 @@ def jac_batched(t, y, I1, I2, I3, N1, N2, N3, *extra, out=None):
     if extra:
         raise _too_many('jac', extra, ('t', 'y', 'I1', 'I2', 'I3', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
-    out = _prepare_out(out, (3, 3), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I1, I2, I3, N1, N2, N3,))
+    out = _prepare_out(out, (3, 3), (_shape(t), y.shape[1:], _shape(I1), _shape(I2), _shape(I3), _shape(N1), _shape(N2), _shape(N3),), (t, y, I1, I2, I3, N1, N2, N3,))
     return _blocked(_jac_block, out, 2, (t, y, I1, I2, I3, N1, N2, N3,), (False, True, False, False, False, False, False, False))
 
 
@@ -249,25 +252,31 @@ def _jac_block(t, y, I1, I2, I3, N1, N2, N3, out):
     x7 = I2*omega2
     x8 = -x2
     out[0, 0, ...] = 0.0
-    out[0, 1, ...] = x1
-    out[0, 1, ...] += x8
-    out[0, 1, ...] *= x0
-    np.multiply(omega2, -I3, out=out[0, 2, ...])
-    out[0, 2, ...] += x7
-    out[0, 2, ...] *= x0
-    np.negative(x4, out=out[1, 0, ...])
-    out[1, 0, ...] -= x8
-    out[1, 0, ...] *= x3
+    row = out[0, 1, ...]
+    row[...] = x1
+    row += x8
+    row *= x0
+    row = out[0, 2, ...]
+    np.multiply(omega2, -I3, out=row)
+    row += x7
+    row *= x0
+    row = out[1, 0, ...]
+    np.negative(x4, out=row)
+    row -= x8
+    row *= x3
     out[1, 1, ...] = 0.0
-    np.multiply(omega1, I3, out=out[1, 2, ...])
-    out[1, 2, ...] -= x6
-    out[1, 2, ...] *= x3
-    np.multiply(omega2, I1, out=out[2, 0, ...])
-    out[2, 0, ...] -= x7
-    out[2, 0, ...] *= x5
-    np.multiply(omega1, -I2, out=out[2, 1, ...])
-    out[2, 1, ...] += x6
-    out[2, 1, ...] *= x5
+    row = out[1, 2, ...]
+    np.multiply(omega1, I3, out=row)
+    row -= x6
+    row *= x3
+    row = out[2, 0, ...]
+    np.multiply(omega2, I1, out=row)
+    row -= x7
+    row *= x5
+    row = out[2, 1, ...]
+    np.multiply(omega1, -I2, out=row)
+    row += x6
+    row *= x5
     out[2, 2, ...] = 0.0
     return out
 
@@ -287,7 +296,7 @@ def invariants_batched(t, y, I1, I2, I3, N1, N2, N3, *extra, out=None):
     if extra:
         raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I2', 'I3', 'N1', 'N2', 'N3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3'))
-    out = _prepare_out(out, (2,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(N1), np.shape(N2), np.shape(N3),), (t, y, I1, I2, I3, N1, N2, N3,))
+    out = _prepare_out(out, (2,), (_shape(t), y.shape[1:], _shape(I1), _shape(I2), _shape(I3), _shape(N1), _shape(N2), _shape(N3),), (t, y, I1, I2, I3, N1, N2, N3,))
     return _blocked(_invariants_block, out, 1, (t, y, I1, I2, I3, N1, N2, N3,), (False, True, False, False, False, False, False, False))
 
 
@@ -297,12 +306,14 @@ def _invariants_block(t, y, I1, I2, I3, N1, N2, N3, out):
     x9 = (omega1*omega1)
     x10 = (omega2*omega2)
     x11 = (omega3*omega3)
-    np.multiply(x9, (0.5)*I1, out=out[0, ...])
-    out[0, ...] += (0.5)*I2*x10
-    out[0, ...] += (0.5)*I3*x11
-    np.multiply(x9, (I1*I1), out=out[1, ...])
-    out[1, ...] += (I2*I2)*x10
-    out[1, ...] += (I3*I3)*x11
+    row = out[0, ...]
+    np.multiply(x9, (0.5)*I1, out=row)
+    row += (0.5)*I2*x10
+    row += (0.5)*I3*x11
+    row = out[1, ...]
+    np.multiply(x9, (I1*I1), out=row)
+    row += (I2*I2)*x10
+    row += (I3*I3)*x11
     return out
 
 

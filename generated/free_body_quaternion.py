@@ -2,7 +2,7 @@
 # Source derivation: eulersym.dynamics.euler_equations(I=(I1, I2, I3), torque=(0, 0, 0)) and eulersym.kinematics.quaternion_rate(q, omega)
 # eulersym version: 0.1.0
 # SymPy version: 1.14.0
-# Input hash: sha256:1488036f2fe08c9c2ebc1f56a35d4b7af2f86cf604b4a2b489c9a75f92ee9e61
+# Input hash: sha256:bda221e80e4433326c68f4e226a902afe7dfd308ef9778ac53cc5fb4c1724e2a
 # Arguments: rhs(t, y, I1, I2, I3); y = (omega1, omega2, omega3, q0, q1, q2, q3)
 # Arguments: jac(t, y, I1, I2, I3); y = (omega1, omega2, omega3, q0, q1, q2, q3)
 # Arguments: invariants(t, y, I1, I2, I3); y = (omega1, omega2, omega3, q0, q1, q2, q3)
@@ -36,7 +36,7 @@ the module itself never imports numba.
 
 import numpy as np
 
-from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _too_many, _wrong_length
+from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _shape, _too_many, _wrong_length
 
 __all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched', 'rhs_loop', 'jac_loop', 'invariants_loop']
 
@@ -224,7 +224,7 @@ def rhs_batched(t, y, I1, I2, I3, *extra, out=None):
     if extra:
         raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I2', 'I3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3'))
-    out = _prepare_out(out, (7,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3),), (t, y, I1, I2, I3,))
+    out = _prepare_out(out, (7,), (_shape(t), y.shape[1:], _shape(I1), _shape(I2), _shape(I3),), (t, y, I1, I2, I3,))
     return _blocked(_rhs_block, out, 1, (t, y, I1, I2, I3,), (False, True, False, False, False))
 
 
@@ -245,29 +245,36 @@ def _rhs_block(t, y, I1, I2, I3, out):
     x11 = (0.5)*omega1
     x12 = (0.5)*omega2
     x13 = (0.5)*omega3
-    np.multiply(omega2, x1, out=out[0, ...])
-    out[0, ...] -= omega2*x2
-    out[0, ...] *= x0
-    np.multiply(omega1, omega3, out=out[1, ...])
-    out[1, ...] *= I3
-    out[1, ...] -= omega1*x4
-    out[1, ...] *= x3
-    np.multiply(omega2, x6, out=out[2, ...])
-    out[2, ...] -= omega1*x7
-    out[2, ...] *= x5
-    np.multiply(omega1, x8, out=out[3, ...])
-    np.negative(out[3, ...], out=out[3, ...])
-    out[3, ...] -= omega2*x9
-    out[3, ...] -= omega3*x10
-    np.multiply(omega3, x9, out=out[4, ...])
-    out[4, ...] += q0*x11
-    out[4, ...] -= omega2*x10
-    np.multiply(omega1, x10, out=out[5, ...])
-    out[5, ...] += q0*x12
-    out[5, ...] -= omega3*x8
-    np.multiply(omega2, x8, out=out[6, ...])
-    out[6, ...] += q0*x13
-    out[6, ...] -= omega1*x9
+    row = out[0, ...]
+    np.multiply(omega2, x1, out=row)
+    row -= omega2*x2
+    row *= x0
+    row = out[1, ...]
+    np.multiply(omega1, omega3, out=row)
+    row *= I3
+    row -= omega1*x4
+    row *= x3
+    row = out[2, ...]
+    np.multiply(omega2, x6, out=row)
+    row -= omega1*x7
+    row *= x5
+    row = out[3, ...]
+    np.multiply(omega1, x8, out=row)
+    np.negative(row, out=row)
+    row -= omega2*x9
+    row -= omega3*x10
+    row = out[4, ...]
+    np.multiply(omega3, x9, out=row)
+    row += q0*x11
+    row -= omega2*x10
+    row = out[5, ...]
+    np.multiply(omega1, x10, out=row)
+    row += q0*x12
+    row -= omega3*x8
+    row = out[6, ...]
+    np.multiply(omega2, x8, out=row)
+    row += q0*x13
+    row -= omega1*x9
     return out
 
 
@@ -286,7 +293,7 @@ def jac_batched(t, y, I1, I2, I3, *extra, out=None):
     if extra:
         raise _too_many('jac', extra, ('t', 'y', 'I1', 'I2', 'I3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3'))
-    out = _prepare_out(out, (7, 7), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3),), (t, y, I1, I2, I3,))
+    out = _prepare_out(out, (7, 7), (_shape(t), y.shape[1:], _shape(I1), _shape(I2), _shape(I3),), (t, y, I1, I2, I3,))
     return _blocked(_jac_block, out, 2, (t, y, I1, I2, I3,), (False, True, False, False, False))
 
 
@@ -316,33 +323,39 @@ def _jac_block(t, y, I1, I2, I3, out):
     x20 = -x13
     x21 = (0.5)*q0
     out[0, 0, ...] = 0.0
-    out[0, 1, ...] = x1
-    out[0, 1, ...] += x14
-    out[0, 1, ...] *= x0
-    np.multiply(omega2, -I3, out=out[0, 2, ...])
-    out[0, 2, ...] += x7
-    out[0, 2, ...] *= x0
+    row = out[0, 1, ...]
+    row[...] = x1
+    row += x14
+    row *= x0
+    row = out[0, 2, ...]
+    np.multiply(omega2, -I3, out=row)
+    row += x7
+    row *= x0
     out[0, 3, ...] = 0.0
     out[0, 4, ...] = 0.0
     out[0, 5, ...] = 0.0
     out[0, 6, ...] = 0.0
-    np.negative(x14, out=out[1, 0, ...])
-    out[1, 0, ...] -= x4
-    out[1, 0, ...] *= x3
+    row = out[1, 0, ...]
+    np.negative(x14, out=row)
+    row -= x4
+    row *= x3
     out[1, 1, ...] = 0.0
-    np.multiply(omega1, I3, out=out[1, 2, ...])
-    out[1, 2, ...] -= x6
-    out[1, 2, ...] *= x3
+    row = out[1, 2, ...]
+    np.multiply(omega1, I3, out=row)
+    row -= x6
+    row *= x3
     out[1, 3, ...] = 0.0
     out[1, 4, ...] = 0.0
     out[1, 5, ...] = 0.0
     out[1, 6, ...] = 0.0
-    np.multiply(omega2, I1, out=out[2, 0, ...])
-    out[2, 0, ...] -= x7
-    out[2, 0, ...] *= x5
-    np.multiply(omega1, -I2, out=out[2, 1, ...])
-    out[2, 1, ...] += x6
-    out[2, 1, ...] *= x5
+    row = out[2, 0, ...]
+    np.multiply(omega2, I1, out=row)
+    row -= x7
+    row *= x5
+    row = out[2, 1, ...]
+    np.multiply(omega1, -I2, out=row)
+    row += x6
+    row *= x5
     out[2, 2, ...] = 0.0
     out[2, 3, ...] = 0.0
     out[2, 4, ...] = 0.0
@@ -394,7 +407,7 @@ def invariants_batched(t, y, I1, I2, I3, *extra, out=None):
     if extra:
         raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I2', 'I3'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'q0', 'q1', 'q2', 'q3'))
-    out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3),), (t, y, I1, I2, I3,))
+    out = _prepare_out(out, (3,), (_shape(t), y.shape[1:], _shape(I1), _shape(I2), _shape(I3),), (t, y, I1, I2, I3,))
     return _blocked(_invariants_block, out, 1, (t, y, I1, I2, I3,), (False, True, False, False, False))
 
 
@@ -404,16 +417,19 @@ def _invariants_block(t, y, I1, I2, I3, out):
     x22 = (omega1*omega1)
     x23 = (omega2*omega2)
     x24 = (omega3*omega3)
-    np.multiply(x22, (0.5)*I1, out=out[0, ...])
-    out[0, ...] += (0.5)*I2*x23
-    out[0, ...] += (0.5)*I3*x24
-    np.multiply(x22, (I1*I1), out=out[1, ...])
-    out[1, ...] += (I2*I2)*x23
-    out[1, ...] += (I3*I3)*x24
-    out[2, ...] = (q0*q0)
-    out[2, ...] += (q1*q1)
-    out[2, ...] += (q2*q2)
-    out[2, ...] += (q3*q3)
+    row = out[0, ...]
+    np.multiply(x22, (0.5)*I1, out=row)
+    row += (0.5)*I2*x23
+    row += (0.5)*I3*x24
+    row = out[1, ...]
+    np.multiply(x22, (I1*I1), out=row)
+    row += (I2*I2)*x23
+    row += (I3*I3)*x24
+    row = out[2, ...]
+    row[...] = (q0*q0)
+    row += (q1*q1)
+    row += (q2*q2)
+    row += (q3*q3)
     return out
 
 

@@ -2,7 +2,7 @@
 # Source derivation: eulersym.top.equations_of_motion() solved for the second derivatives (mass matrix); invariants eulersym.top.energy(), eulersym.top.conserved_momenta()
 # eulersym version: 0.1.0
 # SymPy version: 1.14.0
-# Input hash: sha256:fdc9149ec6a60d1f7b85cd36fafa35077e4d4389c31b4f974d1aa28032567f35
+# Input hash: sha256:223a2ceb7c886881e0f94333acda3123528273419d76e95d6143fdb25bbf5830
 # Arguments: rhs(t, y, I1, I3, M, g, l); y = (phi, theta, psi, phidot, thetadot, psidot)
 # Arguments: jac(t, y, I1, I3, M, g, l); y = (phi, theta, psi, phidot, thetadot, psidot)
 # Arguments: invariants(t, y, I1, I3, M, g, l); y = (phi, theta, psi, phidot, thetadot, psidot)
@@ -39,7 +39,7 @@ the module itself never imports numba.
 import numpy as np
 from math import cos, sin
 
-from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _too_many, _wrong_length, _singular
+from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _shape, _too_many, _wrong_length, _singular
 
 __all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched', 'rhs_loop', 'jac_loop', 'invariants_loop']
 
@@ -324,7 +324,7 @@ def rhs_batched(t, y, I1, I3, M, g, l, *extra, out=None):
     if extra:
         raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
-    out = _prepare_out(out, (6,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
+    out = _prepare_out(out, (6,), (_shape(t), y.shape[1:], _shape(I1), _shape(I3), _shape(M), _shape(g), _shape(l),), (t, y, I1, I3, M, g, l,))
     out = _blocked(_rhs_block, out, 1, (t, y, I1, I3, M, g, l,), (False, True, False, False, False, False, False))
     bad = ~np.isfinite(out).all(axis=(0,))
     if bad.any():
@@ -388,7 +388,7 @@ def jac_batched(t, y, I1, I3, M, g, l, *extra, out=None):
     if extra:
         raise _too_many('jac', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
-    out = _prepare_out(out, (6, 6), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
+    out = _prepare_out(out, (6, 6), (_shape(t), y.shape[1:], _shape(I1), _shape(I3), _shape(M), _shape(g), _shape(l),), (t, y, I1, I3, M, g, l,))
     out = _blocked(_jac_block, out, 2, (t, y, I1, I3, M, g, l,), (False, True, False, False, False, False, False))
     bad = ~np.isfinite(out).all(axis=(0, 1))
     if bad.any():
@@ -452,28 +452,33 @@ def _jac_block(t, y, I1, I3, M, g, l, out):
     out[2, 4, ...] = 0.0
     out[2, 5, ...] = 1.0
     out[3, 0, ...] = 0.0
-    np.multiply(x30, -I3*phidot*x11 + 2*phidot*x29, out=out[3, 1, ...])
-    out[3, 1, ...] -= x32*x9
+    row = out[3, 1, ...]
+    np.multiply(x30, -I3*phidot*x11 + 2*phidot*x29, out=row)
+    row -= x32*x9
     out[3, 2, ...] = 0.0
     np.multiply(x30, I3*x0 - x2, out=out[3, 3, ...])
     out[3, 4, ...] = x13
     np.multiply(x30, I3, out=out[3, 5, ...])
     out[4, 0, ...] = 0.0
-    np.multiply(x17, x31, out=out[4, 1, ...])
-    out[4, 1, ...] += x18*(I3*x11*x16 - x16*x29)
+    row = out[4, 1, ...]
+    np.multiply(x17, x31, out=row)
+    row += x18*(I3*x11*x16 - x16*x29)
     out[4, 2, ...] = 0.0
     np.multiply(x18, -x33 - x4 - x5, out=out[4, 3, ...])
     out[4, 4, ...] = 0.0
-    np.multiply(phidot, x18, out=out[4, 5, ...])
-    out[4, 5, ...] *= -I3
+    row = out[4, 5, ...]
+    np.multiply(phidot, x18, out=row)
+    row *= -I3
     out[5, 0, ...] = 0.0
-    np.multiply(x30, -x11*x3 + x11*x33 + x11*x5, out=out[5, 1, ...])
-    out[5, 1, ...] -= x27*x32
+    row = out[5, 1, ...]
+    np.multiply(x30, -x11*x3 + x11*x33 + x11*x5, out=row)
+    row -= x27*x32
     out[5, 2, ...] = 0.0
     np.multiply(x30, x21 + x24 - x25, out=out[5, 3, ...])
     out[5, 4, ...] = x28
-    np.multiply(x30, x6, out=out[5, 5, ...])
-    np.negative(out[5, 5, ...], out=out[5, 5, ...])
+    row = out[5, 5, ...]
+    np.multiply(x30, x6, out=row)
+    np.negative(row, out=row)
     return out
 
 
@@ -492,7 +497,7 @@ def invariants_batched(t, y, I1, I3, M, g, l, *extra, out=None):
     if extra:
         raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
-    out = _prepare_out(out, (3,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I3, M, g, l,))
+    out = _prepare_out(out, (3,), (_shape(t), y.shape[1:], _shape(I1), _shape(I3), _shape(M), _shape(g), _shape(l),), (t, y, I1, I3, M, g, l,))
     out = _blocked(_invariants_block, out, 1, (t, y, I1, I3, M, g, l,), (False, True, False, False, False, False, False))
     bad = ~np.isfinite(out).all(axis=(0,))
     if bad.any():
@@ -520,15 +525,17 @@ def _invariants_block(t, y, I1, I3, M, g, l, out):
     x25 = I3*x23
     x26 = phidot*x25
     x34 = (0.5)*x16
-    np.multiply((thetadot*thetadot), (0.5)*I1, out=out[0, ...])
-    out[0, ...] += (0.5)*I3*(psidot*psidot)
-    out[0, ...] += x0*x14
-    out[0, ...] += x0*x15
-    out[0, ...] += x21*x34
-    out[0, ...] += x25*x34
-    out[1, ...] = x19
-    out[1, ...] += x22
-    out[1, ...] += x26
+    row = out[0, ...]
+    np.multiply((thetadot*thetadot), (0.5)*I1, out=row)
+    row += (0.5)*I3*(psidot*psidot)
+    row += x0*x14
+    row += x0*x15
+    row += x21*x34
+    row += x25*x34
+    row = out[1, ...]
+    row[...] = x19
+    row += x22
+    row += x26
     out[2, ...] = x8
     return out
 

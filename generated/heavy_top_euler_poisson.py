@@ -2,7 +2,7 @@
 # Source derivation: eulersym.dynamics.euler_poisson_equations() (omega_dot, Gamma_dot) and eulersym.kinematics.quaternion_rate(q, omega)
 # eulersym version: 0.1.0
 # SymPy version: 1.14.0
-# Input hash: sha256:d2d6813b0854dc2cbdb53dd6745ec115dfba9a1745342647b35ee8ac4d95fa92
+# Input hash: sha256:c6b99acedc6753fa2bb0ea48013ba7f30e8f9391b3a81740d889563b892bac22
 # Arguments: rhs(t, y, I1, I2, I3, M, g, l); y = (omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3)
 # Arguments: jac(t, y, I1, I2, I3, M, g, l); y = (omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3)
 # Arguments: invariants(t, y, I1, I2, I3, M, g, l); y = (omega1, omega2, omega3, Gamma1, Gamma2, Gamma3, q0, q1, q2, q3)
@@ -37,7 +37,7 @@ the module itself never imports numba.
 
 import numpy as np
 
-from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _too_many, _wrong_length
+from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _shape, _too_many, _wrong_length
 
 __all__ = ['rhs', 'jac', 'invariants', 'rhs_flat', 'jac_flat', 'invariants_flat', 'rhs_batched', 'jac_batched', 'invariants_batched', 'rhs_loop', 'jac_loop', 'invariants_loop']
 
@@ -231,7 +231,7 @@ def rhs_batched(t, y, I1, I2, I3, M, g, l, *extra, out=None):
     if extra:
         raise _too_many('rhs', extra, ('t', 'y', 'I1', 'I2', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'Gamma1', 'Gamma2', 'Gamma3', 'q0', 'q1', 'q2', 'q3'))
-    out = _prepare_out(out, (10,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I2, I3, M, g, l,))
+    out = _prepare_out(out, (10,), (_shape(t), y.shape[1:], _shape(I1), _shape(I2), _shape(I3), _shape(M), _shape(g), _shape(l),), (t, y, I1, I2, I3, M, g, l,))
     return _blocked(_rhs_block, out, 1, (t, y, I1, I2, I3, M, g, l,), (False, True, False, False, False, False, False, False))
 
 
@@ -252,35 +252,44 @@ def _rhs_block(t, y, I1, I2, I3, M, g, l, out):
     x11 = (0.5)*omega1
     x12 = (0.5)*omega2
     x13 = (0.5)*omega3
-    np.multiply(Gamma2, x3, out=out[0, ...])
-    out[0, ...] += omega2*x1
-    out[0, ...] -= omega2*x2
-    out[0, ...] *= x0
-    np.multiply(omega1, omega3, out=out[1, ...])
-    out[1, ...] *= I3
-    out[1, ...] -= Gamma1*x3
-    out[1, ...] -= omega1*x5
-    out[1, ...] *= x4
+    row = out[0, ...]
+    np.multiply(Gamma2, x3, out=row)
+    row += omega2*x1
+    row -= omega2*x2
+    row *= x0
+    row = out[1, ...]
+    np.multiply(omega1, omega3, out=row)
+    row *= I3
+    row -= Gamma1*x3
+    row -= omega1*x5
+    row *= x4
     np.multiply(omega1, x7, out=out[2, ...])
-    np.multiply(Gamma2, omega3, out=out[3, ...])
-    out[3, ...] -= Gamma3*omega2
-    np.multiply(Gamma3, omega1, out=out[4, ...])
-    out[4, ...] -= Gamma1*omega3
-    np.multiply(Gamma1, omega2, out=out[5, ...])
-    out[5, ...] -= Gamma2*omega1
-    np.multiply(omega1, x8, out=out[6, ...])
-    np.negative(out[6, ...], out=out[6, ...])
-    out[6, ...] -= omega2*x9
-    out[6, ...] -= omega3*x10
-    np.multiply(omega3, x9, out=out[7, ...])
-    out[7, ...] += q0*x11
-    out[7, ...] -= omega2*x10
-    np.multiply(omega1, x10, out=out[8, ...])
-    out[8, ...] += q0*x12
-    out[8, ...] -= omega3*x8
-    np.multiply(omega2, x8, out=out[9, ...])
-    out[9, ...] += q0*x13
-    out[9, ...] -= omega1*x9
+    row = out[3, ...]
+    np.multiply(Gamma2, omega3, out=row)
+    row -= Gamma3*omega2
+    row = out[4, ...]
+    np.multiply(Gamma3, omega1, out=row)
+    row -= Gamma1*omega3
+    row = out[5, ...]
+    np.multiply(Gamma1, omega2, out=row)
+    row -= Gamma2*omega1
+    row = out[6, ...]
+    np.multiply(omega1, x8, out=row)
+    np.negative(row, out=row)
+    row -= omega2*x9
+    row -= omega3*x10
+    row = out[7, ...]
+    np.multiply(omega3, x9, out=row)
+    row += q0*x11
+    row -= omega2*x10
+    row = out[8, ...]
+    np.multiply(omega1, x10, out=row)
+    row += q0*x12
+    row -= omega3*x8
+    row = out[9, ...]
+    np.multiply(omega2, x8, out=row)
+    row += q0*x13
+    row -= omega1*x9
     return out
 
 
@@ -299,7 +308,7 @@ def jac_batched(t, y, I1, I2, I3, M, g, l, *extra, out=None):
     if extra:
         raise _too_many('jac', extra, ('t', 'y', 'I1', 'I2', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'Gamma1', 'Gamma2', 'Gamma3', 'q0', 'q1', 'q2', 'q3'))
-    out = _prepare_out(out, (10, 10), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I2, I3, M, g, l,))
+    out = _prepare_out(out, (10, 10), (_shape(t), y.shape[1:], _shape(I1), _shape(I2), _shape(I3), _shape(M), _shape(g), _shape(l),), (t, y, I1, I2, I3, M, g, l,))
     return _blocked(_jac_block, out, 2, (t, y, I1, I2, I3, M, g, l,), (False, True, False, False, False, False, False, False))
 
 
@@ -331,12 +340,14 @@ def _jac_block(t, y, I1, I2, I3, M, g, l, out):
     x22 = -x13
     x23 = (0.5)*q0
     out[0, 0, ...] = 0.0
-    out[0, 1, ...] = x1
-    out[0, 1, ...] += x14
-    out[0, 1, ...] *= x0
-    np.multiply(omega2, -I3, out=out[0, 2, ...])
-    out[0, 2, ...] += x15
-    out[0, 2, ...] *= x0
+    row = out[0, 1, ...]
+    row[...] = x1
+    row += x14
+    row *= x0
+    row = out[0, 2, ...]
+    np.multiply(omega2, -I3, out=row)
+    row += x15
+    row *= x0
     out[0, 3, ...] = 0.0
     out[0, 4, ...] = x0*x3
     out[0, 5, ...] = 0.0
@@ -344,13 +355,15 @@ def _jac_block(t, y, I1, I2, I3, M, g, l, out):
     out[0, 7, ...] = 0.0
     out[0, 8, ...] = 0.0
     out[0, 9, ...] = 0.0
-    np.negative(x14, out=out[1, 0, ...])
-    out[1, 0, ...] -= x5
-    out[1, 0, ...] *= x4
+    row = out[1, 0, ...]
+    np.negative(x14, out=row)
+    row -= x5
+    row *= x4
     out[1, 1, ...] = 0.0
-    np.multiply(omega1, I3, out=out[1, 2, ...])
-    out[1, 2, ...] -= x16
-    out[1, 2, ...] *= x4
+    row = out[1, 2, ...]
+    np.multiply(omega1, I3, out=row)
+    row -= x16
+    row *= x4
     out[1, 3, ...] = -x3*x4
     out[1, 4, ...] = 0.0
     out[1, 5, ...] = 0.0
@@ -456,7 +469,7 @@ def invariants_batched(t, y, I1, I2, I3, M, g, l, *extra, out=None):
     if extra:
         raise _too_many('invariants', extra, ('t', 'y', 'I1', 'I2', 'I3', 'M', 'g', 'l'))
     y = _as_vector('y', y, ('omega1', 'omega2', 'omega3', 'Gamma1', 'Gamma2', 'Gamma3', 'q0', 'q1', 'q2', 'q3'))
-    out = _prepare_out(out, (4,), (np.shape(t), y.shape[1:], np.shape(I1), np.shape(I2), np.shape(I3), np.shape(M), np.shape(g), np.shape(l),), (t, y, I1, I2, I3, M, g, l,))
+    out = _prepare_out(out, (4,), (_shape(t), y.shape[1:], _shape(I1), _shape(I2), _shape(I3), _shape(M), _shape(g), _shape(l),), (t, y, I1, I2, I3, M, g, l,))
     return _blocked(_invariants_block, out, 1, (t, y, I1, I2, I3, M, g, l,), (False, True, False, False, False, False, False, False))
 
 
@@ -467,20 +480,24 @@ def _invariants_block(t, y, I1, I2, I3, M, g, l, out):
     x3 = M*g*l
     x15 = I2*omega2
     x16 = I1*omega1
-    np.multiply(Gamma3, x3, out=out[0, ...])
-    out[0, ...] += (0.5)*I1*(omega1*omega1)
-    out[0, ...] += (0.5)*I2*(omega2*omega2)
-    out[0, ...] += (0.5)*I3*(omega3*omega3)
-    out[1, ...] = (Gamma1*Gamma1)
-    out[1, ...] += (Gamma2*Gamma2)
-    out[1, ...] += (Gamma3*Gamma3)
-    np.multiply(Gamma1, x16, out=out[2, ...])
-    out[2, ...] += Gamma2*x15
-    out[2, ...] += Gamma3*x2
-    out[3, ...] = (q0*q0)
-    out[3, ...] += (q1*q1)
-    out[3, ...] += (q2*q2)
-    out[3, ...] += (q3*q3)
+    row = out[0, ...]
+    np.multiply(Gamma3, x3, out=row)
+    row += (0.5)*I1*(omega1*omega1)
+    row += (0.5)*I2*(omega2*omega2)
+    row += (0.5)*I3*(omega3*omega3)
+    row = out[1, ...]
+    row[...] = (Gamma1*Gamma1)
+    row += (Gamma2*Gamma2)
+    row += (Gamma3*Gamma3)
+    row = out[2, ...]
+    np.multiply(Gamma1, x16, out=row)
+    row += Gamma2*x15
+    row += Gamma3*x2
+    row = out[3, ...]
+    row[...] = (q0*q0)
+    row += (q1*q1)
+    row += (q2*q2)
+    row += (q3*q3)
     return out
 
 

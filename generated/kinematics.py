@@ -2,7 +2,7 @@
 # Source derivation: eulersym.rotation.euler_matrix(phi, theta, psi) and eulersym.kinematics.omega_body()
 # eulersym version: 0.1.0
 # SymPy version: 1.14.0
-# Input hash: sha256:f1e38b9860c3f6bb2f482612317d0b9a44c5c9f15f459cf8c17d4bab64257959
+# Input hash: sha256:36699300f53b136113b7503d498f2ff80b86c548a9c54d9a9ade3ae3f7fa589c
 # Arguments: attitude_matrix(phi, theta, psi)
 # Arguments: omega_body(phi, theta, psi, phidot, thetadot, psidot)
 """Kinematics of the zxz Euler angles (passive, the text's convention): the attitude matrix A = B(ψ)
@@ -31,7 +31,7 @@ the module itself never imports numba.
 import numpy as np
 from math import cos, sin
 
-from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _too_many, _wrong_length
+from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _shape, _too_many, _wrong_length
 
 __all__ = ['attitude_matrix', 'omega_body', 'attitude_matrix_flat', 'omega_body_flat', 'attitude_matrix_batched', 'omega_body_batched', 'attitude_matrix_loop', 'omega_body_loop']
 
@@ -126,7 +126,7 @@ def attitude_matrix_batched(phi, theta, psi, *extra, out=None):
     """
     if extra:
         raise _too_many('attitude_matrix', extra, ('phi', 'theta', 'psi'))
-    out = _prepare_out(out, (3, 3), (np.shape(phi), np.shape(theta), np.shape(psi),), (phi, theta, psi,))
+    out = _prepare_out(out, (3, 3), (_shape(phi), _shape(theta), _shape(psi),), (phi, theta, psi,))
     return _blocked(_attitude_matrix_block, out, 2, (phi, theta, psi,), (False, False, False))
 
 
@@ -143,21 +143,26 @@ def _attitude_matrix_block(phi, theta, psi, out):
     x8 = np.sin(theta)
     x9 = x4*x8
     x10 = x1*x8
-    np.multiply(x0, x1, out=out[0, 0, ...])
-    out[0, 0, ...] -= x2*x5
-    np.multiply(x2, x7, out=out[0, 1, ...])
-    out[0, 1, ...] += x6
+    row = out[0, 0, ...]
+    np.multiply(x0, x1, out=row)
+    row -= x2*x5
+    row = out[0, 1, ...]
+    np.multiply(x2, x7, out=row)
+    row += x6
     out[0, 2, ...] = x9
-    np.multiply(x2, x6, out=out[1, 0, ...])
-    np.negative(out[1, 0, ...], out=out[1, 0, ...])
-    out[1, 0, ...] -= x7
-    np.multiply(x0, x1, out=out[1, 1, ...])
-    out[1, 1, ...] *= x2
-    out[1, 1, ...] -= x5
+    row = out[1, 0, ...]
+    np.multiply(x2, x6, out=row)
+    np.negative(row, out=row)
+    row -= x7
+    row = out[1, 1, ...]
+    np.multiply(x0, x1, out=row)
+    row *= x2
+    row -= x5
     out[1, 2, ...] = x10
     np.multiply(x3, x8, out=out[2, 0, ...])
-    np.multiply(x0, x8, out=out[2, 1, ...])
-    np.negative(out[2, 1, ...], out=out[2, 1, ...])
+    row = out[2, 1, ...]
+    np.multiply(x0, x8, out=row)
+    np.negative(row, out=row)
     out[2, 2, ...] = x2
     return out
 
@@ -174,7 +179,7 @@ def omega_body_batched(phi, theta, psi, phidot, thetadot, psidot, *extra, out=No
     """
     if extra:
         raise _too_many('omega_body', extra, ('phi', 'theta', 'psi', 'phidot', 'thetadot', 'psidot'))
-    out = _prepare_out(out, (3,), (np.shape(phi), np.shape(theta), np.shape(psi), np.shape(phidot), np.shape(thetadot), np.shape(psidot),), (phi, theta, psi, phidot, thetadot, psidot,))
+    out = _prepare_out(out, (3,), (_shape(phi), _shape(theta), _shape(psi), _shape(phidot), _shape(thetadot), _shape(psidot),), (phi, theta, psi, phidot, thetadot, psidot,))
     return _blocked(_omega_body_block, out, 1, (phi, theta, psi, phidot, thetadot, psidot,), (False, False, False, False, False, False))
 
 
@@ -186,12 +191,15 @@ def _omega_body_block(phi, theta, psi, phidot, thetadot, psidot, out):
     x8 = np.sin(theta)
     x9 = x4*x8
     x10 = x1*x8
-    np.multiply(phidot, x9, out=out[0, ...])
-    out[0, ...] += thetadot*x1
-    np.multiply(phidot, x10, out=out[1, ...])
-    out[1, ...] -= thetadot*x4
-    np.multiply(phidot, x2, out=out[2, ...])
-    out[2, ...] += psidot
+    row = out[0, ...]
+    np.multiply(phidot, x9, out=row)
+    row += thetadot*x1
+    row = out[1, ...]
+    np.multiply(phidot, x10, out=row)
+    row -= thetadot*x4
+    row = out[2, ...]
+    np.multiply(phidot, x2, out=row)
+    row += psidot
     return out
 
 

@@ -72,7 +72,7 @@ __all__ = [
 ]
 
 #: Bumped whenever the emitted text changes for the same input, so that ``generate --check`` notices.
-EMITTER_VERSION = "2"
+EMITTER_VERSION = "3"
 
 #: SymPy function name → name in the ``math`` module (scalar flavour, imported by bare name).
 SCALAR_FUNCTIONS: dict[str, str] = {
@@ -91,7 +91,9 @@ BATCHED_FUNCTIONS: dict[str, str] = {
 }
 
 #: Names an argument may not take in emitted code (they name helpers of the generated modules).
-_RESERVED = {"np", "math", "out", "extra", "shape", "InvalidInput"}
+_RESERVED = {"np", "math", "out", "extra", "shape", "InvalidInput", "row"}
+#: The local view of one output row in a block (``row = out[i, ...]``) when the row takes several statements.
+_ROW = "row"
 _CSE_PREFIX = "x"
 _Q = '"' * 3
 
@@ -598,7 +600,7 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str, singular: tuple =
                 body.append(f"{a.name} = _as_vector({a.name!r}, {a.name}, {a.names!r})")
                 shapes.append(f"{a.name}.shape[1:]")
             else:
-                shapes.append(f"np.shape({a.name})")
+                shapes.append(f"_shape({a.name})")
         inputs = ", ".join(a.name for a in f.arguments)
         vectors = tuple(a.vector for a in f.arguments)
         body.append(f"out = _prepare_out(out, {f.out_shape!r}, ({', '.join(shapes)},), ({inputs},))")
@@ -631,7 +633,10 @@ def emit_function(f: FunctionSpec, cse: CsePass, flavour: str, singular: tuple =
                 arrays.add(sym)
         for index in _indices(f.out_shape):
             e = reduced[index] if len(index) == 2 else reduced[index[0], 0]
-            body += _emit_into(e, f"out[{', '.join(map(str, index))}, ...]", printer, arrays)
+            target = f"out[{', '.join(map(str, index))}, ...]"
+            lines = _emit_into(e, _ROW, printer, arrays)
+            # Several statements: index ``out`` once (each ``out[i, ...] += a`` would index it twice).
+            body += _emit_into(e, target, printer, arrays) if len(lines) == 1 else [f"{_ROW} = {target}"] + lines
         body.append("return out")
     lines = [head] + ["    " + doc[0]] + doc[1:] + ["    " + line for line in body]
     text = "\n".join(lines)
@@ -688,8 +693,9 @@ def _emit_into(expr, target: str, printer, arrays: set) -> list[str]:
     def is_array(e):
         return bool(e.free_symbols & arrays)
 
+    store = target if target.endswith("]") else target + "[...]"  # a view's name: write through it
     if not is_array(expr):
-        return [f"{target} = {_constant(printer, expr)}"]
+        return [f"{store} = {_constant(printer, expr)}"]
     if expr.is_Add:
         terms = printer._as_ordered_terms(expr, order=None)
         # Stable sort: a positive product of arrays first (it initialises the target without a negation pass).
@@ -708,7 +714,7 @@ def _emit_into(expr, target: str, printer, arrays: set) -> list[str]:
         divide = [x.base for x in array if x.is_Pow and x.exp == -1]
         array = [x for x in array if not (x.is_Pow and x.exp == -1)]
         if not array:
-            return [f"{target} = {printer.doprint(expr)}"]
+            return [f"{store} = {printer.doprint(expr)}"]
         if len(array) == 1 and array[0].is_Add:
             lines = _emit_into(array[0], target, printer, arrays)
         elif len(array) == 1 and not divide and scalar != 1:
@@ -716,7 +722,7 @@ def _emit_into(expr, target: str, printer, arrays: set) -> list[str]:
                 return [f"np.negative({printer.doprint(array[0])}, out={target})"]
             return [f"np.multiply({printer.doprint(array[0])}, {printer.doprint(scalar)}, out={target})"]
         elif len(array) == 1:
-            lines = [f"{target} = {printer.doprint(array[0])}"]
+            lines = [f"{store} = {printer.doprint(array[0])}"]
         else:
             lines = [f"np.multiply({printer.doprint(array[0])}, {printer.doprint(array[1])}, out={target})"]
             lines += [f"{target} *= {printer.doprint(x)}" for x in array[2:]]
@@ -726,7 +732,7 @@ def _emit_into(expr, target: str, printer, arrays: set) -> list[str]:
         elif scalar != 1:
             lines.append(f"{target} *= {printer.doprint(scalar)}")
         return lines
-    return [f"{target} = {printer.doprint(expr)}"]
+    return [f"{store} = {printer.doprint(expr)}"]
 
 
 def _extra_check(f: FunctionSpec) -> list[str]:
@@ -798,7 +804,8 @@ def check_module(spec: ModuleSpec) -> None:
         check_expressions(list(f.expressions), symbols, what=f"{spec.name}.{f.name}")
 
 
-_RUNTIME_IMPORT = "from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _too_many, _wrong_length"
+_RUNTIME_IMPORT = ("from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _shape, _too_many, "
+                   "_wrong_length")
 
 
 def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_import: str | None = None) -> str:

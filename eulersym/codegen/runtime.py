@@ -27,7 +27,7 @@ import numpy as np
 
 from eulersym.errors import InvalidInput, SingularConfiguration
 
-__all__ = ["_as_vector", "_blocked", "_prepare_out", "_singular", "_too_many", "_unpack", "_wrong_length"]
+__all__ = ["_as_vector", "_blocked", "_prepare_out", "_shape", "_singular", "_too_many", "_unpack", "_wrong_length"]
 
 #: Columns per block of a long 1-d batch: a block's temporaries (a few rows of 128 KiB) stay in cache.
 _BLOCK = 16384
@@ -72,23 +72,46 @@ def _as_vector(name, value, names):
     return array
 
 
+def _shape(value):
+    """``np.shape(value)``; a Python float or int (shape ``()``) and an ndarray cost no conversion."""
+    kind = type(value)
+    if kind is float or kind is int:
+        return ()
+    if kind is np.ndarray:
+        return value.shape
+    return np.shape(value)
+
+
+def _batch(shapes):
+    """The batch: ``np.broadcast_shapes(*shapes)``, without its cost when every non-empty shape is the same."""
+    batch = ()
+    for shape in shapes:
+        if shape and shape != batch:
+            if batch:  # two different batch shapes: NumPy's rules (and its refusal)
+                try:
+                    return np.broadcast_shapes(*shapes)
+                except ValueError:
+                    raise InvalidInput("arguments", f"batch shapes {shapes}", "shapes that broadcast together") from None
+            batch = shape
+    return batch
+
+
 def _prepare_out(out, head, shapes, inputs=()):
     """A float array of shape ``head + batch`` (batch: the shapes broadcast), ``out`` itself if it fits.
 
-    ``out`` is written in place row by row, so it may not overlap an input array.
+    ``out`` is written in place row by row, so it may not overlap an input array (a Python float or int
+    cannot: only the others are asked).
     """
-    try:
-        batch = np.broadcast_shapes(*shapes)
-    except ValueError:
-        raise InvalidInput("arguments", f"batch shapes {shapes}", "shapes that broadcast together") from None
-    shape = tuple(head) + tuple(batch)
+    shape = tuple(head) + tuple(_batch(shapes))
     if out is None:
         return np.empty(shape)
     if not isinstance(out, np.ndarray) or out.shape != shape or out.dtype != np.float64:
         got = f"{type(out).__name__} of shape {getattr(out, 'shape', None)}, dtype {getattr(out, 'dtype', None)}"
         raise InvalidInput("out", got, f"a float64 ndarray of shape {shape}")
-    if any(np.may_share_memory(out, array) for array in inputs):
-        raise InvalidInput("out", "an array overlapping an input", "a separate array (out is written in place)")
+    for array in inputs:
+        kind = type(array)
+        if kind is not float and kind is not int and np.may_share_memory(out, array):
+            raise InvalidInput("out", "an array overlapping an input", "a separate array (out is written in place)")
     return out
 
 
