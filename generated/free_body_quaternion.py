@@ -426,7 +426,7 @@ def _invariants_block(t, y, I1, I2, I3, out):
     row += (I2*I2)*x23
     row += (I3*I3)*x24
     row = out[2, ...]
-    row[...] = (q0*q0)
+    np.multiply(q0, q0, out=row)
     row += (q1*q1)
     row += (q2*q2)
     row += (q3*q3)

@@ -486,7 +486,7 @@ def _invariants_block(t, y, I1, I2, I3, M, g, l, out):
     row += (0.5)*I2*(omega2*omega2)
     row += (0.5)*I3*(omega3*omega3)
     row = out[1, ...]
-    row[...] = (Gamma1*Gamma1)
+    np.multiply(Gamma1, Gamma1, out=row)
     row += (Gamma2*Gamma2)
     row += (Gamma3*Gamma3)
     row = out[2, ...]
@@ -494,7 +494,7 @@ def _invariants_block(t, y, I1, I2, I3, M, g, l, out):
     row += Gamma2*x15
     row += Gamma3*x2
     row = out[3, ...]
-    row[...] = (q0*q0)
+    np.multiply(q0, q0, out=row)
     row += (q1*q1)
     row += (q2*q2)
     row += (q3*q3)

@@ -721,6 +721,8 @@ def _emit_into(expr, target: str, printer, arrays: set) -> list[str]:
             if scalar == -1:
                 return [f"np.negative({printer.doprint(array[0])}, out={target})"]
             return [f"np.multiply({printer.doprint(array[0])}, {printer.doprint(scalar)}, out={target})"]
+        elif len(array) == 1 and _is_square(array[0]):
+            lines = _emit_into(array[0], target, printer, arrays)
         elif len(array) == 1:
             lines = [f"{store} = {printer.doprint(array[0])}"]
         else:
@@ -732,7 +734,15 @@ def _emit_into(expr, target: str, printer, arrays: set) -> list[str]:
         elif scalar != 1:
             lines.append(f"{target} *= {printer.doprint(scalar)}")
         return lines
+    if _is_square(expr):  # ``(x*x)`` straight into the target: no temporary, no copy (the same product)
+        base = printer.doprint(expr.base)
+        return [f"np.multiply({base}, {base}, out={target})"]
     return [f"{store} = {printer.doprint(expr)}"]
+
+
+def _is_square(expr) -> bool:
+    """``x**2`` of a symbol: printed ``(x*x)``, so ``np.multiply(x, x, out=...)`` gives the same bits."""
+    return bool(expr.is_Pow and expr.exp == 2 and expr.base.is_Symbol)
 
 
 def _extra_check(f: FunctionSpec) -> list[str]:
