@@ -23,7 +23,10 @@ Flavours
     list, a tuple or an ndarray (one ``tolist()``), at the same speed; *flat* ``f_flat(t, *state, *params)``:
     the same with vectors unpacked, returning a tuple (numba-compilable); *batched* ``f_batched(t, y, *params,
     out=None)``: NumPy, outputs written into ``out`` row by row with in-place ufuncs (``np.multiply(a, b,
-    out=...)``, ``+=``, ``*=``), which avoids the temporaries of ``out[i] = <expression>``; a long 1-d batch
+    out=...)``, ``+=``, ``*=``), which avoids the temporaries of ``out[i] = <expression>`` (a row of several
+    statements is indexed once, ``row = out[i, ...]``; a square goes in as ``np.multiply(x, x, out=row)``);
+    the wrapper's checks cost little in the common case (floats and arrays of one batch shape: no
+    ``np.broadcast_shapes``, no ``np.shape`` conversions, floats not asked for overlap); a long 1-d batch
     runs in blocks of ``_runtime._BLOCK`` columns (``_f_block``) so that every temporary stays in cache and each
     input and output crosses memory once; *loop* ``f_loop(t, y, *params, out)``: ``f_flat`` looped over the
     columns, the source :func:`eulersym.numerics._fast.batched` compiles with numba.
