@@ -319,3 +319,47 @@ def test_a_pendulum_over_the_top_started_at_the_vertical(tilt):
                     atol=1e-14, t_eval=t, args=(1.0, 1.0, 9.81 * 0.3))
     assert np.max(np.abs(motion.omega - sol.y.T[:, :3])) <= 1e-9
     assert np.max(np.abs(motion.gamma - sol.y.T[:, 3:6])) <= 1e-9
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# The constants finished in double for an accuracy asked (_setup_double) against the 36-digit ones
+# ---------------------------------------------------------------------------------------------------------------
+def _value(v):
+    return v[0] + v[1] if isinstance(v, tuple) else v
+
+
+@settings(max_examples=300, deadline=None, derandomize=True)
+@given(st.floats(0.3, 3.0), st.floats(0.05, 1.95), st.floats(-5.0, 5.0).filter(lambda x: abs(x) > 0.05),
+       st.floats(0.05, math.pi - 0.05), st.floats(-math.pi, math.pi), st.floats(-math.pi, math.pi),
+       st.tuples(st.floats(-8.0, 8.0), st.floats(-8.0, 8.0)), st.floats(-60.0, 60.0))
+def test_constants_finished_in_double_are_within_their_ulps(I1, ratio, mgl, theta, phi, psi, w12, spin):
+    """Each constant :func:`_setup_double` finishes in double is within ``_DOUBLE_ULPS`` ulp of its scale of the
+    36-digit one (the far pole's rate: of the sum of its terms' sizes), on benign motions (the only ones it takes)."""
+    import importlib
+
+    H = importlib.import_module("eulersym.numerics.heavy_top_exact")
+    q = H._snap_to_poles(euler_to_quaternion((phi, theta, psi)))
+    omega = np.array([w12[0], w12[1], spin])
+    args = (I1, ratio * I1, 1.0, 9.81, mgl / 9.81, omega, q)
+    double = H._setup(*args, exact=False)
+    if double is None:
+        return  # not benign: the decimal path answers
+    exact = H._setup(*args)
+    assert double.steady is exact.steady is False
+    limit = H._DOUBLE_ULPS * H._EPS
+    for name in ("lam", "u0", "period", "K", "nutation_period", "delta", "mc", "w1"):
+        got, want = getattr(double, name), getattr(exact, name)
+        if name in ("lam", "u0", "period"):
+            got, want = got + getattr(double, name + "_lo"), want + getattr(exact, name + "_lo")
+        scale = exact.K if name == "u0" else abs(want)
+        assert abs(got - want) <= limit * scale, (name, got, want)
+    nu = abs(_value(exact.near.rate))
+    for pole, scale_rate in ((double.near, nu), (double.far, nu + abs(_value(exact.far.rate) + _value(exact.near.rate)))):
+        want = exact.near if pole is double.near else exact.far
+        assert abs(_value(pole.rate) - _value(want.rate)) <= limit * scale_rate
+        for name in ("per", "coef", "WK", "n", "one_minus_n", "base", "B", "chi0"):
+            got, ref = _value(getattr(pole, name)), _value(getattr(want, name))
+            assert abs(got - ref) <= limit * (abs(ref) if name != "chi0" else math.pi), (name, got, ref)
+        # W at the start's phase (a start on a half period's edge may be reduced to either side: W0 + j0·W(2K))
+        got, ref = pole.W0 + 2 * pole.j0 * pole.WK, want.W0 + 2 * want.j0 * want.WK
+        assert abs(got - ref) <= limit * (abs(ref) + 2 * (1 + abs(want.j0)) * want.WK), (got, ref)

@@ -38,9 +38,10 @@ from __future__ import annotations
 
 import decimal
 import functools
+import math
 from decimal import Decimal
 
-__all__ = ["DIGITS", "pi", "agm", "rf_", "rc_", "rj_", "third_kind_complete", "complete_integrals"]
+__all__ = ["DIGITS", "pi", "sqrt", "agm", "rf_", "rc_", "rj_", "third_kind_complete", "complete_integrals"]
 
 #: Working precision (decimal digits) of the per-motion constants.
 DIGITS = 36
@@ -64,6 +65,11 @@ def _pi(prec: int) -> Decimal:
 def pi() -> Decimal:
     """π at the current precision."""
     return +_pi(decimal.getcontext().prec)
+
+
+def sqrt(x):
+    """√x in the arithmetic of x: :class:`~decimal.Decimal` (at the context's precision) or float."""
+    return x.sqrt() if type(x) is Decimal else math.sqrt(x)
 
 
 def agm(a: Decimal, b: Decimal) -> Decimal:
@@ -149,8 +155,9 @@ def third_kind_complete(n: Decimal, one_minus_n: Decimal, mc: Decimal) -> Decima
 def complete_integrals(mc: Decimal, characteristics) -> tuple:
     """``(K(m), [Π(n | m) for (n, 1 − n) in characteristics])`` from one AGM sequence of ``(1, √m_c)``: K = π/(2M)
     and each Π by :func:`third_kind_complete`'s recurrence, which shares the AGM's ``a_k, g_k`` (one sequence
-    instead of one per integral). ``n = 0`` gives Π = K.
-    Call inside a :func:`decimal.localcontext` of at least :data:`DIGITS` digits.
+    instead of one per integral). ``n = 0`` gives Π = K. In the arithmetic of ``mc``: Decimal (call inside a
+    :func:`decimal.localcontext` of at least :data:`DIGITS` digits) or float (a few ulp where ``1 − n`` is not
+    small: the recurrence's terms are ratios of sums of positive numbers but ε_k, see :func:`third_kind_complete`).
 
     Examples
     --------
@@ -164,11 +171,13 @@ def complete_integrals(mc: Decimal, characteristics) -> tuple:
     >>> max(checks) < decimal.Decimal("1e-33")
     True
     """
-    eps = Decimal(10) ** (-decimal.getcontext().prec + 1)
-    a, g = Decimal(1), mc.sqrt()
-    ps = [one_minus_n.sqrt() for _, one_minus_n in characteristics]
-    qs = [Decimal(1)] * len(ps)
-    totals = [Decimal(0)] * len(ps)
+    exact = type(mc) is Decimal
+    eps = Decimal(10) ** (-decimal.getcontext().prec + 1) if exact else 2.0 ** -52
+    one = mc / mc
+    a, g = one, sqrt(mc)
+    ps = [sqrt(one_minus_n) for _, one_minus_n in characteristics]
+    qs = [one] * len(ps)
+    totals = [one - one] * len(ps)
     for _ in range(400):
         ag = a * g
         done = abs(a - g) <= eps * a
@@ -180,6 +189,6 @@ def complete_integrals(mc: Decimal, characteristics) -> tuple:
             done = done and abs(qs[k]) <= eps * abs(totals[k])
         if done:
             break
-        a, g = (a + g) / 2, ag.sqrt()
-    half = pi() / (2 * (a + g))
+        a, g = (a + g) / 2, sqrt(ag)
+    half = (pi() if exact else math.pi) / (2 * (a + g))
     return 2 * half, [half * (2 + n / one_minus_n * total) for (n, one_minus_n), total in zip(characteristics, totals)]

@@ -34,7 +34,9 @@ Accuracy: the roots, λ, K and the mean rates per nutation period are computed o
 exact deflation where a root is known: ``u̇0 = 0``, or a pole that is a turning point), then rounded to
 double-double; the complete third-kind integrals W(K) by the AGM (DLMF 19.8.6, two square roots a step), τ0 by
 Carlson's R_F in double where m_c > 1e-6 (to 36 digits nearer the separatrix), the start's angles in floats
-(~0.17 ms a motion). The phase ``λ t + τ0`` is reduced modulo ``2K`` and the secular angles modulo ``4π`` in
+(~0.15 ms a motion; for an accuracy asked, on a benign motion, the steps after the turning points — λ, τ0, K,
+the third-kind integrals, the rates — in double where their error bound allows: :func:`_setup_double`, ~0.11 ms).
+The phase ``λ t + τ0`` is reduced modulo ``2K`` and the secular angles modulo ``4π`` in
 double-double, so the error does not grow with t. A double root (steady precession, the sleeping top) is
 exact: the motion is then a uniform rotation of the Euler angles. For 48 output times or more the third-kind
 integrals come from an odd Chebyshev series of W on [−K, K], obtained per call by integrating the series of its
@@ -134,9 +136,10 @@ class HeavyTopMotion:
 # ----------------------------------------------------------------------------------------------------------------
 # Double-double helpers
 # ----------------------------------------------------------------------------------------------------------------
-def _dd(x: Decimal) -> tuple[float, float]:
+def _dd(x) -> tuple[float, float]:
+    """A Decimal as the double-double (hi, lo); a float as (x, 0)."""
     hi = float(x)
-    return hi, float(x - Decimal(hi))
+    return (hi, float(x - Decimal(hi))) if type(x) is Decimal else (hi, 0.0)
 
 
 def _two_sum(a, b):
@@ -206,6 +209,11 @@ _FOUR_PI = None
 _THROUGH = Decimal("1e-26")
 _AGM_FROM = Decimal("1e-20")  # 1 − n from which Π(n | m) is taken by the AGM (below: R_J)
 _MC_DOUBLE = Decimal("1e-6")  # above it, the start's phase τ0 in double  # 1 ∓ w below this at a turning point: the motion passes through the pole
+#: A motion's constants may be finished in double (for an accuracy asked) where both poles are at least this far
+#: (1 ∓ w) from its turning points and m_c is at least this: no cancellation near a pole or the separatrix.
+_BENIGN = Decimal("1e-3")
+#: ... and where 1 − n of each third-kind integral is at least this (the AGM's sum loses ~½ log₁₀(1/(1 − n)) digits).
+_AGM_DOUBLE = 0.05
 
 
 def _four_pi():
@@ -285,7 +293,7 @@ def _complete(mc, *poles):
     out = [K]
     for n, one_minus_n, B in poles:
         if B == 0:
-            out.append(Decimal(0))
+            out.append(K - K)
         elif one_minus_n >= _AGM_FROM:
             out.append(next(values))
         else:
@@ -362,8 +370,12 @@ def _W_direct(x, n, one_minus_n, mc, rootmc):
     return np.sign(x) * val
 
 
-def _setup(I1, I3, M, g, l, omega, q):
-    """Classify one motion and compute its constants (decimal, then double or double-double)."""
+def _setup(I1, I3, M, g, l, omega, q, exact=True):
+    """Classify one motion and compute its constants: in decimal at 36 digits, then rounded to double or
+    double-double. ``exact=False`` (for an accuracy asked, :func:`_setup_double`): the same up to the turning points
+    and the modulus (every difference that may cancel, in decimal), the rest (λ, the phase at t = 0, K, the
+    third-kind integrals, the angles' rates) in double; None where that motion is not :data:`_BENIGN` (steady, near
+    a pole or the separatrix)."""
     with decimal.localcontext() as ctx:
         ctx.prec = _de.DIGITS
         Dm = [Decimal(float(v)) for v in (I1, I3, M, g, l)]
@@ -394,6 +406,8 @@ def _setup(I1, I3, M, g, l, omega, q):
         nu = w[2] - a  # χ̇₊ = ν + (b + a)/(1 + u), χ̇₋ = −ν + (b − a)/(1 − u), ν = a (I1/I3 − 1) = ω3 − a
         nu_near, nu_far = (-nu, nu) if sigma > 0 else (nu, -nu)
         steady = D == 0 and C == 0
+        if steady and not exact:
+            return None
         if steady:
             return _finish(*_steady(sigma, w0, one_m_w0, one_p_w0, Bn, Bf, nu_near, nu_far, w, u0), omega, q)
         x1, x2, x3 = _roots(A, B, C, D, one_m_w0, one_p_w0, Bn, Bf)
@@ -407,6 +421,8 @@ def _setup(I1, I3, M, g, l, omega, q):
         # near a pole the difference loses digits; the root identities (b ∓ σa)² = −f(±σ) do not:
         # (b − σa)² = |β| y2 (1 − w1)(w3 − 1),  (b + σa)² = |β| z1 (1 + w2)(1 + w3)
         w1d, w2d, w3d = w0 + x1, w0 + x2, w0 + x3
+        if not exact and not (y2 >= _BENIGN and z1 >= _BENIGN and x3 - x2 >= _BENIGN * (x3 - x1)):
+            return None  # near a pole or the separatrix: in decimal
         if y2 < Decimal("1e-20") and w3d > 1 and w1d < 1:
             y2 = Bn * Bn / (A * (1 - w1d) * (w3d - 1))
         if z1 < Decimal("1e-20") and w2d > -1:
@@ -426,14 +442,19 @@ def _setup(I1, I3, M, g, l, omega, q):
                 "omega0", tuple(float(v) for v in omega),
                 "a start off the separatrix of the upright top (here m_c = 1 − m is below 1e-150: the top leaves or "
                 "approaches the vertical asymptotically, with no periodic closed form in double precision)")
-        lam = (A * span).sqrt() / 2
-        rootmc = mc.sqrt()
+        turning = tuple(float(sigma * x) for x in (w1d, w2d))
+        if not exact:  # from here on in double: λ, τ0, K, the third-kind integrals and the rates (no cancellation)
+            A, span, mc, m, delta, x1, x2, x3, y2, z1, Bn, Bf, nu_near, nu_far = (
+                float(v) for v in (A, span, mc, m, delta, x1, x2, x3, y2, z1, Bn, Bf, nu_near, nu_far))
+        lam = _de.sqrt(A * span) / 2
+        rootmc = _de.sqrt(mc)
         # τ0: sn² τ0 = −x1/Δ, sign of sn = sign of ẇ0 (on [−K, K], cn ≥ 0 and dn > 0)
         s_sq, c_sq, d_sq = -x1 / delta, x2 / delta, x3 / span
         if s_sq <= 0:
-            F = Decimal(0)
+            F = Decimal(0) if exact else 0.0
         elif mc > _MC_DOUBLE:  # K < 8: Carlson's R_F in double keeps τ0 to a few ulp of K (no growth with t)
-            F = Decimal(math.sqrt(float(s_sq)) * _carlson_rf(float(c_sq), float(d_sq), 1.0))
+            F = math.sqrt(float(s_sq)) * _carlson_rf(float(c_sq), float(d_sq), 1.0)
+            F = Decimal(F) if exact else F
         else:  # near the separatrix (K large): to 36 digits
             F = s_sq.sqrt() * _de.rf_(c_sq, d_sq, Decimal(1))
         wdot0 = sigma * wperp
@@ -449,14 +470,15 @@ def _setup(I1, I3, M, g, l, omega, q):
         one_m_m_over_n = delta * mc / (z1 * m + delta)
         far_rate = nu_far + Bf * m_over_n / (z1 + delta)
         far_coef = Bf * one_m_m_over_n / (lam * (z1 + delta))
+        if not exact and min(near_1mn if Bn != 0 else 1.0, far_1mn if Bf != 0 else 1.0) < _AGM_DOUBLE:
+            return None  # the AGM's sum for Π(n | m) cancels as 1 − n → 0: in decimal
         K, near_WK, far_WK = _complete(mc, (near_n, near_1mn, Bn), (far_n, far_1mn, Bf))
         near_per = near_coef * 2 * near_WK
         far_per = far_coef * 2 * far_WK
         lam_dd, tau0_dd, per_dd = _dd(lam), _dd(tau0), _dd(2 * K)
         nutation = 2 * K / lam
-        turning = tuple(float(sigma * (w0 + x)) for x in (x1, x2))
         motion = dict(
-            steady=False, sigma=float(sigma), w1=float(w0 + x1), delta=float(delta), mc=float(mc),
+            steady=False, sigma=float(sigma), w1=float(w1d), delta=float(delta), mc=float(mc),
             rootmc=float(rootmc), K=float(K), lam=lam_dd[0], lam_lo=lam_dd[1], u0=tau0_dd[0], u0_lo=tau0_dd[1],
             period=per_dd[0], period_lo=per_dd[1], omega3=float(w[2]), nutation_period=float(nutation),
             turning=tuple(sorted(turning)),
@@ -464,6 +486,8 @@ def _setup(I1, I3, M, g, l, omega, q):
         # W(τ0) and W(τ0 − K) at t = 0, to 36 digits: near a pole W is steep, and a rounded τ0 would shift every later angle
         # (only where the start is near a pole, 1 − n sn² < 1e-4: elsewhere W is smooth and a double will do)
         steep = Decimal("1e-4")
+        if not exact and (Bn != 0 and near_1mn + near_n * c_sq < steep or Bf != 0 and far_1mn + far_n * mc * s_sq / d_sq < steep):
+            return None  # a start near a pole: W there in decimal
         W0n = None
         if Bn != 0 and near_1mn + near_n * c_sq < steep:
             W0n = _W_decimal(s_sq, c_sq, d_sq, near_n, near_1mn) * (-1 if tau0 < 0 else 1)
@@ -479,6 +503,37 @@ def _setup(I1, I3, M, g, l, omega, q):
                    coef=float(far_coef), rate=_dd(far_rate), per=_dd(far_per), WK=float(far_WK))
         start = {"near": (None if W0n is None else float(W0n), 0.0), "far": (None if W0f is None else float(W0f), j0f)}
     return _finish(motion, near, far, omega, q, start)
+
+
+#: The relative error of a constant computed in double by :func:`_setup` (``exact=False``), in ulp, with a margin:
+#: tests/test_numerics_heavy_top_exact.py measures it against the decimal constants over random benign motions.
+_DOUBLE_ULPS = 16
+
+
+def _setup_double(I1, I3, M, g, l, omega, q, accuracy, tmax):
+    """The motion's constants with their last steps in double, where that is accurate enough for ``accuracy`` over
+    |t| ≤ tmax; else None (and :func:`_setup` computes them all in decimal).
+
+    :func:`_setup` with ``exact=False``: everything up to the turning points and the modulus in decimal as always
+    (every difference that may cancel: the integrals of the start, the cubic's roots, the distances to the poles),
+    the rest in double — λ = √(|β|(w3 − w1))/2, τ0, K and the complete third-kind integrals by the AGM, the angles'
+    rates — for benign motions only (both poles and the separatrix at least :data:`_BENIGN` away; steady motions are
+    left to the decimal path). Those are products, quotients and square roots of numbers known to an ulp and one sum
+    (the far pole's rate ``ν + B·m/(n (z1 + Δ))``): each within :data:`_DOUBLE_ULPS` ulp of its scale (the rate's:
+    the sum of its terms' sizes). The phase ``λ t + τ0`` reduced by ``j`` half periods 2K, and each secular angle
+    ``rate·t + per·j``, are then off by at most ``_DOUBLE_ULPS·ε·(|λ| tmax + |τ0| + 2K·j)`` and
+    ``_DOUBLE_ULPS·ε·(scale·tmax + |per|·j)`` radians: accepted where both stay below a tenth of the accuracy (the
+    evaluation's own rounding and truncation bounds, at the same tenth, come on top)."""
+    mo = _setup(I1, I3, M, g, l, omega, q, exact=False)
+    if mo is None:
+        return None
+    bound = _DOUBLE_ULPS * _EPS
+    jmax = (abs(mo.lam) * tmax + abs(mo.u0)) / mo.period + 2.0
+    phase = bound * (abs(mo.lam) * tmax + abs(mo.u0) + mo.period * jmax)
+    nu = abs(mo.near.rate[0])  # the near pole's rate is ∓ν itself; the far pole's is ±ν plus its elliptic term
+    scales = (nu, nu + abs(mo.far.rate[0] + mo.near.rate[0]))
+    angles = bound * max(scale * tmax + abs(p.per[0]) * jmax for scale, p in zip(scales, (mo.near, mo.far)))
+    return mo if max(phase, angles) <= 0.1 * accuracy else None
 
 
 def _steady(sigma, w0, one_m_w0, one_p_w0, Bn, Bf, nu_near, nu_far, w, u0):
@@ -1029,7 +1084,7 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None, accuracy=None):
         None (default): precise up to :data:`BATCH_PRECISE` members.
     accuracy : float or None, optional
         Relative accuracy asked (of ω, relative to its scale) for the precise path (a scene passes its accuracy):
-        the outputs are then summed as Fourier series in the nutation phase, fitted per call from 32–128 samples of
+        the motion's constants are then finished in double where their error bound allows, and the outputs summed as Fourier series in the nutation phase, fitted per call from 32–128 samples of
         the closed form (:mod:`eulersym.numerics._heavy_top_fourier`: cut at round-off, the phase and the secular
         angles in double where their rounding bound stays below a tenth of the accuracy, else in double-double);
         where those series decline (a pole that is a turning point, a pass close to a pole, a start near the
@@ -1086,9 +1141,14 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None, accuracy=None):
         return _batch(batched, nb, Iarr, Mv, gv, lv, w, qq, tt)
     outs = ([], [], [], [], [], [])
     block = None
+    tmax = float(np.max(np.abs(tt))) if accuracy is not None and tt.size else 0.0
     for k in range(nb):
         snapped = _snap_to_poles(qq[k])
-        mo = _setup(Iarr[k, 0], Iarr[k, 2], Mv[k], gv[k], lv[k], w[k], snapped)
+        mo = None
+        if accuracy is not None:  # the constants in double where their error bound allows
+            mo = _setup_double(Iarr[k, 0], Iarr[k, 2], Mv[k], gv[k], lv[k], w[k], snapped, float(accuracy), tmax)
+        if mo is None:
+            mo = _setup(Iarr[k, 0], Iarr[k, 2], Mv[k], gv[k], lv[k], w[k], snapped)
         block = _evaluate(mo, tt, accuracy)
         omega, gamma, q, euler = block[0:3].T, block[3:6].T, block[6:10].T, block[10:13].T
         cols = np.flatnonzero(tt == 0.0)  # the start (also where a pass through a pole at t = 0 is below the phase resolution)
