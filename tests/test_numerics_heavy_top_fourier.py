@@ -159,7 +159,7 @@ def test_few_times_a_steady_motion_and_no_accuracy_are_declined():
 def test_the_integration_matrix_integrates_a_trigonometric_polynomial():
     """The tables' antiderivative and mean: of 1 + 3 cos θ − 2 sin 2θ, the samples of 3 sin θ + cos 2θ − 1 and 1."""
     size = 32
-    _, integrate, coefficients = fourier._TABLES[size]
+    _, integrate, coefficients, _, _ = fourier._TABLES[size]
     theta = 2.0 * math.pi * np.arange(size) / size
     out = (1.0 + 3.0 * np.cos(theta) - 2.0 * np.sin(2.0 * theta)) @ integrate
     assert np.max(np.abs(out[:-1] - (3.0 * np.sin(theta) + np.cos(2.0 * theta) - 1.0))) <= 1e-14
@@ -168,3 +168,20 @@ def test_the_integration_matrix_integrates_a_trigonometric_polynomial():
     want = np.zeros(size)
     want[1], want[6] = 0.5, -4.0  # a1, b3 in 1, cos θ, sin θ, cos 2θ, sin 2θ, cos 3θ, sin 3θ, …
     assert np.max(np.abs(c - want)) <= 1e-14
+
+
+@pytest.mark.parametrize("size", fourier._SIZES)
+def test_the_order_tables_sum_each_orders_coefficients_and_swap_half_a_grid(size):
+    """The tables' order sums: for random complex coefficients (seeded) the product gives, per order k and part,
+    |a_k| + |b_k| (|a_{size/2}| alone at the top), as the loop over the orders does; the swap is half a grid on."""
+    _, _, _, swap, orders = fourier._TABLES[size]
+    rng = np.random.default_rng(11)
+    c = rng.standard_normal((3, size)) + 1j * rng.standard_normal((3, size))
+    sums = (np.abs(c.view(float)) @ orders).reshape(3, size // 2, 2)
+    for part, values in enumerate((c.real, c.imag)):
+        want = [np.abs(values[:, 2 * k - 1]) + np.abs(values[:, 2 * k]) for k in range(1, size // 2)]
+        want.append(np.abs(values[:, -1]))
+        assert np.array_equal(sums[:, :, part], np.array(want).T)
+    cn2 = rng.random(size)
+    assert np.array_equal(cn2[swap[0]], cn2)
+    assert np.array_equal(cn2[swap[1]], np.concatenate([cn2[size // 2:], cn2[:size // 2]]))

@@ -72,7 +72,9 @@ def _tables(size):
     that maps samples of f to the samples of the periodic antiderivative of ``f − f̄`` that is zero at θ_0
     (spectrally ``c_k/(i k)``) and, in its last column, to the mean f̄; and the matrix (size, size) of the real
     Fourier coefficients ``a0, a1, b1, a2, b2, …, a_{size/2}`` of ``a0 + Σ a_k cos kθ + b_k sin kθ`` (complex
-    dtype, for complex rows: their real and imaginary parts' coefficients at once)."""
+    dtype, for complex rows: their real and imaginary parts' coefficients at once); the indices (2, size) of each
+    sample and of the sample half a grid on; the matrix (2·size, size) that sums the absolute real and imaginary
+    parts of the coefficients of one order (interleaved), as columns (order 1…size/2, re/im)."""
     theta = 2.0 * math.pi * np.arange(size) / size
     spectrum = np.fft.rfft(np.eye(size), axis=1)
     spectrum[:, 1:-1] /= 1j * np.arange(1, size // 2)
@@ -85,7 +87,12 @@ def _tables(size):
     D[:, 1:-1:2] = (2.0 / size) * np.cos(np.outer(theta, k))
     D[:, 2:-1:2] = (2.0 / size) * np.sin(np.outer(theta, k))
     D[:, -1] = (1.0 / size) * np.cos(size / 2 * theta)
-    return np.arange(size) / size, np.concatenate([Q, np.full((size, 1), 1.0 / size)], axis=1), D.astype(complex)
+    swap = np.array([np.arange(size), np.roll(np.arange(size), -(size // 2))])  # each sample, and half a grid on
+    orders = np.zeros((size, 2, size // 2, 2))  # |a_k| + |b_k| of interleaved (re, im) coefficients: one product
+    for column in range(1, size):
+        orders[column, :, (column - 1) // 2, :] = np.eye(2)
+    return (np.arange(size) / size, np.concatenate([Q, np.full((size, 1), 1.0 / size)], axis=1), D.astype(complex),
+            swap, orders.reshape(2 * size, size))
 
 
 _TABLES = {size: _tables(size) for size in _SIZES}
@@ -98,8 +105,8 @@ def _pairs(sigma):
 
 def _cos_sin(half):
     """cos and sin of ``2·half`` from ``τ = tan(half)``: ``2/(1 + τ²) − 1`` and ``τ·2/(1 + τ²)`` (NumPy's tan is
-    vectorised where its sin and cos are not: five times faster), a few ulp."""
-    tau = np.tan(half)
+    vectorised where its sin and cos are not: five times faster), a few ulp; ``half`` becomes the sin."""
+    tau = np.tan(half, out=half)
     cos = tau * tau
     cos += 1.0
     np.divide(2.0, cos, out=cos)
@@ -122,17 +129,21 @@ def _quarter(lines):
     return [(0.5 * slope, 0.5 * offset) for slope, offset in lines]
 
 
-def _angles(mo, t, tolerance, tmax, dd_linear, four_pi):
-    """Half of the secular half angles (near, far) and of θ at t (rows of (3, n), for :func:`_cos_sin`):
-    ``slope·t + offset`` in double where the rounding bounds of the phase, ``4ε(λ max|t| + |τ0| + 2K)``, and of
-    the half angles, ``4ε(|slope| max|t| + |offset|)``, stay below tolerance/2; else from the phase reduced in
-    double-double and the half angles' ``rate·t + per·j`` by ``dd_linear``."""
-    secular = _secular(mo)
-    lines = _quarter(secular)
-    out = np.empty((3,) + t.shape)
+def _in_double(mo, secular, tolerance, tmax):
+    """Whether the rounding bounds of the phase, ``4ε(λ max|t| + |τ0| + 2K)``, and of the secular half angles,
+    ``4ε(|slope| max|t| + |offset|)``, stay below tolerance/2: then :func:`_angles` evaluates them in double."""
     phase_bound = 4.0 * _EPS * (abs(mo.lam) * tmax + abs(mo.u0) + mo.period)
     half_bound = 4.0 * _EPS * max(abs(slope) * tmax + abs(offset) for slope, offset in secular[:2])
-    if max(phase_bound, half_bound) <= 0.5 * tolerance:
+    return max(phase_bound, half_bound) <= 0.5 * tolerance
+
+
+def _angles(mo, t, lines, dd_linear, four_pi):
+    """Half of the secular half angles (near, far) and of θ at t (rows of (3, n), for :func:`_cos_sin`):
+    ``slope·t + offset`` in double from ``lines`` (:func:`_quarter` of :func:`_secular`) where :func:`_in_double`
+    (else None); else from the phase reduced in double-double and the half angles' ``rate·t + per·j`` by
+    ``dd_linear``."""
+    out = np.empty((3,) + t.shape)
+    if lines is not None:
         for row, (slope, offset) in zip(out, lines):
             np.multiply(t, slope, out=row)
             if offset:
@@ -180,22 +191,19 @@ def _series(mo, tolerance, half0):
     mix = np.array([0.5 * far.B, 0.5 * near.B])  # A·sin θ = ½(B_n R_f² + B_f R_n²), R² = (1 − w, 1 + w)
     along = -mo.sigma * 2.0 * mo.delta * mo.lam  # −B sin θ = −σ 2λΔ dn cn sn
     for size in _SIZES:
-        grid, integrate, fourier = _TABLES[size]
+        grid, integrate, fourier, swap, orders = _TABLES[size]
         half = size // 2
         r = grid * mo.period
         r += r0
         sn, cn, dn = _grid_jacobi(r, mo, landen)
-        R2 = np.empty((2, size))
-        np.multiply(cn, cn, out=R2[0])
-        np.multiply(sn, sn, out=R2[1])
-        x2 = np.empty((2, size))  # cn² at W's argument: r (near pole), r ∓ K (far pole: half a grid on)
-        x2[0] = R2[0]
-        x2[1, :half], x2[1, half:] = R2[0, half:], R2[0, :half]
+        R2 = np.array((cn, sn))
+        R2 *= R2
+        x2 = R2[0][swap]  # cn² at W's argument: r (near pole), r ∓ K (far pole: half a grid on)
         R2 *= mo.delta
         R2 += bases  # the pole distances 1 ∓ w
         x2 *= ns
         x2 += one_minus_ns
-        rates = np.divide(coefs, x2)  # χ̇ = rate + coef·λ·W′(x)
+        rates = np.divide(coefs, x2, out=x2)  # χ̇ = rate + coef·λ·W′(x)
         rates += rates0
         integral = rates @ integrate
         sampled = integral[:, -1].tolist()
@@ -220,16 +228,18 @@ def _series(mo, tolerance, half0):
         rows[2] *= turn[minus]
         rows[2] /= turn[plus]  # (iA − B) e^{−i(ψ − ψ̄)}
         c = rows @ fourier
-        full = np.concatenate([c.real, c.imag])  # the real parts of the three rows, then their imaginary parts
-        order = np.abs(full)
-        order *= 1.0 / tolerance
-        order[2::3] *= 1.0 / math.hypot(float(np.abs(rows[2]).max()), mo.omega3)  # ω: relative to its scale
-        by_order = order[:, 1:-1].reshape(6, half - 1, 2).sum(axis=2).max(axis=0).tolist()  # |a_k| + |b_k|
-        by_order.append(float(order[:, -1].max()))
+        # |a_k| + |b_k| (|a_{size/2}|) of the six real rows (the complex rows' real and imaginary parts), in
+        # tolerances (ω: relative to its scale), the largest of the six for each order k = 1 … size/2
+        scale = 1.0 / tolerance
+        sums = np.abs(c.view(float)) @ orders
+        sums *= np.array([[scale], [scale], [scale / math.hypot(float(np.abs(rows[2]).max()), mo.omega3)]])
+        by_order = sums.reshape(3, half, 2).max(axis=(0, 2)).tolist()
         if not sum(by_order[-_MARGIN - 1:]) <= 0.01:  # the aliasing floor (a NaN is refused too)
             continue
         floor = _CUT * _EPS / tolerance  # a few ulp of each row's scale: the series' own round-off
-        H = max([k + 1 for k, v in enumerate(by_order) if v > floor] or [1])
+        H = half  # the highest order above the floor (1 where none is: a NaN is none)
+        while H > 1 and not by_order[H - 1] > floor:
+            H -= 1
         if H >= half - _MARGIN and size < _SIZES[-1]:
             continue  # round-off only with more samples (the orders from here on are below the aliasing floor)
         H = min(H, half - _MARGIN - 1)
@@ -237,7 +247,7 @@ def _series(mo, tolerance, half0):
         while tail > 0.5:  # where the tolerance asks for more than round-off: the orders its tail needs
             H += 1
             tail -= by_order[H - 1]
-        return full[:, :2 * H + 1]
+        return np.concatenate([c.real[:, :2 * H + 1], c.imag[:, :2 * H + 1]])  # (re rows, then im rows)
     return None
 
 
@@ -268,21 +278,22 @@ def fourier_rows(mo, t, accuracy, dd_linear, four_pi):
             or not 0.0 < accuracy < 1.0):
         return None
     tolerance = 0.1 * float(accuracy)
-    coefficients = _series(mo, tolerance, [offset for _, offset in _secular(mo)[:2]])
+    secular = _secular(mo)
+    coefficients = _series(mo, tolerance, [offset for _, offset in secular[:2]])
     if coefficients is None or t.size * (coefficients.shape[1] // 2 - _ORDERS_PAY) > _ORDERS_BUDGET:
         return None  # (many orders at many times: the direct evaluation is the cheaper)
     block = np.empty((13,) + t.shape)
+    lines = _quarter(secular) if _in_double(mo, secular, tolerance, max(float(t.max()), -float(t.min()))) else None
     for start in range(0, t.size, _CHUNK):  # pieces whose temporaries stay in the cache
         part = slice(start, start + _CHUNK) if t.size > _CHUNK else slice(None)
-        _rows_at(mo, t[part], coefficients, tolerance, dd_linear, four_pi, block[:, part])
+        _rows_at(mo, t[part], coefficients, lines, dd_linear, four_pi, block[:, part])
     return block
 
 
-def _rows_at(mo, t, coefficients, tolerance, dd_linear, four_pi, block):
-    """:func:`fourier_rows` at the times t, written into ``block`` (13, n)."""
+def _rows_at(mo, t, coefficients, lines, dd_linear, four_pi, block):
+    """:func:`fourier_rows` at the times t, written into ``block`` (13, n); ``lines``: as :func:`_angles`."""
     H = coefficients.shape[1] // 2
-    angles = _angles(mo, t, tolerance, max(float(t.max()), -float(t.min())), dd_linear, four_pi)
-    cos, sin = _cos_sin(angles)
+    cos, sin = _cos_sin(_angles(mo, t, lines, dd_linear, four_pi))
     Y = coefficients @ _basis(cos[2], sin[2], H)  # turned back: q near, q far, ω1 + iω2 (re); (im)
     # the attitude's pairs turned by e^{ih}, (x + iy)(c + is), written where they belong, then |q| = 1
     (n0, n1), (f0, f1) = (6 + k for k in _pairs(mo.sigma)[0]), (6 + k for k in _pairs(mo.sigma)[1])
