@@ -60,7 +60,7 @@ from __future__ import annotations
 
 import decimal
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from decimal import Decimal
 
 import numpy as np
@@ -176,8 +176,8 @@ class _Pole:
     one_minus_n: float
     coef: float  # multiplies W(x) in χ
     WK: float  # W(K) = Π(n | m), the complete integral (0 where there is no elliptic term)
-    W0: float  # W at t = 0 (reduced argument)
-    j0: float  # the half period of the argument at t = 0
+    W0: float | None  # W at t = 0 (reduced argument); None until _resolved finds it (lazy _finish)
+    j0: float | None  # the half period of the argument at t = 0 (None as W0)
     rate: tuple  # double-double: the linear rate (per unit time)
     per: tuple  # double-double: coef · W(2K), the increment per nutation period
     chi0: float
@@ -502,7 +502,7 @@ def _setup(I1, I3, M, g, l, omega, q, exact=True):
         far = dict(base=float(z1), signed=(z1 == 0), at_pole=(one_p_w0 < _THROUGH), B=float(Bf), n=float(far_n), one_minus_n=float(far_1mn),
                    coef=float(far_coef), rate=_dd(far_rate), per=_dd(far_per), WK=float(far_WK))
         start = {"near": (None if W0n is None else float(W0n), 0.0), "far": (None if W0f is None else float(W0f), j0f)}
-    return _finish(motion, near, far, omega, q, start)
+    return _finish(motion, near, far, omega, q, start, lazy=not exact)
 
 
 #: The relative error of a constant computed in double by :func:`_setup` (``exact=False``), in ulp, with a margin:
@@ -573,27 +573,29 @@ def _W_points(points, mc, rootmc, landen):
     return [math.copysign(float(v), x) if x != 0.0 else 0.0 for v, (x, _, _) in zip(val, points)]
 
 
-def _phase0(motion):
+def _phase0(u_hi, u_lo, period, period_lo):
     """:func:`eulersym.numerics.exact._phase` at t = 0 for one motion, in floats: (r0, j0)."""
-    u_hi, u_lo = motion["u0"], motion["u0_lo"]
-    j = float(round((u_hi + u_lo) / motion["period"]))
-    e_hi, e_lo = _two_prod(j, motion["period"])
-    return ((u_hi - e_hi) - e_lo) + (u_lo - j * motion["period_lo"]), j
+    j = float(round((u_hi + u_lo) / period))
+    e_hi, e_lo = _two_prod(j, period)
+    return ((u_hi - e_hi) - e_lo) + (u_lo - j * period_lo), j
 
 
-def _finish(motion, near, far, omega, q, start=None):
-    """Fix the angles χ0 from q0 (and, where a half angle starts at zero, from the direction q̇0)."""
+def _finish(motion, near, far, omega, q, start=None, lazy=False):
+    """Fix the angles χ0 from q0 (and, where a half angle starts at zero, from the direction q̇0), and W and the
+    half period at t = 0 (:func:`_start_W`) — with ``lazy`` (no signed half angle) left as None for
+    :func:`_resolved` to find where the direct evaluation needs them (the Fourier series do not)."""
     qn = [float(v) for v in q]
     norm = math.sqrt(sum(v * v for v in qn))
     qn = [v / norm for v in qn]
     w1, w2, w3 = (float(v) for v in omega)
     qdot = (0.5 * (-qn[1] * w1 - qn[2] * w2 - qn[3] * w3), 0.5 * (qn[0] * w1 - qn[3] * w2 + qn[2] * w3),
             0.5 * (qn[3] * w1 + qn[0] * w2 - qn[1] * w3), 0.5 * (-qn[2] * w1 + qn[1] * w2 + qn[0] * w3))
+    lazy = lazy and not (motion["steady"] or near["signed"] or far["signed"])
     landen = None
-    if motion["steady"]:
-        amp_n, amp_f, dn_sign, df_sign = math.sqrt(near["base"]), math.sqrt(far["base"]), 1.0, 1.0
+    if motion["steady"] or lazy:  # no signed amplitude: its sign at t = 0 does not enter
+        amp_n, amp_f, dn_sign, df_sign = (math.sqrt(near["base"]), math.sqrt(far["base"]), 1.0, 1.0)
     else:  # the amplitudes at t = 0 as _amplitudes finds them
-        r0, j0 = _phase0(motion)
+        r0, j0 = _phase0(motion["u0"], motion["u0_lo"], motion["period"], motion["period_lo"])
         landen = _agm_landen(motion["rootmc"])
         sn, cn, _ = _sncndn_scalar(r0, motion["rootmc"], landen)
         parity = 1.0 - 2.0 * (j0 % 2.0)
@@ -615,31 +617,53 @@ def _finish(motion, near, far, omega, q, start=None):
         out.append(2.0 * half)
     chi_near0, chi_far0 = out
     W0n = W0f = j0n = j0f = 0.0
-    if not motion["steady"]:
-        # the half periods and reduced arguments at t = 0 exactly as the evaluation will find them
-        K = motion["K"]
-        x0 = r0 - K
-        j0n = j0
-        j0f = j0n - 1.0 if x0 < -K else j0n
-        x0 = x0 + motion["period"] if x0 < -K else x0
-        (exact_n, jn_exact), (exact_f, jf_exact) = start["near"], start["far"]
-        values = []
-        in_double = []  # off the poles: W at the reduced argument, in double
-        for pole, x, jj, exact, j_exact in ((near, r0, j0n, exact_n, jn_exact), (far, x0, j0f, exact_f, jf_exact)):
-            if not pole["B"]:
-                values.append(0.0)
-            elif exact is None:
-                in_double.append((len(values), (x, pole["n"], pole["one_minus_n"])))
-                values.append(None)
-            else:  # the decimal value, moved to the branch (half period) the evaluation uses: W(x + 2K) = W(x) + W(2K)
-                values.append(exact + (j_exact - jj) * 2.0 * pole["WK"])
-        if in_double:
-            found = _W_points([point for _, point in in_double], motion["mc"], motion["rootmc"], landen)
-            for (k, _), value in zip(in_double, found):
-                values[k] = value
-        W0n, W0f = values
+    if lazy:
+        W0n = W0f = j0n = j0f = None
+    elif not motion["steady"]:
+        poles = [(p["B"], p["n"], p["one_minus_n"], p["WK"]) for p in (near, far)]
+        W0n, j0n, W0f, j0f = _start_W(motion["K"], motion["period"], motion["mc"], motion["rootmc"], r0, j0, landen,
+                                      poles, start)
     return _Motion(near=_Pole(**near, W0=W0n, j0=j0n, chi0=chi_near0),
                    far=_Pole(**far, W0=W0f, j0=j0f, chi0=chi_far0), **motion)
+
+
+def _start_W(K, period, mc, rootmc, r0, j0, landen, poles, start):
+    """W at t = 0 and the half period it is reduced to, per pole ``(B, n, 1 − n, W(K))``: ``(W0n, j0n, W0f, j0f)``
+    exactly as the evaluation will find them (the near pole's argument r0, the far pole's r0 − K wrapped into
+    [−K, K]); ``start``: each pole's W(τ0) to 36 digits and its half period where it was computed so (near a pole),
+    else None (then in double, SciPy's Carlson integrals)."""
+    x0 = r0 - K
+    j0n = j0
+    j0f = j0n - 1.0 if x0 < -K else j0n
+    x0 = x0 + period if x0 < -K else x0
+    (exact_n, jn_exact), (exact_f, jf_exact) = start["near"], start["far"]
+    values = []
+    in_double = []  # off the poles: W at the reduced argument, in double
+    for (B, n, one_minus_n, WK), x, jj, exact, j_exact in zip(poles, (r0, x0), (j0n, j0f), (exact_n, exact_f),
+                                                              (jn_exact, jf_exact)):
+        if not B:
+            values.append(0.0)
+        elif exact is None:
+            in_double.append((len(values), (x, n, one_minus_n)))
+            values.append(None)
+        else:  # the decimal value, moved to the branch (half period) the evaluation uses: W(x + 2K) = W(x) + W(2K)
+            values.append(exact + (j_exact - jj) * 2.0 * WK)
+    if in_double:
+        found = _W_points([point for _, point in in_double], mc, rootmc, landen)
+        for (k, _), value in zip(in_double, found):
+            values[k] = value
+    return values[0], j0n, values[1], j0f
+
+
+def _resolved(mo):
+    """The motion with W and the half period at t = 0 found where :func:`_finish` left them (``lazy``)."""
+    if mo.near.j0 is not None:
+        return mo
+    r0, j0 = _phase0(mo.u0, mo.u0_lo, mo.period, mo.period_lo)
+    poles = [(p.B, p.n, p.one_minus_n, p.WK) for p in (mo.near, mo.far)]
+    W0n, j0n, W0f, j0f = _start_W(mo.K, mo.period, mo.mc, mo.rootmc, r0, j0, _agm_landen(mo.rootmc), poles,
+                                  {"near": (None, 0.0), "far": (None, 0.0)})
+    return replace(mo, near=replace(mo.near, W0=W0n, j0=j0n), far=replace(mo.far, W0=W0f, j0=j0f))
 
 
 #: From this many output times on, W comes from its Chebyshev series (fitted per call at 32 nodes) rather than from
@@ -788,6 +812,7 @@ def _evaluate(mo, t, accuracy=None):
         block = fourier_rows(mo, t, float(accuracy), _dd_linear, _four_pi())
         if block is not None:
             return block
+    mo = _resolved(mo)
     tolerance = 0.1 * float(accuracy) if accuracy else 0.0
     tmax = float(np.max(np.abs(t))) if (tolerance and t.size) else 0.0
     near, far = mo.near, mo.far
