@@ -80,8 +80,6 @@ def test_fast_and_general_paths_give_the_same_bits_and_errors(function, seed, n,
         general = _outcome(lambda: kernel(*args, out=_out(out_form, kernel, args)))
     fast = _outcome(lambda: kernel(*args, out=_out(out_form, kernel, args)))
     assert fast == general
-    # The one check the fast path leaves out: a Python float or int never shares memory with ``out``.
-    assert not any(np.may_share_memory(np.empty(3), x) for x in args if type(x) in (float, int))
     event("computed" if isinstance(fast[0], tuple) else f"refused: {fast[0]}")
 
 

@@ -185,3 +185,14 @@ def test_the_order_tables_sum_each_orders_coefficients_and_swap_half_a_grid(size
     cn2 = rng.random(size)
     assert np.array_equal(cn2[swap[0]], cn2)
     assert np.array_equal(cn2[swap[1]], np.concatenate([cn2[size // 2:], cn2[:size // 2]]))
+
+
+def test_a_subnormal_accuracy_takes_the_direct_evaluation():
+    """An accuracy whose tenth is below the series' round-off (here 5e-324, subnormal) declines the series instead of
+    dividing by a zero tolerance: the direct evaluation answers, at round-off."""
+    from eulersym.numerics import euler_to_quaternion, heavy_top_exact
+
+    t = np.linspace(0.0, 10.0, 300)
+    args = ((1.0, 1.0, 0.5), 1.0, 9.81, 0.1, (0.3, -0.2, 40.0), euler_to_quaternion((0.0, 1.0, 0.0)), t)
+    tiny, exact = heavy_top_exact(*args, accuracy=5e-324), heavy_top_exact(*args)
+    assert np.all(np.isfinite(tiny.omega)) and np.max(np.abs(tiny.omega - exact.omega)) <= 1e-12 * 40.0

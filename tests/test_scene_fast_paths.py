@@ -100,7 +100,7 @@ def test_default_memory_budget_is_half_the_available_memory_up_to_2_gib():
 def test_a_scene_plans_once_and_its_plan_is_the_fresh_one(name):
     scene = load(name)
     plan = scene.plan()
-    assert scene.plan() is plan
+    assert scene.plan() == plan and scene.plan().options is not plan.options  # made once, handed out as a copy
     fresh = make_plan(scene)
     assert str(plan) == str(fresh) and plan.options == fresh.options and plan == fresh
     twin = Scene(**{f.name: getattr(scene, f.name) for f in dataclasses.fields(scene) if f.init and
@@ -293,3 +293,13 @@ def test_the_pipeline_around_the_engine_gives_the_recorded_bits(name, monkeypatc
 def test_math_degrees_is_numpys_degrees(x):
     """The report's turning points in degrees by math.degrees: the same multiplication by 180/π as np.degrees."""
     assert math.degrees(x) == float(np.degrees(x))
+
+
+def test_a_change_to_a_plans_options_does_not_reach_the_next_plan():
+    """The plan a scene keeps is handed out as a copy of its options: a caller's change stays its own."""
+    from eulersym.scene import load
+
+    scene = load("heavy-top-nutation")
+    first = scene.plan()
+    first.options["engine"] = "integrate"
+    assert scene.plan().options["engine"] != "integrate"

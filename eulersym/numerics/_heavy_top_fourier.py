@@ -278,6 +278,8 @@ def fourier_rows(mo, t, accuracy, dd_linear, four_pi):
             or not 0.0 < accuracy < 1.0):
         return None
     tolerance = 0.1 * float(accuracy)
+    if tolerance < _CUT * _EPS:  # below the series' own round-off (a subnormal accuracy): the direct evaluation
+        return None
     secular = _secular(mo)
     coefficients = _series(mo, tolerance, [offset for _, offset in secular[:2]])
     if coefficients is None or t.size * (coefficients.shape[1] // 2 - _ORDERS_PAY) > _ORDERS_BUDGET:

@@ -912,7 +912,7 @@ def _write_start(block, cols, omega0, snapped, q0, angles):
     norm = math.sqrt(a * a + b * b + c * c + d * d)
     q = [v / norm for v in snapped.tolist()]
     a, b, c, d = q
-    values = [*omega0.tolist(), 2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d, *q]
+    values = [*omega0.tolist(), *_gamma_of(q).tolist(), *q]
     for col in cols:
         block[:10, col] = values
         if angles:

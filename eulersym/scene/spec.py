@@ -434,7 +434,7 @@ class Scene:
         """
         if self.model is not None:  # its plan reads the kernel cache on disk: made anew each time
             return make_plan(self, model=self.cached_model_facts())
-        return self._plan
+        return dataclasses.replace(self._plan, options=dict(self._plan.options))  # a caller's change stays its own
 
     @functools.cached_property
     def _plan(self) -> Plan:
