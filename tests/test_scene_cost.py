@@ -42,6 +42,16 @@ def _toml(path, text):
     return str(path)
 
 
+def _damped_file(path, name, c, end, points=None, omega="[0.1, 1.0, 0.2]"):
+    """A damped body's model file (torque ``-c*omega``, moments (1, 2, 3)): the TOML values as written."""
+    lines = [f'name = "{name}"', "[parameters]", f"c = {c}", "[body]", "moments = [1.0, 2.0, 3.0]", "mass = 1.0",
+             "[torque]", 'body = "-c*omega"', "[initial]", f"omega = {omega}", "[time]", f"end = {end}"]
+    if points is not None:
+        lines.append(f"points = {points}")
+    path.write_text("\n".join(lines) + "\n")
+    return str(path)
+
+
 # ---- one estimate, one check ---------------------------------------------------------------------------------------
 
 
@@ -192,20 +202,9 @@ def test_a_model_scene_beyond_2_52_rad_by_its_rotor_is_refused_once_its_body_is_
 
 
 def test_a_model_sweep_too_big_is_refused_before_deriving_or_allocating(tmp_path, cache):
-    path = _toml(tmp_path / "huge.toml", """
-        name = "huge-damped"
-        [parameters]
-        c = {start = 0.0, stop = 1.0, num = 1000}
-        [body]
-        moments = [1.0, 2.0, 3.0]
-        mass = 1.0
-        [torque]
-        body = "-c*omega"
-        [initial]
-        omega = [{start = 0, stop = 1, num = 1000}, {start = 0, stop = 1, num = 1000}, 0.2]
-        [time]
-        end = 3.0
-    """)
+    sweep = "{start = 0, stop = 1, num = 1000}"
+    path = _damped_file(tmp_path / "huge.toml", "huge-damped", "{start = 0.0, stop = 1.0, num = 1000}", "3.0",
+                        omega=f"[{sweep}, {sweep}, 0.2]")
     scene = Scene.from_toml(path)
     tracemalloc.start()
     try:
@@ -222,41 +221,14 @@ def test_a_model_sweep_too_big_is_refused_before_deriving_or_allocating(tmp_path
 def test_an_endless_torqued_model_is_refused_before_deriving(tmp_path, cache, capsys):
     """A torque means the model's own kernel is integrated (certain from its sections): 1e12 time units are
     refused for their work before anything is derived."""
-    path = _toml(tmp_path / "endless.toml", """
-        name = "endless-damped"
-        [parameters]
-        c = 0.1
-        [body]
-        moments = [1.0, 2.0, 3.0]
-        mass = 1.0
-        [torque]
-        body = "-c*omega"
-        [initial]
-        omega = [0.1, 1.0, 0.2]
-        [time]
-        end = 1e12
-    """)
+    path = _damped_file(tmp_path / "endless.toml", 'endless-damped', '0.1', '1e12')
     err = _cli_error(capsys, path)
     assert "work budget of 1e+09" in err and "a lower bound" in err and "scene=" in err
     assert not cache.exists() or not any(cache.rglob("*.py"))
 
 
 def test_explain_of_an_uncached_model_says_what_it_will_do_without_sympy(tmp_path, cache):
-    path = _toml(tmp_path / "damped.toml", """
-        name = "damped"
-        [parameters]
-        c = [0.1, 0.2, 0.3]
-        [body]
-        moments = [1.0, 2.0, 3.0]
-        mass = 1.0
-        [torque]
-        body = "-c*omega"
-        [initial]
-        omega = [0.1, 1.0, 0.2]
-        [time]
-        end = 2.0
-        points = 11
-    """)
+    path = _damped_file(tmp_path / "damped.toml", 'damped', '[0.1, 0.2, 0.3]', '2.0', points=11)
     code = ("import sys\nfrom eulersym.cli import main\n"
             f"assert main(['simulate', {path!r}, '--explain']) == 0\n"
             "print('sympy imported:', 'sympy' in sys.modules)")
@@ -274,21 +246,7 @@ def test_explain_of_an_uncached_model_says_what_it_will_do_without_sympy(tmp_pat
 
 
 def test_explain_of_a_cached_model_names_its_engine(tmp_path, cache, capsys):
-    path = _toml(tmp_path / "damped.toml", """
-        name = "damped"
-        [parameters]
-        c = 0.1
-        [body]
-        moments = [1.0, 2.0, 3.0]
-        mass = 1.0
-        [torque]
-        body = "-c*omega"
-        [initial]
-        omega = [0.1, 1.0, 0.2]
-        [time]
-        end = 2.0
-        points = 11
-    """)
+    path = _damped_file(tmp_path / "damped.toml", 'damped', '0.1', '2.0', points=11)
     simulate(Scene.from_toml(path))
     assert main(["simulate", path, "--explain"]) == 0
     out = capsys.readouterr().out
