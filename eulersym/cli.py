@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import importlib
 import sys
+import warnings
 
 __all__ = ["main", "COMMANDS"]
 
@@ -42,7 +43,7 @@ def _help() -> str:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the exit status (0 ok, 1 check failed, 2 bad usage or input)."""
-    from eulersym.errors import CheckFailed, EulersymError, InvalidInput
+    from eulersym.errors import CheckFailed, EulersymError, EulersymWarning, InvalidInput
 
     argv = list(sys.argv[1:] if argv is None else argv)
     if not argv or argv[0] in ("-h", "--help"):
@@ -62,6 +63,15 @@ def main(argv: list[str] | None = None) -> int:
         target = _MODEL_ROUTES[name]
     module_name, func_name = target.split(":")
     func = getattr(importlib.import_module(module_name), func_name)
+    show = warnings.showwarning
+
+    def note(message, category, filename, lineno, file=None, line=None):
+        if issubclass(category, EulersymWarning):  # ours: one line that says what happened, no source line
+            sys.stderr.write(f"eulersym: note: {message}\n")
+        else:
+            show(message, category, filename, lineno, file, line)
+
+    warnings.showwarning = note
     try:
         return int(func(rest) or 0)
     except CheckFailed as exc:
@@ -80,6 +90,8 @@ def main(argv: list[str] | None = None) -> int:
 
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
+    finally:
+        warnings.showwarning = show
 
 
 if __name__ == "__main__":  # pragma: no cover

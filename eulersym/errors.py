@@ -17,6 +17,9 @@ __all__ = [
     "SingularConfiguration",
     "UnsafeExpression",
     "CheckFailed",
+    "CacheError",
+    "EulersymWarning",
+    "CacheRepaired",
 ]
 
 _MAX_REPR = 120
@@ -95,4 +98,62 @@ class CheckFailed(EulersymError):
     Traceback (most recent call last):
     ...
     eulersym.errors.CheckFailed: generated/euler.py is stale; run `eulersym generate`
+    """
+
+
+class CacheError(EulersymError, OSError):
+    """The kernel cache cannot be used: a folder another user could write into, a full disk, no permission.
+
+    Parameters
+    ----------
+    path : path-like
+        The folder or file concerned.
+    reason : str
+        What is wrong with it.
+    errno : int, optional
+        The operating system's error number, when one caused it.
+
+    Examples
+    --------
+    >>> raise CacheError("/tmp/cache/models", "it is writable by others (mode 0777)")
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.CacheError: the kernel cache /tmp/cache/models cannot be used: it is writable by others (mode 0777)
+    """
+
+    def __init__(self, path, reason: str, errno: int | None = None):
+        self.path = str(path)
+        self.reason = reason
+        text = f"the kernel cache {self.path} cannot be used: {reason}"
+        if errno is not None:
+            import errno as _errno
+
+            text += f" [errno {errno}: {_errno.errorcode.get(errno, '?')}]"
+        Exception.__init__(self, text)
+        self.errno = errno
+        self.strerror = reason
+        self.filename = self.path
+
+    def __str__(self) -> str:
+        return self.args[0]
+
+    def __reduce__(self):
+        return (type(self), (self.path, self.reason, self.errno))
+
+
+class EulersymWarning(UserWarning):
+    """Base class of the warnings eulersym issues (the command line prints them as one ``eulersym: note:`` line)."""
+
+
+class CacheRepaired(EulersymWarning):
+    """A damaged entry of the kernel cache was removed and built again (the message says which and why).
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     warnings.warn("the cached kernel x.py was damaged: rebuilt", CacheRepaired)
+    >>> caught[0].category.__name__
+    'CacheRepaired'
     """

@@ -16,6 +16,8 @@ eulersym.errors.InvalidInput: I=(1.0, 1.0, 3.0) is not valid: expected principal
 
 from __future__ import annotations
 
+import builtins
+import keyword
 import math
 import numbers
 from typing import Any, Iterable, Sequence
@@ -24,7 +26,53 @@ from eulersym._numpy import np
 
 from eulersym.errors import InvalidInput
 
-__all__ = ["positive", "moments", "finite_array", "choice", "is_symbolic"]
+__all__ = ["positive", "moments", "finite_array", "choice", "is_symbolic", "GENERATED_CODE_NAMES", "docstring_text",
+           "comment_text"]
+
+#: Names that generated code uses at module level or calls (Python's keywords and built-ins, ``math``'s names, the
+#: modules and the functions and tables a generated module defines): a parameter or argument that took one would
+#: shadow what the code calls (``float``, ``isinstance``, ``fabs``, ``rhs_flat``), so they are refused by name.
+GENERATED_CODE_NAMES = frozenset(
+    set(keyword.kwlist) | set(dir(builtins)) | set(dir(math))
+    | {"np", "numpy", "math", "out", "extra", "shape", "row", "InvalidInput", "body", "STATE", "PARAMETERS",
+       "DEFAULTS", "INVARIANTS", "FLAGS", "QUANTITIES"}
+    | {f + s for f in ("rhs", "jac", "invariants", "quantities") for s in ("", "_flat", "_batched", "_loop")}
+)
+
+
+def docstring_text(text: str) -> str:
+    r"""``text`` made safe inside a generated module's triple-quoted (non-raw) docstring: backslashes, double
+    quotes and control characters escaped, so no text can close the docstring or change what follows; the
+    docstring's value is ``text``.
+
+    Examples
+    --------
+    >>> q = '"' * 3
+    >>> print(docstring_text("x" + q + " + str(1) + " + q))
+    x\"\"\" + str(1) + \"\"\"
+    >>> import ast
+    >>> hostile = "a" + q + "b" + chr(92)          # closes the docstring, then escapes its end
+    >>> ast.literal_eval(q + docstring_text(hostile) + q) == hostile
+    True
+    """
+    if not isinstance(text, str):
+        raise InvalidInput("text", text, "a string")
+    return comment_text(text.replace("\\", "\\\\").replace('"', '\\"'))
+
+
+def comment_text(text: str) -> str:
+    r"""``text`` made safe on one ``#`` comment line of a generated module: every character Python may read as a
+    line break (and every other control character) written as its escape, so nothing leaves the comment.
+
+    Examples
+    --------
+    >>> print(comment_text("model x\nimport os"))
+    model x\nimport os
+    """
+    if not isinstance(text, str):
+        raise InvalidInput("text", text, "a string")
+    return "".join(c if c.isprintable() else c.encode("unicode_escape").decode("ascii") for c in text)
+
 
 #: Relative slack allowed on the triangle inequalities of floating-point moments (a flat body has I1 + I2 = I3).
 TRIANGLE_SLACK = 1e-12

@@ -71,6 +71,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from eulersym.errors import InvalidInput
+from eulersym.validation import GENERATED_CODE_NAMES
 from eulersym.model import names as N
 from eulersym.shapes import SHAPE_ORIGINS, SHAPES
 
@@ -227,9 +228,10 @@ def _parameters(value: Any) -> dict:
         if name in N.RESERVED:
             raise InvalidInput(key, name, "a name that is not one of the model's own names (t, omega, omega1..3, "
                                "gamma, gamma1..3, q0..q3, inertia, pi, the functions)")
-        if name in N.FORBIDDEN:
-            raise InvalidInput(key, name, "a name that is not a Python keyword or built-in (the parser refuses "
-                               "those)")
+        if name in N.FORBIDDEN or name in GENERATED_CODE_NAMES:
+            raise InvalidInput(key, name, "a name that is not a Python keyword or built-in, a name of math, or a "
+                               "name the generated kernel uses (np, body, rhs_flat, STATE, ...): the kernel would "
+                               "call it")
         if isinstance(default, bool) or not isinstance(default, numbers.Real):
             raise InvalidInput(key, default, "a default value: a finite number")
         try:

@@ -1,10 +1,12 @@
 """A model's kernel for a scene: found in the cache by the model's digest (SymPy-free), or derived and emitted
 there once; and the numbers a plan needs from it (:class:`ModelFacts`), read without SymPy.
 
-The cache: ``$EULERSYM_CACHE/models/<digest>/`` (default ``~/.cache/eulersym/models/<digest>/``) holds the one
-module :meth:`eulersym.model.Model.generate` wrote. The digest covers the model's normalised data and the eulersym
-and SymPy versions, so a changed model or a new release gets a new folder, and an unchanged model is never
-regenerated. A folder is written beside its final place and renamed into it, so a crash leaves no half module.
+The cache (:mod:`eulersym.model.cache`): ``<root>/models/<digest>/`` holds the one module
+:meth:`eulersym.model.Model.generate` wrote and the hash of its bytes; the root is ``$EULERSYM_CACHE``, else
+``$XDG_CACHE_HOME/eulersym``, else ``~/.cache/eulersym``. The digest covers the model's normalised data and the
+eulersym and SymPy versions, so a changed model or a new release gets a new folder, and an unchanged model is never
+regenerated. A module is imported only from bytes that match their recorded hash, from folders only you can write;
+a damaged entry is rebuilt with a :class:`eulersym.errors.CacheRepaired` warning.
 
 Imports nothing of :mod:`eulersym.scene`.
 """
@@ -12,93 +14,94 @@ Imports nothing of :mod:`eulersym.scene`.
 from __future__ import annotations
 
 import dataclasses
-import importlib.util
-import os
-import shutil
-import tempfile
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Mapping
 
 import numpy as np
 
-from eulersym.errors import InvalidInput
+from eulersym.errors import CacheRepaired, InvalidInput
+from eulersym.model import cache
 
 __all__ = ["cache_root", "cached_path", "load", "ensure", "ModelFacts", "facts", "BODY_FIELDS"]
 
 #: What ``body(*params)`` returns, in order.
 BODY_FIELDS = ("M", "cx", "cy", "cz", "I11", "I12", "I13", "I21", "I22", "I23", "I31", "I32", "I33", "h1", "h2", "h3", "g")
 
-_LOADED: dict = {}
+#: What a model's kernel module must define to be used.
+REQUIRED = ("STATE", "PARAMETERS", "DEFAULTS", "INVARIANTS", "FLAGS", "body", "rhs", "rhs_batched", "jac",
+            "invariants", "invariants_batched")
 
 
 def cache_root() -> Path:
-    """``$EULERSYM_CACHE/models`` (default ``~/.cache/eulersym/models``).
+    """The folder of the model kernels: ``<root>/models`` (:func:`eulersym.model.cache.root`).
 
     Examples
     --------
     >>> cache_root().name
     'models'
     """
-    root = os.environ.get("EULERSYM_CACHE") or os.path.join(os.path.expanduser("~"), ".cache", "eulersym")
-    return Path(root) / "models"
+    return cache.root() / "models"
 
 
 def cached_path(digest: str) -> Path | None:
-    """The cached kernel module of the model with this digest, or None when there is none yet.
+    """The cached kernel module of the model with this digest, or None when there is none yet (or it is damaged:
+    :func:`ensure` rebuilds it).
 
     Examples
     --------
     >>> cached_path("0" * 64) is None or True
     True
     """
-    folder = cache_root() / digest
-    if not folder.is_dir():
+    try:
+        return cache.lookup(digest)
+    except cache.Damaged:
         return None
-    found = sorted(p for p in folder.glob("*.py") if not p.name.startswith("."))
-    return found[0] if len(found) == 1 else None
 
 
 def load(path: Path, digest: str):
-    """Import a cached kernel module from ``path`` (once per process; plain NumPy, no SymPy)."""
-    key = (str(path), digest)
-    if key in _LOADED:
-        return _LOADED[key]
-    name = f"eulersym_model_{digest[:16]}"
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    _LOADED[key] = module
-    return module
+    """Import a cached kernel module from ``path`` after checking its bytes (once per process; plain NumPy, no
+    SymPy). Raises :class:`eulersym.model.cache.Damaged` when the entry is not whole."""
+    return cache.load(path, digest, required=REQUIRED)
+
+
+def cached(digest: str):
+    """``(module, path)`` of a whole cached entry, or None (no entry, or a damaged one)."""
+    try:
+        path = cache.lookup(digest)
+        return None if path is None else (load(path, digest), path)
+    except cache.Damaged:
+        return None
 
 
 def ensure(model, record: list):
     """The kernel module of ``model``: from the cache, else derived and emitted into it (SymPy) — recorded in
-    ``record`` as 'model.equations' and 'model.kernel' when that happened. Returns ``(module, path, emitted)``."""
+    ``record`` as 'model.equations' and 'model.kernel' when that happened. A damaged entry is removed and built
+    again (a :class:`~eulersym.errors.CacheRepaired` warning says so). Returns ``(module, path, emitted)``.
+
+    Raises
+    ------
+    eulersym.errors.CacheError
+        The cache cannot be used (not private, not writable, a full disk).
+    """
     digest = model.digest
-    path = cached_path(digest)
-    if path is not None:
-        return load(path, digest), path, False
-    root = cache_root()
     try:
-        root.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(dir=root, prefix=f".{digest[:12]}-"))
-    except OSError as exc:
-        raise InvalidInput("EULERSYM_CACHE", str(root), f"a folder eulersym can write the model's kernel into ({exc})") from None
-    try:
-        written = Path(model.generate(staging))
+        path = cache.lookup(digest)
+        if path is not None:
+            return load(path, digest), path, False
+    except cache.Damaged as exc:
+        warnings.warn(f"the cached kernel of model {model.name!r} was damaged ({exc}): rebuilt", CacheRepaired,
+                      stacklevel=2)
+        cache.remove(digest)
+
+    def write(folder: Path) -> Path:
+        written = Path(model.generate(folder))
         record.append("model.equations")
         record.append("model.kernel")
-        folder = root / digest
-        try:
-            os.replace(staging, folder)  # atomic: the folder appears whole
-        except OSError:  # another process got there first: use its module
-            if cached_path(digest) is None:
-                raise
-        path = folder / written.name
-    finally:
-        if staging.exists():
-            shutil.rmtree(staging, ignore_errors=True)
+        return written
+
+    path = cache.store(digest, write)
     return load(path, digest), path, True
 
 

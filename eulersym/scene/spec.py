@@ -466,10 +466,10 @@ class Scene:
         """
         if self.model is None:
             return None
-        path = model_kernel.cached_path(self.model_digest)
-        if path is None:
+        found = model_kernel.cached(self.model_digest)
+        if found is None:
             return None
-        module = model_kernel.load(path, self.model_digest)
+        module, path = found
         return model_kernel.facts(self.model, module, path, False, self.parameter_values(), self.batch)
 
 
