@@ -12,8 +12,7 @@ What ``--check`` compares
       derivation's expressions (``srepr``), argument order and emitter version — so a changed derivation still
       fails. A note says that the code was not compared.
 
-    A kernel file that is missing, or an extra file in the folder, fails either way. ``_runtime.py`` (the shared
-    shape checks) must always match exactly. An entry whose derivation is not available is skipped with its
+    A kernel file that is missing, or an extra file in the folder, fails either way. An entry whose derivation is not available is skipped with its
     reason (its committed file, if any, is left alone and reported).
 
 Examples
@@ -41,13 +40,14 @@ import sympy as sp
 from eulersym._process import alive as _alive
 from eulersym.codegen.catalogue import CATALOGUE, available, build
 from eulersym.codegen.emitter import emit_module
-from eulersym.codegen.runtime import RUNTIME_NAME, RUNTIME_SOURCE
 from eulersym.errors import CheckFailed, InvalidInput
 
 __all__ = ["generate", "check", "render", "default_directory", "CheckReport", "cli"]
 
 _SYMPY_LINE = "# SymPy version: "
 _KEEP = {"__init__.py"}
+#: Files an earlier eulersym wrote into the folder and this one no longer does: ``generate`` removes them.
+_OBSOLETE = {"_runtime.py"}
 
 
 def default_directory() -> Path:
@@ -74,15 +74,15 @@ def _names(names) -> list[str]:
 
 
 def render(names=None) -> tuple[dict[str, str], dict[str, str]]:
-    """Emit the sources: ``({file name: text}, {skipped kernel: reason})``, the runtime helpers included.
+    """Emit the sources: ``({file name: text}, {skipped kernel: reason})``.
 
     Examples
     --------
     >>> files, skipped = render(["kinematics"])
     >>> sorted(files)
-    ['_runtime.py', 'kinematics.py']
+    ['kinematics.py']
     """
-    files = {RUNTIME_NAME + ".py": RUNTIME_SOURCE}
+    files = {}
     skipped = {}
     for name in _names(names):
         ok, why = available(name)
@@ -100,7 +100,7 @@ def _source(name: str) -> str:
 
 
 def generate(directory=None, names=None, *, verbose: bool = False) -> list[Path]:
-    """Write the kernels (and ``_runtime.py``) to ``directory``; return the paths written.
+    """Write the kernels to ``directory``; return the paths written.
 
     The set of files is replaced as a whole: when anything changes, the new folder is built beside the target
     (``.<name>.eulersym-new-<pid>``, holding the new files and links to the others: ``__init__.py``, kernels not
@@ -128,14 +128,14 @@ def generate(directory=None, names=None, *, verbose: bool = False) -> list[Path]
     >>> import tempfile
     >>> with tempfile.TemporaryDirectory() as d:
     ...     sorted(p.name for p in generate(d, names=["kinematics"]))
-    ['_runtime.py', 'kinematics.py']
+    ['kinematics.py']
     """
     directory = _target_directory(default_directory() if directory is None else directory, "directory")
     files, skipped = render(names)
     for name, why in skipped.items():
         sys.stderr.write(f"eulersym generate: skipped {name}: {why}\n")
     _recover(directory)
-    unchanged = directory.is_dir() and all(
+    unchanged = directory.is_dir() and not any((directory / file).exists() for file in _OBSOLETE) and all(
         (directory / file).is_file() and (directory / file).read_bytes() == text.encode()
         for file, text in files.items())
     if not unchanged:
@@ -177,7 +177,7 @@ def _only_kernels(directory: Path, files: dict) -> None:
     """Refuse a folder that holds anything but generated kernels: the whole folder is replaced."""
     if not directory.is_dir():
         return
-    allowed = set(files) | _KEEP | {"__pycache__"} | {name + ".py" for name in CATALOGUE}
+    allowed = set(files) | _KEEP | _OBSOLETE | {"__pycache__"} | {name + ".py" for name in CATALOGUE}
     foreign = sorted(entry.name for entry in directory.iterdir()
                      if entry.name not in allowed or (entry.is_dir() and entry.name != "__pycache__"))
     if foreign:
@@ -219,7 +219,7 @@ def _replace_folder(directory: Path, files: dict[str, bytes]) -> None:
     try:
         if directory.is_dir():  # only kernels, __init__.py and __pycache__ (checked): keep the files not rewritten
             for entry in directory.iterdir():
-                if entry.name in files or not entry.is_file():
+                if entry.name in files or entry.name in _OBSOLETE or not entry.is_file():
                     continue
                 try:
                     os.link(entry, new / entry.name)
@@ -296,7 +296,7 @@ def _compare(file: str, fresh: str, committed: str, report: CheckReport) -> None
         return
     old = [line for line in _header(committed) if line.startswith(_SYMPY_LINE)]
     recorded = old[0][len(_SYMPY_LINE):] if old else None
-    if recorded is None or recorded == sp.__version__ or file == RUNTIME_NAME + ".py":
+    if recorded is None or recorded == sp.__version__:
         report.problems.append(f"{file} differs from a fresh generation; run `eulersym generate`")
         return
     strip = [line for line in _header(fresh) if not line.startswith(_SYMPY_LINE)]
@@ -319,7 +319,7 @@ def check(directory=None, names=None) -> CheckReport:
     >>> import tempfile
     >>> with tempfile.TemporaryDirectory() as d:
     ...     check(d, names=["kinematics"]).problems
-    ['_runtime.py is missing; run `eulersym generate`', 'kinematics.py is missing; run `eulersym generate`']
+    ['kinematics.py is missing; run `eulersym generate`']
     """
     directory = _target_directory(default_directory() if directory is None else directory, "directory")
     report = CheckReport()
@@ -350,8 +350,8 @@ def cli(argv: list[str]) -> int:
     >>> import tempfile
     >>> with tempfile.TemporaryDirectory() as d:
     ...     cli(["--dir", d, "kinematics"]), cli(["--check", "--dir", d, "kinematics"])
-    generated 2 files in ...
-    check passed: 2 files ...
+    generated 1 files in ...
+    check passed: 1 files ...
     (0, 0)
     """
     parser = argparse.ArgumentParser(prog="eulersym generate",
