@@ -17,7 +17,7 @@ __all__ = ["main", "COMMANDS"]
 COMMANDS: dict[str, tuple[str, str]] = {
     "check": ("eulersym.text:cli", "derive every closed form of the text and prove it equal"),
     "derive": ("eulersym.derive_command:cli", "print a derived quantity (--latex for LaTeX)"),
-    "generate": ("eulersym.codegen:cli", "write the NumPy kernels to generated/ (--check: fail if stale)"),
+    "generate": ("eulersym.codegen:cli", "write the NumPy and C kernels to generated/ (--target c|jax; --check: fail if stale)"),
     "verify": ("eulersym.verify:cli", "check a hand derivation against a derived quantity"),
     "simulate": ("eulersym.scene:cli", "run a scene (TOML file or bundled name)"),
     "bench": ("eulersym.bench:cli", "time eulersym against a baseline in the same run"),
@@ -61,6 +61,8 @@ def main(argv: list[str] | None = None) -> int:
     target = COMMANDS[name][0]
     if name in _MODEL_ROUTES and "--model" in rest:  # a user's model: eulersym.model.cli handles the subcommand
         target = _MODEL_ROUTES[name]
+        if name == "generate" and any(a.split("=")[0] == "--target" for a in rest):  # C or JAX: eulersym.codegen
+            target = COMMANDS[name][0]
     module_name, func_name = target.split(":")
     func = getattr(importlib.import_module(module_name), func_name)
     show = warnings.showwarning

@@ -434,6 +434,10 @@ class _Printer(PythonCodePrinter):
     _print_atan2 = _print_sinh = _print_cosh = _print_tanh = _print_asinh = _print_acosh = _print_known
     _print_atanh = _print_exp = _print_log = _print_Abs = _print_floor = _print_ceiling = _print_known
     _print_erf = _print_erfc = _print_gamma = _print_loggamma = _print_known
+    # The rest of PythonCodePrinter's ``math`` functions (hypot, log10, expm1, ...): through the table too, so a
+    # function outside it is refused rather than printed as a name the module never imports.
+    _print_Sqrt = _print_expm1 = _print_factorial = _print_hypot = _print_isinf = _print_isnan = _print_known
+    _print_ln = _print_log10 = _print_log1p = _print_log2 = _print_known
 
     def _print_sign(self, expr):
         raise InvalidInput("function", "sign", "differentiable expressions (no sign)")

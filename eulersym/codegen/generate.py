@@ -1,4 +1,14 @@
-"""``eulersym generate [--check]``: write the catalogue's kernels to generated/, or check them against a fresh run.
+"""``eulersym generate [--check] [--target numpy|c|jax]``: write the catalogue's kernels, or check them against a
+fresh run.
+
+Targets
+    ``numpy`` (:mod:`eulersym.codegen.emitter`): one ``<name>.py`` per kernel, committed in generated/;
+    ``c`` (:mod:`eulersym.codegen.c`, :mod:`eulersym.codegen.c_library`): ``<name>.h``/``<name>.c`` per kernel in
+    double and float, plus the free body's exact propagator and the pivoted body's splitting step, committed in
+    generated/c/; ``jax`` (:mod:`eulersym.codegen.jax`): one ``<name>.py`` per kernel in ``jax.numpy``, written where
+    ``--dir`` says (not committed). ``eulersym generate`` without ``--target`` writes (or checks) the two committed
+    ones: NumPy into the folder and C into its ``c/`` subfolder. A user's model: :func:`model_files`, through
+    ``eulersym generate --target c|jax --model FILE --dir DIR``.
 
 What ``--check`` compares
     A generated file records the SymPy version that printed it. Printing (and CSE) can change between SymPy
@@ -12,8 +22,10 @@ What ``--check`` compares
       derivation's expressions (``srepr``), argument order and emitter version — so a changed derivation still
       fails. A note says that the code was not compared.
 
-    A kernel file that is missing, or an extra file in the folder, fails either way. An entry whose derivation is not available is skipped with its
-    reason (its committed file, if any, is left alone and reported).
+    A C file records the SymPy version in its header comment, under the same rule; the C library (no SymPy in it)
+    must match byte for byte. A kernel file that is missing, or an extra file in the folder, fails either way. An
+    entry whose derivation is not available is skipped with its reason (its committed file, if any, is left alone
+    and reported).
 
 Examples
 --------
@@ -42,25 +54,41 @@ from eulersym.codegen.catalogue import CATALOGUE, available, build
 from eulersym.codegen.emitter import emit_module
 from eulersym.errors import CheckFailed, InvalidInput
 
-__all__ = ["generate", "check", "render", "default_directory", "CheckReport", "cli"]
+__all__ = ["generate", "check", "render", "model_files", "default_directory", "CheckReport", "cli", "TARGETS"]
 
-_SYMPY_LINE = "# SymPy version: "
+#: What ``--target`` accepts.
+TARGETS = ("numpy", "c", "jax")
+_SYMPY_LINE = "SymPy version: "
 _KEEP = {"__init__.py"}
+#: Subfolders a target's folder may hold (the committed NumPy folder holds the C target's ``c/``); kept as they are.
+_SUBFOLDERS = {"numpy": {"c"}, "c": set(), "jax": set()}
 #: Files an earlier eulersym wrote into the folder and this one no longer does: ``generate`` removes them.
 _OBSOLETE = {"_runtime.py"}
 
 
-def default_directory() -> Path:
-    """The folder of the installed ``eulersym.generated`` package (the repository's generated/ when editable).
+def default_directory(target: str = "numpy") -> Path:
+    """The folder of the installed ``eulersym.generated`` package (the repository's generated/ when editable), or
+    its ``c/`` subfolder for the C target.
 
     Examples
     --------
-    >>> default_directory().name in ("generated",)
-    True
+    >>> default_directory().name, default_directory("c").name
+    ('generated', 'c')
     """
     import eulersym.generated
 
-    return Path(eulersym.generated.__path__[0])
+    folder = Path(eulersym.generated.__path__[0])
+    if _target(target) == "c":
+        return folder / "c"
+    if target == "jax":
+        raise InvalidInput("--dir", None, "a folder for the JAX kernels (they are not committed: say where, --dir DIR)")
+    return folder
+
+
+def _target(target) -> str:
+    if target not in TARGETS:
+        raise InvalidInput("--target", target, "one of " + ", ".join(TARGETS))
+    return target
 
 
 def _names(names) -> list[str]:
@@ -73,34 +101,64 @@ def _names(names) -> list[str]:
     return names
 
 
-def render(names=None) -> tuple[dict[str, str], dict[str, str]]:
-    """Emit the sources: ``({file name: text}, {skipped kernel: reason})``.
+def render(names=None, *, target: str = "numpy") -> tuple[dict[str, str], dict[str, str]]:
+    """Emit the sources of a target: ``({file name: text}, {skipped kernel: reason})``.
 
     Examples
     --------
     >>> files, skipped = render(["kinematics"])
     >>> sorted(files)
     ['kinematics.py']
+    >>> sorted(render(["kinematics"], target="c")[0])[-2:]
+    ['kinematics.c', 'kinematics.h']
     """
+    target = _target(target)
     files = {}
     skipped = {}
+    if target == "c":
+        from eulersym.codegen.c_library import library_files
+
+        files.update(library_files())
     for name in _names(names):
         ok, why = available(name)
         if not ok:
             skipped[name] = why
             continue
-        files[name + ".py"] = _source(name)
+        files.update(_sources(name, target))
     return files, skipped
 
 
+def _file_names(name: str, target: str) -> tuple[str, ...]:
+    return (name + ".h", name + ".c") if target == "c" else (name + ".py",)
+
+
 @functools.lru_cache(maxsize=None)
-def _source(name: str) -> str:
-    """The emitted text of one catalogue entry (pure: derived and emitted once per process)."""
-    return emit_module(build(name))
+def _sources(name: str, target: str) -> dict:
+    """The emitted files of one catalogue entry for a target (pure: derived and emitted once per process)."""
+    spec = build(name)
+    if target == "c":
+        from eulersym.codegen.c import emit_c
+
+        return emit_c(spec)
+    if target == "jax":
+        from eulersym.codegen.jax import emit_jax
+
+        return {name + ".py": emit_jax(spec)}
+    return {name + ".py": emit_module(spec)}
 
 
-def generate(directory=None, names=None, *, verbose: bool = False) -> list[Path]:
-    """Write the kernels to ``directory``; return the paths written.
+def _known(target: str) -> set:
+    """Every file name the target writes for some catalogue entry (a folder of them may be replaced)."""
+    known = {f for name in CATALOGUE for f in _file_names(name, target)}
+    if target == "c":
+        from eulersym.codegen.c_library import LIBRARY_NAMES
+
+        known |= {stem + ext for stem in LIBRARY_NAMES for ext in (".h", ".c")}
+    return known
+
+
+def generate(directory=None, names=None, *, target: str = "numpy", verbose: bool = False) -> list[Path]:
+    """Write a target's kernels to ``directory``; return the paths written.
 
     The set of files is replaced as a whole: when anything changes, the new folder is built beside the target
     (``.<name>.eulersym-new-<pid>``, holding the new files and links to the others: ``__init__.py``, kernels not
@@ -112,10 +170,13 @@ def generate(directory=None, names=None, *, verbose: bool = False) -> list[Path]
     Parameters
     ----------
     directory : path, optional
-        Default: :func:`default_directory`. Created if missing; it must be a folder (or not exist yet) whose
-        parents are folders, holding nothing but generated kernels and ``__init__.py`` (it is replaced whole).
+        Default: :func:`default_directory` of the target. Created if missing; it must be a folder (or not exist
+        yet) whose parents are folders, holding nothing but generated kernels and ``__init__.py`` (it is replaced
+        whole; the NumPy folder's ``c/`` subfolder is kept as it is).
     names : list of str, optional
         Catalogue entries (default: all). Unavailable ones are skipped with a message on stderr.
+    target : {"numpy", "c", "jax"}
+        The kernels' language (see the module docstring).
 
     Raises
     ------
@@ -130,8 +191,9 @@ def generate(directory=None, names=None, *, verbose: bool = False) -> list[Path]
     ...     sorted(p.name for p in generate(d, names=["kinematics"]))
     ['kinematics.py']
     """
-    directory = _target_directory(default_directory() if directory is None else directory, "directory")
-    files, skipped = render(names)
+    target = _target(target)
+    directory = _target_directory(default_directory(target) if directory is None else directory, "directory")
+    files, skipped = render(names, target=target)
     for name, why in skipped.items():
         sys.stderr.write(f"eulersym generate: skipped {name}: {why}\n")
     _recover(directory)
@@ -139,7 +201,7 @@ def generate(directory=None, names=None, *, verbose: bool = False) -> list[Path]
         (directory / file).is_file() and (directory / file).read_bytes() == text.encode()
         for file, text in files.items())
     if not unchanged:
-        _only_kernels(directory, files)
+        _only_kernels(directory, files, target)
         try:
             _replace_folder(directory, {file: text.encode() for file, text in files.items()})
         except OSError as exc:
@@ -173,13 +235,15 @@ def _target_directory(directory, argument: str) -> Path:
     return path
 
 
-def _only_kernels(directory: Path, files: dict) -> None:
+def _only_kernels(directory: Path, files: dict, target: str) -> None:
     """Refuse a folder that holds anything but generated kernels: the whole folder is replaced."""
     if not directory.is_dir():
         return
-    allowed = set(files) | _KEEP | _OBSOLETE | {"__pycache__"} | {name + ".py" for name in CATALOGUE}
+    folders = {"__pycache__"} | _SUBFOLDERS[target]
+    allowed = set(files) | _KEEP | _OBSOLETE | _known(target)
     foreign = sorted(entry.name for entry in directory.iterdir()
-                     if entry.name not in allowed or (entry.is_dir() and entry.name != "__pycache__"))
+                     if not (entry.name in folders and entry.is_dir() and not entry.is_symlink())
+                     and (entry.name not in allowed or not entry.is_file()))
     if foreign:
         shown = ", ".join(foreign[:5]) + (f" and {len(foreign) - 5} more" if len(foreign) > 5 else "")
         raise InvalidInput("directory", str(directory), "a new or empty folder, or a folder of generated kernels "
@@ -217,14 +281,14 @@ def _replace_folder(directory: Path, files: dict[str, bytes]) -> None:
     shutil.rmtree(new, ignore_errors=True)
     new.mkdir()
     try:
-        if directory.is_dir():  # only kernels, __init__.py and __pycache__ (checked): keep the files not rewritten
+        if directory.is_dir():  # only kernels, __init__.py, __pycache__ and c/ (checked): keep what is not rewritten
             for entry in directory.iterdir():
+                if entry.is_dir() and not entry.is_symlink() and entry.name != "__pycache__":
+                    shutil.copytree(entry, new / entry.name, copy_function=_link_or_copy)  # the C target's c/
+                    continue
                 if entry.name in files or entry.name in _OBSOLETE or not entry.is_file():
                     continue
-                try:
-                    os.link(entry, new / entry.name)
-                except OSError:
-                    shutil.copy2(entry, new / entry.name)
+                _link_or_copy(entry, new / entry.name)
         for file, data in files.items():
             with open(new / file, "wb") as handle:
                 handle.write(data)
@@ -243,6 +307,14 @@ def _replace_folder(directory: Path, files: dict[str, bytes]) -> None:
     finally:
         if new.exists():
             shutil.rmtree(new, ignore_errors=True)
+
+
+def _link_or_copy(source, target) -> None:
+    """A hard link of ``source`` at ``target`` (no copy of the bytes), or a copy where links are not possible."""
+    try:
+        os.link(source, target)
+    except OSError:
+        shutil.copy2(source, target)
 
 
 def _exchange(a: Path, b: Path) -> bool:
@@ -283,24 +355,29 @@ class CheckReport:
 
 
 def _header(text: str) -> list[str]:
-    lines = []
-    for line in text.splitlines():
+    """The leading comment of a generated file: its ``#`` lines (Python) or its first block comment (C)."""
+    lines = text.splitlines()
+    if lines and lines[0].startswith("/*"):
+        end = next((i for i, line in enumerate(lines) if "*/" in line), len(lines) - 1)
+        return lines[:end + 1]
+    out = []
+    for line in lines:
         if not line.startswith("#"):
             break
-        lines.append(line)
-    return lines
+        out.append(line)
+    return out
 
 
 def _compare(file: str, fresh: str, committed: str, report: CheckReport) -> None:
     if fresh == committed:
         return
-    old = [line for line in _header(committed) if line.startswith(_SYMPY_LINE)]
-    recorded = old[0][len(_SYMPY_LINE):] if old else None
+    old = [line for line in _header(committed) if _SYMPY_LINE in line]
+    recorded = old[0].split(_SYMPY_LINE, 1)[1] if old else None
     if recorded is None or recorded == sp.__version__:
         report.problems.append(f"{file} differs from a fresh generation; run `eulersym generate`")
         return
-    strip = [line for line in _header(fresh) if not line.startswith(_SYMPY_LINE)]
-    strip_old = [line for line in _header(committed) if not line.startswith(_SYMPY_LINE)]
+    strip = [line for line in _header(fresh) if _SYMPY_LINE not in line]
+    strip_old = [line for line in _header(committed) if _SYMPY_LINE not in line]
     if strip != strip_old:
         report.problems.append(f"{file}: the derivation or its inputs changed (header/input hash differ); "
                                "run `eulersym generate`")
@@ -309,8 +386,8 @@ def _compare(file: str, fresh: str, committed: str, report: CheckReport) -> None
                             "matches; code not compared byte for byte")
 
 
-def check(directory=None, names=None) -> CheckReport:
-    """Compare ``directory`` with a fresh generation (see the module docstring for the rule).
+def check(directory=None, names=None, *, target: str = "numpy") -> CheckReport:
+    """Compare ``directory`` with a fresh generation of a target (see the module docstring for the rule).
 
     Extra files are looked for only when ``names`` is None (the whole catalogue).
 
@@ -321,67 +398,185 @@ def check(directory=None, names=None) -> CheckReport:
     ...     check(d, names=["kinematics"]).problems
     ['kinematics.py is missing; run `eulersym generate`']
     """
-    directory = _target_directory(default_directory() if directory is None else directory, "directory")
+    target = _target(target)
+    directory = _target_directory(default_directory(target) if directory is None else directory, "directory")
     report = CheckReport()
-    files, skipped = render(names)
+    files, skipped = render(names, target=target)
+    shown = "c/" if target == "c" and directory.name == "c" else ""
     for name, why in skipped.items():
         report.notes.append(f"skipped {name}: {why}")
     for file, fresh in files.items():
         path = directory / file
         if not path.is_file():
-            report.problems.append(f"{file} is missing; run `eulersym generate`")
+            report.problems.append(f"{shown}{file} is missing; run `eulersym generate`")
             continue
-        _compare(file, fresh, path.read_text(encoding="utf-8"), report)
+        _compare(shown + file, fresh, path.read_text(encoding="utf-8"), report)
     if names is None and directory.is_dir():
-        expected = set(files) | _KEEP | {name + ".py" for name in skipped}
+        expected = set(files) | _KEEP | {f for name in skipped for f in _file_names(name, target)}
         for path in sorted(directory.iterdir()):
-            if path.name == "__pycache__":
+            if path.name == "__pycache__" or (path.name in _SUBFOLDERS[target] and path.is_dir()):
                 continue
             if path.name not in expected:
-                report.problems.append(f"{path.name} is extra: no catalogue entry writes it")
+                report.problems.append(f"{shown}{path.name} is extra: no catalogue entry writes it")
     return report
 
 
+# ----------------------------------------------------------------------------------------------------------------
+# A user's model
+
+
+def model_files(model, target: str, *, name: str | None = None) -> dict[str, str]:
+    """``{file name: text}`` of a model's kernels in a target (the NumPy module is :func:`eulersym.model.kernels.
+    source`): the same :class:`~eulersym.codegen.emitter.ModuleSpec` as its NumPy module, the model's digest in the
+    header.
+
+    Parameters
+    ----------
+    model : eulersym.model.Model
+    target : {"numpy", "c", "jax"}
+    name : str, optional
+        The module name (default: from the model's name).
+
+    Examples
+    --------
+    >>> from eulersym.model.cli import load
+    >>> sorted(model_files(load("damped"), "c"))
+    ['damped.c', 'damped.h']
+    """
+    from eulersym.model import kernels
+
+    target = _target(target)
+    mech = model.mechanics
+    if target == "numpy":
+        return {kernels.module_name(mech, name) + ".py": kernels.source(mech, digest=model.digest, name=name)}
+    spec = kernels.module_spec(mech, name=name)
+    header = (f"Model digest: sha256:{model.digest}",)
+    if target == "c":
+        from eulersym.codegen.c import emit_c
+
+        return emit_c(spec, header=header)
+    from eulersym.codegen.jax import emit_jax
+
+    return {spec.name + ".py": emit_jax(spec, header=header)}
+
+
+def _model_cli(args) -> int:
+    """``generate --target c|jax --model FILE``: write the files into ``--dir`` one by one (the folder is the
+    user's: nothing else in it is touched), or check them."""
+    from eulersym.model.cli import load
+
+    model = load(args.model)
+    files = model_files(model, args.target, name=args.name)
+    directory = Path(args.dir if args.dir is not None else ".")
+    if args.check:
+        report = CheckReport()
+        for file, fresh in files.items():
+            path = directory / file
+            if not path.is_file():
+                report.problems.append(f"{file} is missing; run `eulersym generate --target {args.target} --model ...`")
+            else:
+                _compare(file, fresh, path.read_text(encoding="utf-8"), report)
+        for note in report.notes:
+            print(f"note: {note}")
+        if not report.ok:
+            raise CheckFailed("; ".join(report.problems))
+        print(f"check passed: {', '.join(str(directory / f) for f in files)} match a fresh generation")
+        return 0
+    directory = _target_directory(directory, "--dir")
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+        for file, text in files.items():
+            path = directory / file
+            if not path.is_file() or path.read_bytes() != text.encode():
+                path.write_bytes(text.encode())
+            print(f"wrote {path}")
+    except OSError as exc:
+        raise InvalidInput("--dir", str(directory), f"a folder that can be written ({exc.strerror or exc})") from None
+    return 0
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# The command line
+
+
+def _plural(n: int, word: str) -> str:
+    return f"{n} {word}" + ("" if n == 1 else "s")
+
+
 def cli(argv: list[str]) -> int:
-    """``eulersym generate [--check] [--dir DIR] [NAME ...]``; 0 ok, 1 check failed (stale/missing/extra).
+    """``eulersym generate [--check] [--target numpy|c|jax] [--dir DIR] [--model FILE [--name NAME]] [NAME ...]``;
+    0 ok, 1 check failed (stale/missing/extra), 2 bad input.
+
+    Without ``--target``: the committed kernels, NumPy in DIR (default generated/) and C in DIR/c.
 
     Examples
     --------
     >>> import tempfile
     >>> with tempfile.TemporaryDirectory() as d:
     ...     cli(["--dir", d, "kinematics"]), cli(["--check", "--dir", d, "kinematics"])
-    generated 1 files in ...
-    check passed: 1 files ...
+    generated 1 file in ... and 6 files in .../c (...)
+    check passed: 7 files match a fresh generation (...)
     (0, 0)
     """
     parser = argparse.ArgumentParser(prog="eulersym generate",
-                                     description="Write the NumPy kernels (default: into generated/).")
+                                     description="Write the kernels: NumPy into generated/ and C into generated/c/ "
+                                                 "(or one --target; JAX needs --dir).")
     parser.add_argument("--check", action="store_true",
                         help="do not write; exit 1 if a file is stale, missing or extra")
-    parser.add_argument("--dir", default=None, help="output folder (default: the eulersym.generated package)")
+    parser.add_argument("--target", choices=TARGETS, default=None,
+                        help="numpy, c or jax (default: numpy and c, the committed kernels)")
+    parser.add_argument("--dir", default=None, help="output folder (default: the eulersym.generated package; its c/ "
+                                                    "subfolder for --target c)")
+    parser.add_argument("--model", default=None, help="a user's model: a model TOML file or a bundled model's name")
+    parser.add_argument("--name", default=None, help="with --model: the module name (default: from the model's name)")
     parser.add_argument("names", nargs="*", help=f"kernels (default: all): {', '.join(CATALOGUE)}")
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:
         return int(exc.code or 0)
+    if args.model is not None:
+        if args.names:
+            raise InvalidInput("NAME", args.names, "no kernel names with --model (the model is the kernel)")
+        if args.target in (None, "numpy"):
+            from eulersym.model.cli import generate as numpy_model
+
+            rest = ["--model", args.model] + [x for flag in ("dir", "name") if getattr(args, flag) is not None
+                                              for x in (f"--{flag}", getattr(args, flag))]
+            return numpy_model(rest + (["--check"] if args.check else []))
+        return _model_cli(args)
+    if args.name is not None:
+        raise InvalidInput("--name", args.name, "no --name without --model (catalogue kernels keep their names)")
     names = args.names or None
     if args.dir is not None:
         _target_directory(args.dir, "--dir")
+    if args.target == "jax" and args.dir is None:
+        raise InvalidInput("--dir", None, "a folder for the JAX kernels (they are not committed: --dir DIR)")
+    if args.target is None:
+        root = Path(args.dir) if args.dir is not None else None
+        runs = [("numpy", root), ("c", None if root is None else root / "c")]
+    else:
+        runs = [(args.target, args.dir)]
     start = time.perf_counter()
     if args.check:
-        report = check(args.dir, names)
-        for note in report.notes:
-            print(f"note: {note}")
-        if not report.ok:
-            raise CheckFailed("; ".join(report.problems))
-        count = len(render(names)[0])
-        print(f"check passed: {count} files match a fresh generation ({time.perf_counter() - start:.1f} s)")
+        problems, count = [], 0
+        for target, directory in runs:
+            report = check(directory, names, target=target)
+            for note in report.notes:
+                print(f"note: {note}")
+            problems += report.problems
+            count += len(render(names, target=target)[0])
+        if problems:
+            raise CheckFailed("; ".join(problems))
+        print(f"check passed: {_plural(count, 'file')} match a fresh generation ({time.perf_counter() - start:.1f} s)")
         return 0
-    try:
-        written = generate(args.dir, names)
-    except InvalidInput as exc:
-        if exc.argument != "directory":
-            raise
-        raise InvalidInput("--dir", exc.value, exc.expected) from None
-    print(f"generated {len(written)} files in {Path(written[0]).parent} ({time.perf_counter() - start:.1f} s)")
+    done = []
+    for target, directory in runs:
+        try:
+            written = generate(directory, names, target=target)
+        except InvalidInput as exc:
+            if exc.argument != "directory":
+                raise
+            raise InvalidInput("--dir", exc.value, exc.expected) from None
+        done.append(f"{_plural(len(written), 'file')} in {Path(written[0]).parent}")
+    print(f"generated {' and '.join(done)} ({time.perf_counter() - start:.1f} s)")
     return 0
