@@ -32,7 +32,62 @@ import numpy as np
 
 from eulersym.bench.report import floor_line, ratio_text
 
-__all__ = ["main", "hand_written_euler_poisson"]
+__all__ = ["main", "hand_written_euler_poisson", "C_FLAGS", "c_compiler", "compile_c"]
+
+#: The flags every C file eulersym writes compiles cleanly with (the C target's promise); the tests and this bench
+#: compile with them (eulersym itself never compiles for its user).
+C_FLAGS = ("-std=c99", "-pedantic", "-Wall", "-Wextra", "-Wconversion", "-Werror")
+
+
+def c_compiler() -> str:
+    """The C compiler the tests and the bench use: ``$CC``, else ``gcc``, else ``cc`` on the PATH.
+
+    Raises
+    ------
+    eulersym.errors.CheckFailed
+        None is installed.
+
+    Examples
+    --------
+    >>> isinstance(c_compiler(), str)
+    True
+    """
+    import shutil
+
+    from eulersym.errors import CheckFailed
+
+    for name in (os.environ.get("CC"), "gcc", "cc"):
+        found = shutil.which(name) if name else None
+        if found:
+            return found
+    raise CheckFailed("no C compiler: set $CC or install gcc (the C target's tests and benchmarks compile C)")
+
+
+def compile_c(sources, output, *, shared: bool = True, flags=("-O2",), include=()) -> str:
+    """Compile C ``sources`` with :data:`C_FLAGS` into ``output`` (a shared library, or a program), and ``-lm``.
+
+    Raises
+    ------
+    eulersym.errors.CheckFailed
+        The compiler refused the sources (its command and messages in the text).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     source = pathlib.Path(d, "one.c")
+    ...     _ = source.write_text("double one(void);\ndouble one(void) { return 1.0; }\n")
+    ...     pathlib.Path(compile_c([source], pathlib.Path(d, "libone.so"))).is_file()
+    True
+    """
+    from eulersym.errors import CheckFailed
+
+    command = [c_compiler(), *C_FLAGS, *flags, *(["-fPIC", "-shared"] if shared else []),
+               *(f"-I{folder}" for folder in include), *map(str, sources), "-o", str(output), "-lm"]
+    run = subprocess.run(command, capture_output=True, text=True)
+    if run.returncode != 0:
+        raise CheckFailed(f"{' '.join(command)} failed:\n{run.stderr.strip()}")
+    return str(output)
 
 
 def _best(func, number: int, repeat: int = 5) -> float:
