@@ -76,7 +76,7 @@ def compile_c(sources, output, *, shared: bool = True, flags=("-O2",), include=(
     >>> import tempfile, pathlib
     >>> with tempfile.TemporaryDirectory() as d:
     ...     source = pathlib.Path(d, "one.c")
-    ...     _ = source.write_text("double one(void);\ndouble one(void) { return 1.0; }\n")
+    ...     _ = source.write_text("double one(void);\\ndouble one(void) { return 1.0; }\\n")
     ...     pathlib.Path(compile_c([source], pathlib.Path(d, "libone.so"))).is_file()
     True
     """
