@@ -3,7 +3,7 @@
  * eulersym version: 0.1.0
  * SymPy version: 1.14.0
  * Input hash: sha256:365727319a22f39980877a9a2586cb166d3995bf51e47e564c1a86f7fedd8ce6
- * C emitter version: 1
+ * C emitter version: 2
  * The functions of euler_full.h; see it for the state and parameter order and the conventions.
  */
 
@@ -31,9 +31,6 @@ euler_full_params euler_full_default_params(void)
 int euler_full_rhs(double t, const double *y, const euler_full_params *p, double *out)
 {
     (void)t;
-    const double omega1 = y[0];
-    const double omega2 = y[1];
-    const double omega3 = y[2];
     const double I11 = p->I11;
     const double I12 = p->I12;
     const double I13 = p->I13;
@@ -43,6 +40,9 @@ int euler_full_rhs(double t, const double *y, const euler_full_params *p, double
     const double N1 = p->N1;
     const double N2 = p->N2;
     const double N3 = p->N3;
+    const double omega1 = y[0];
+    const double omega2 = y[1];
+    const double omega3 = y[2];
     const double x0 = 1.0/I11;
     const double x1 = I13*omega2;
     const double x2 = omega1*x1;
@@ -78,15 +78,15 @@ int euler_full_rhs(double t, const double *y, const euler_full_params *p, double
 int euler_full_jac(double t, const double *y, const euler_full_params *p, double *out)
 {
     (void)t;
-    const double omega1 = y[0];
-    const double omega2 = y[1];
-    const double omega3 = y[2];
     const double I11 = p->I11;
     const double I12 = p->I12;
     const double I13 = p->I13;
     const double I22 = p->I22;
     const double I23 = p->I23;
     const double I33 = p->I33;
+    const double omega1 = y[0];
+    const double omega2 = y[1];
+    const double omega3 = y[2];
     const double x0 = 1.0/I11;
     const double x1 = I13*omega2;
     const double x3 = I33*omega3;
@@ -142,15 +142,15 @@ int euler_full_jac(double t, const double *y, const euler_full_params *p, double
 int euler_full_invariants(double t, const double *y, const euler_full_params *p, double *out)
 {
     (void)t;
-    const double omega1 = y[0];
-    const double omega2 = y[1];
-    const double omega3 = y[2];
     const double I11 = p->I11;
     const double I12 = p->I12;
     const double I13 = p->I13;
     const double I22 = p->I22;
     const double I23 = p->I23;
     const double I33 = p->I33;
+    const double omega1 = y[0];
+    const double omega2 = y[1];
+    const double omega3 = y[2];
     const double x1 = I13*omega2;
     const double x3 = I33*omega3;
     const double x5 = (omega2*omega2);
@@ -176,6 +176,163 @@ int euler_full_invariants(double t, const double *y, const euler_full_params *p,
 }
 
 
+int euler_full_rhs_batched(size_t n, double t, const double *restrict y, const euler_full_params *p, double *restrict out)
+{
+    (void)t;
+    size_t i;
+    const double I11 = p->I11;
+    const double I12 = p->I12;
+    const double I13 = p->I13;
+    const double I22 = p->I22;
+    const double I23 = p->I23;
+    const double I33 = p->I33;
+    const double N1 = p->N1;
+    const double N2 = p->N2;
+    const double N3 = p->N3;
+    for (i = 0; i < n; i++) {
+        const double omega1 = y[i];
+        const double omega2 = y[1 * n + i];
+        const double omega3 = y[2 * n + i];
+        const double x0 = 1.0/I11;
+        const double x1 = I13*omega2;
+        const double x2 = omega1*x1;
+        const double x3 = I33*omega3;
+        const double x4 = omega2*x3;
+        const double x5 = (omega2*omega2);
+        const double x6 = I23*x5;
+        const double x7 = (omega3*omega3);
+        const double x8 = (I13*I13);
+        const double x9 = I12*x0;
+        const double x10 = -I13*x9 + I23;
+        const double x11 = (I12*I12);
+        const double x12 = 1.0/(I22 - x0*x11);
+        const double x13 = 1.0/(I33 - x0*x8 - (x10*x10)*x12);
+        const double x14 = I22*omega2;
+        const double x15 = I23*omega3;
+        const double x16 = (omega1*omega1);
+        const double x17 = I12*omega3;
+        const double x18 = I23*x7 + N1 + omega1*x17 + omega3*x14 - x2 - x4 - x6;
+        const double x19 = I13*x0;
+        const double x20 = I11*omega3;
+        const double x21 = -I13*x16 + I13*x7 - I23*omega1*omega2 - I33*omega1*omega3 - N2 + omega1*x20 + omega2*x17 + x18*x9;
+        const double x22 = x10*x12;
+        const double x23 = x13*(I11*omega1*omega2 - I12*x16 + I12*x5 + I13*omega2*omega3 + N3 - omega1*x14 - omega1*x15 - x18*x19 + x21*x22);
+        const double x24 = x12*(-x10*x23 - x21);
+        out[i] = x0*(I12*omega1*omega3 - I12*x24 - I13*x23 + I22*omega2*omega3 + I23*x7 + N1 - x2 - x4 - x6);
+        out[1 * n + i] = x24;
+        out[2 * n + i] = x23;
+    }
+    return 0;
+}
+
+
+int euler_full_jac_batched(size_t n, double t, const double *restrict y, const euler_full_params *p, double *restrict out)
+{
+    (void)t;
+    size_t i;
+    const double I11 = p->I11;
+    const double I12 = p->I12;
+    const double I13 = p->I13;
+    const double I22 = p->I22;
+    const double I23 = p->I23;
+    const double I33 = p->I33;
+    for (i = 0; i < n; i++) {
+        const double omega1 = y[i];
+        const double omega2 = y[1 * n + i];
+        const double omega3 = y[2 * n + i];
+        const double x0 = 1.0/I11;
+        const double x1 = I13*omega2;
+        const double x3 = I33*omega3;
+        const double x8 = (I13*I13);
+        const double x9 = I12*x0;
+        const double x10 = -I13*x9 + I23;
+        const double x11 = (I12*I12);
+        const double x12 = 1.0/(I22 - x0*x11);
+        const double x13 = 1.0/(I33 - x0*x8 - (x10*x10)*x12);
+        const double x14 = I22*omega2;
+        const double x15 = I23*omega3;
+        const double x17 = I12*omega3;
+        const double x19 = I13*x0;
+        const double x20 = I11*omega3;
+        const double x22 = x10*x12;
+        const double x25 = I12*omega1;
+        const double x26 = 2.0*x25;
+        const double x27 = -x1;
+        const double x28 = x17 + x27;
+        const double x29 = I23*omega2;
+        const double x30 = I13*omega1;
+        const double x31 = 2.0*x30;
+        const double x32 = x28*x9;
+        const double x33 = x13*(I11*omega2 - x14 - x15 - x19*x28 - x22*(-x20 + x29 + x3 + x31 - x32) - x26);
+        const double x34 = x12*(2.0*I13*omega1 + I23*omega2 - x10*x33 - x20 + x3 - x32);
+        const double x35 = I11*omega1;
+        const double x36 = I13*omega3;
+        const double x37 = I12*omega2;
+        const double x38 = 2.0*x29;
+        const double x39 = -I22*omega3 + x3 + x30 + x38;
+        const double x40 = -x39;
+        const double x41 = I23*omega1;
+        const double x42 = x17 + x40*x9 - x41;
+        const double x43 = x13*(-I22*omega1 - x19*x40 + x22*x42 + x35 + x36 + 2.0*x37);
+        const double x44 = x12*(-x10*x43 - x42);
+        const double x45 = -I33*omega2 + x14 + 2.0*x15 + x25;
+        const double x46 = -I33*omega1 + x35 + 2.0*x36 + x37 + x45*x9;
+        const double x47 = x13*(-x19*x45 + x22*x46 - x27 - x41);
+        const double x48 = x12*(-x10*x47 - x46);
+        out[i] = x0*(-I12*x34 - I13*x33 - x1 + x17);
+        out[1 * n + i] = x0*(-I12*x44 - I13*x43 - x39);
+        out[2 * n + i] = x0*(-I12*x48 - I13*x47 + x45);
+        out[3 * n + i] = x34;
+        out[4 * n + i] = x44;
+        out[5 * n + i] = x48;
+        out[6 * n + i] = x33;
+        out[7 * n + i] = x43;
+        out[8 * n + i] = x47;
+    }
+    return 0;
+}
+
+
+int euler_full_invariants_batched(size_t n, double t, const double *restrict y, const euler_full_params *p, double *restrict out)
+{
+    (void)t;
+    size_t i;
+    const double I11 = p->I11;
+    const double I12 = p->I12;
+    const double I13 = p->I13;
+    const double I22 = p->I22;
+    const double I23 = p->I23;
+    const double I33 = p->I33;
+    for (i = 0; i < n; i++) {
+        const double omega1 = y[i];
+        const double omega2 = y[1 * n + i];
+        const double omega3 = y[2 * n + i];
+        const double x1 = I13*omega2;
+        const double x3 = I33*omega3;
+        const double x5 = (omega2*omega2);
+        const double x7 = (omega3*omega3);
+        const double x8 = (I13*I13);
+        const double x11 = (I12*I12);
+        const double x14 = I22*omega2;
+        const double x16 = (omega1*omega1);
+        const double x17 = I12*omega3;
+        const double x20 = I11*omega3;
+        const double x25 = I12*omega1;
+        const double x26 = 2.0*x25;
+        const double x29 = I23*omega2;
+        const double x30 = I13*omega1;
+        const double x31 = 2.0*x30;
+        const double x38 = 2.0*x29;
+        const double x41 = I23*omega1;
+        const double x49 = 2.0*x17;
+        const double x50 = (I23*I23);
+        out[i] = (0.5)*I11*x16 + (0.5)*I22*x5 + (0.5)*I33*x7 + omega2*x25 + omega3*x29 + omega3*x30;
+        out[1 * n + i] = (I11*I11)*x16 + I11*omega2*x26 + (I22*I22)*x5 + I22*omega3*x38 + (I33*I33)*x7 + 2.0*x1*x41 + x1*x49 + x11*x16 + x11*x5 + x14*x26 + x16*x8 + x20*x31 + x3*x31 + x3*x38 + x41*x49 + x5*x50 + x50*x7 + x7*x8;
+    }
+    return 0;
+}
+
+
 euler_full_params_f euler_full_default_params_f(void)
 {
     euler_full_params_f p;
@@ -195,9 +352,6 @@ euler_full_params_f euler_full_default_params_f(void)
 int euler_full_rhs_f(float t, const float *y, const euler_full_params_f *p, float *out)
 {
     (void)t;
-    const float omega1 = y[0];
-    const float omega2 = y[1];
-    const float omega3 = y[2];
     const float I11 = p->I11;
     const float I12 = p->I12;
     const float I13 = p->I13;
@@ -207,6 +361,9 @@ int euler_full_rhs_f(float t, const float *y, const euler_full_params_f *p, floa
     const float N1 = p->N1;
     const float N2 = p->N2;
     const float N3 = p->N3;
+    const float omega1 = y[0];
+    const float omega2 = y[1];
+    const float omega3 = y[2];
     const float x0 = 1.0f/I11;
     const float x1 = I13*omega2;
     const float x2 = omega1*x1;
@@ -242,15 +399,15 @@ int euler_full_rhs_f(float t, const float *y, const euler_full_params_f *p, floa
 int euler_full_jac_f(float t, const float *y, const euler_full_params_f *p, float *out)
 {
     (void)t;
-    const float omega1 = y[0];
-    const float omega2 = y[1];
-    const float omega3 = y[2];
     const float I11 = p->I11;
     const float I12 = p->I12;
     const float I13 = p->I13;
     const float I22 = p->I22;
     const float I23 = p->I23;
     const float I33 = p->I33;
+    const float omega1 = y[0];
+    const float omega2 = y[1];
+    const float omega3 = y[2];
     const float x0 = 1.0f/I11;
     const float x1 = I13*omega2;
     const float x3 = I33*omega3;
@@ -306,15 +463,15 @@ int euler_full_jac_f(float t, const float *y, const euler_full_params_f *p, floa
 int euler_full_invariants_f(float t, const float *y, const euler_full_params_f *p, float *out)
 {
     (void)t;
-    const float omega1 = y[0];
-    const float omega2 = y[1];
-    const float omega3 = y[2];
     const float I11 = p->I11;
     const float I12 = p->I12;
     const float I13 = p->I13;
     const float I22 = p->I22;
     const float I23 = p->I23;
     const float I33 = p->I33;
+    const float omega1 = y[0];
+    const float omega2 = y[1];
+    const float omega3 = y[2];
     const float x1 = I13*omega2;
     const float x3 = I33*omega3;
     const float x5 = (omega2*omega2);
@@ -336,5 +493,162 @@ int euler_full_invariants_f(float t, const float *y, const euler_full_params_f *
     const float x50 = (I23*I23);
     out[0] = (0.5f)*I11*x16 + (0.5f)*I22*x5 + (0.5f)*I33*x7 + omega2*x25 + omega3*x29 + omega3*x30;
     out[1] = (I11*I11)*x16 + I11*omega2*x26 + (I22*I22)*x5 + I22*omega3*x38 + (I33*I33)*x7 + 2.0f*x1*x41 + x1*x49 + x11*x16 + x11*x5 + x14*x26 + x16*x8 + x20*x31 + x3*x31 + x3*x38 + x41*x49 + x5*x50 + x50*x7 + x7*x8;
+    return 0;
+}
+
+
+int euler_full_rhs_batched_f(size_t n, float t, const float *restrict y, const euler_full_params_f *p, float *restrict out)
+{
+    (void)t;
+    size_t i;
+    const float I11 = p->I11;
+    const float I12 = p->I12;
+    const float I13 = p->I13;
+    const float I22 = p->I22;
+    const float I23 = p->I23;
+    const float I33 = p->I33;
+    const float N1 = p->N1;
+    const float N2 = p->N2;
+    const float N3 = p->N3;
+    for (i = 0; i < n; i++) {
+        const float omega1 = y[i];
+        const float omega2 = y[1 * n + i];
+        const float omega3 = y[2 * n + i];
+        const float x0 = 1.0f/I11;
+        const float x1 = I13*omega2;
+        const float x2 = omega1*x1;
+        const float x3 = I33*omega3;
+        const float x4 = omega2*x3;
+        const float x5 = (omega2*omega2);
+        const float x6 = I23*x5;
+        const float x7 = (omega3*omega3);
+        const float x8 = (I13*I13);
+        const float x9 = I12*x0;
+        const float x10 = -I13*x9 + I23;
+        const float x11 = (I12*I12);
+        const float x12 = 1.0f/(I22 - x0*x11);
+        const float x13 = 1.0f/(I33 - x0*x8 - (x10*x10)*x12);
+        const float x14 = I22*omega2;
+        const float x15 = I23*omega3;
+        const float x16 = (omega1*omega1);
+        const float x17 = I12*omega3;
+        const float x18 = I23*x7 + N1 + omega1*x17 + omega3*x14 - x2 - x4 - x6;
+        const float x19 = I13*x0;
+        const float x20 = I11*omega3;
+        const float x21 = -I13*x16 + I13*x7 - I23*omega1*omega2 - I33*omega1*omega3 - N2 + omega1*x20 + omega2*x17 + x18*x9;
+        const float x22 = x10*x12;
+        const float x23 = x13*(I11*omega1*omega2 - I12*x16 + I12*x5 + I13*omega2*omega3 + N3 - omega1*x14 - omega1*x15 - x18*x19 + x21*x22);
+        const float x24 = x12*(-x10*x23 - x21);
+        out[i] = x0*(I12*omega1*omega3 - I12*x24 - I13*x23 + I22*omega2*omega3 + I23*x7 + N1 - x2 - x4 - x6);
+        out[1 * n + i] = x24;
+        out[2 * n + i] = x23;
+    }
+    return 0;
+}
+
+
+int euler_full_jac_batched_f(size_t n, float t, const float *restrict y, const euler_full_params_f *p, float *restrict out)
+{
+    (void)t;
+    size_t i;
+    const float I11 = p->I11;
+    const float I12 = p->I12;
+    const float I13 = p->I13;
+    const float I22 = p->I22;
+    const float I23 = p->I23;
+    const float I33 = p->I33;
+    for (i = 0; i < n; i++) {
+        const float omega1 = y[i];
+        const float omega2 = y[1 * n + i];
+        const float omega3 = y[2 * n + i];
+        const float x0 = 1.0f/I11;
+        const float x1 = I13*omega2;
+        const float x3 = I33*omega3;
+        const float x8 = (I13*I13);
+        const float x9 = I12*x0;
+        const float x10 = -I13*x9 + I23;
+        const float x11 = (I12*I12);
+        const float x12 = 1.0f/(I22 - x0*x11);
+        const float x13 = 1.0f/(I33 - x0*x8 - (x10*x10)*x12);
+        const float x14 = I22*omega2;
+        const float x15 = I23*omega3;
+        const float x17 = I12*omega3;
+        const float x19 = I13*x0;
+        const float x20 = I11*omega3;
+        const float x22 = x10*x12;
+        const float x25 = I12*omega1;
+        const float x26 = 2.0f*x25;
+        const float x27 = -x1;
+        const float x28 = x17 + x27;
+        const float x29 = I23*omega2;
+        const float x30 = I13*omega1;
+        const float x31 = 2.0f*x30;
+        const float x32 = x28*x9;
+        const float x33 = x13*(I11*omega2 - x14 - x15 - x19*x28 - x22*(-x20 + x29 + x3 + x31 - x32) - x26);
+        const float x34 = x12*(2.0f*I13*omega1 + I23*omega2 - x10*x33 - x20 + x3 - x32);
+        const float x35 = I11*omega1;
+        const float x36 = I13*omega3;
+        const float x37 = I12*omega2;
+        const float x38 = 2.0f*x29;
+        const float x39 = -I22*omega3 + x3 + x30 + x38;
+        const float x40 = -x39;
+        const float x41 = I23*omega1;
+        const float x42 = x17 + x40*x9 - x41;
+        const float x43 = x13*(-I22*omega1 - x19*x40 + x22*x42 + x35 + x36 + 2.0f*x37);
+        const float x44 = x12*(-x10*x43 - x42);
+        const float x45 = -I33*omega2 + x14 + 2.0f*x15 + x25;
+        const float x46 = -I33*omega1 + x35 + 2.0f*x36 + x37 + x45*x9;
+        const float x47 = x13*(-x19*x45 + x22*x46 - x27 - x41);
+        const float x48 = x12*(-x10*x47 - x46);
+        out[i] = x0*(-I12*x34 - I13*x33 - x1 + x17);
+        out[1 * n + i] = x0*(-I12*x44 - I13*x43 - x39);
+        out[2 * n + i] = x0*(-I12*x48 - I13*x47 + x45);
+        out[3 * n + i] = x34;
+        out[4 * n + i] = x44;
+        out[5 * n + i] = x48;
+        out[6 * n + i] = x33;
+        out[7 * n + i] = x43;
+        out[8 * n + i] = x47;
+    }
+    return 0;
+}
+
+
+int euler_full_invariants_batched_f(size_t n, float t, const float *restrict y, const euler_full_params_f *p, float *restrict out)
+{
+    (void)t;
+    size_t i;
+    const float I11 = p->I11;
+    const float I12 = p->I12;
+    const float I13 = p->I13;
+    const float I22 = p->I22;
+    const float I23 = p->I23;
+    const float I33 = p->I33;
+    for (i = 0; i < n; i++) {
+        const float omega1 = y[i];
+        const float omega2 = y[1 * n + i];
+        const float omega3 = y[2 * n + i];
+        const float x1 = I13*omega2;
+        const float x3 = I33*omega3;
+        const float x5 = (omega2*omega2);
+        const float x7 = (omega3*omega3);
+        const float x8 = (I13*I13);
+        const float x11 = (I12*I12);
+        const float x14 = I22*omega2;
+        const float x16 = (omega1*omega1);
+        const float x17 = I12*omega3;
+        const float x20 = I11*omega3;
+        const float x25 = I12*omega1;
+        const float x26 = 2.0f*x25;
+        const float x29 = I23*omega2;
+        const float x30 = I13*omega1;
+        const float x31 = 2.0f*x30;
+        const float x38 = 2.0f*x29;
+        const float x41 = I23*omega1;
+        const float x49 = 2.0f*x17;
+        const float x50 = (I23*I23);
+        out[i] = (0.5f)*I11*x16 + (0.5f)*I22*x5 + (0.5f)*I33*x7 + omega2*x25 + omega3*x29 + omega3*x30;
+        out[1 * n + i] = (I11*I11)*x16 + I11*omega2*x26 + (I22*I22)*x5 + I22*omega3*x38 + (I33*I33)*x7 + 2.0f*x1*x41 + x1*x49 + x11*x16 + x11*x5 + x14*x26 + x16*x8 + x20*x31 + x3*x31 + x3*x38 + x41*x49 + x5*x50 + x50*x7 + x7*x8;
+    }
     return 0;
 }

@@ -3,7 +3,7 @@
  * eulersym version: 0.1.0
  * SymPy version: 1.14.0
  * Input hash: sha256:365727319a22f39980877a9a2586cb166d3995bf51e47e564c1a86f7fedd8ce6
- * C emitter version: 1
+ * C emitter version: 2
  *
  * Euler's equations with a full (symmetric) inertia tensor and a body torque: I ω̇ = (I ω) × ω + N, I = [[I11, I12,
  * I13], [I12, I22, I23], [I13, I23, I33]] (the tensor's entries, body axes).
@@ -24,6 +24,10 @@
  *       i = d(dy_i/dt)/dy.
  *   int euler_full_invariants(double t, const double *y, const euler_full_params *p, double *out);
  *       out[2] = (E, L2): the invariants E, L2.
+ *   Batched (each function as euler_full_<name>_batched and _batched_f): n states, state first, batch after, as the
+ *   NumPy module's <name>_batched: component k of state i at y[k*n + i], output entry k at out[k*n + i]; y and out may
+ *   not overlap (restrict). The same statements in a loop a compiler can vectorise (gcc -O3: several states per
+ *   instruction).
  *
  * Every function reads all its inputs before it writes the first output (out may be y), allocates nothing and uses no
  * global or static state (reentrant, thread-safe); it returns 0. C99; link with -lm.
@@ -31,6 +35,8 @@
 
 #ifndef EULERSYM_EULER_FULL_H
 #define EULERSYM_EULER_FULL_H
+
+#include <stddef.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -57,6 +63,9 @@ euler_full_params euler_full_default_params(void);
 int euler_full_rhs(double t, const double *y, const euler_full_params *p, double *out);
 int euler_full_jac(double t, const double *y, const euler_full_params *p, double *out);
 int euler_full_invariants(double t, const double *y, const euler_full_params *p, double *out);
+int euler_full_rhs_batched(size_t n, double t, const double *y, const euler_full_params *p, double *out);
+int euler_full_jac_batched(size_t n, double t, const double *y, const euler_full_params *p, double *out);
+int euler_full_invariants_batched(size_t n, double t, const double *y, const euler_full_params *p, double *out);
 
 /* The parameters in float, in order. */
 typedef struct {
@@ -75,6 +84,9 @@ euler_full_params_f euler_full_default_params_f(void);
 int euler_full_rhs_f(float t, const float *y, const euler_full_params_f *p, float *out);
 int euler_full_jac_f(float t, const float *y, const euler_full_params_f *p, float *out);
 int euler_full_invariants_f(float t, const float *y, const euler_full_params_f *p, float *out);
+int euler_full_rhs_batched_f(size_t n, float t, const float *y, const euler_full_params_f *p, float *out);
+int euler_full_jac_batched_f(size_t n, float t, const float *y, const euler_full_params_f *p, float *out);
+int euler_full_invariants_batched_f(size_t n, float t, const float *y, const euler_full_params_f *p, float *out);
 
 #ifdef __cplusplus
 }

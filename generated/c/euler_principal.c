@@ -3,7 +3,7 @@
  * eulersym version: 0.1.0
  * SymPy version: 1.14.0
  * Input hash: sha256:9bd4e01a1ec22dc03f605fda472688a4231ce9d3160b7fd5df2d08fc2c5ed36c
- * C emitter version: 1
+ * C emitter version: 2
  * The functions of euler_principal.h; see it for the state and parameter order and the conventions.
  */
 
@@ -28,15 +28,15 @@ euler_principal_params euler_principal_default_params(void)
 int euler_principal_rhs(double t, const double *y, const euler_principal_params *p, double *out)
 {
     (void)t;
-    const double omega1 = y[0];
-    const double omega2 = y[1];
-    const double omega3 = y[2];
     const double I1 = p->I1;
     const double I2 = p->I2;
     const double I3 = p->I3;
     const double N1 = p->N1;
     const double N2 = p->N2;
     const double N3 = p->N3;
+    const double omega1 = y[0];
+    const double omega2 = y[1];
+    const double omega3 = y[2];
     const double x0 = 1.0/I1;
     const double x1 = I2*omega3;
     const double x2 = I3*omega3;
@@ -55,12 +55,12 @@ int euler_principal_rhs(double t, const double *y, const euler_principal_params 
 int euler_principal_jac(double t, const double *y, const euler_principal_params *p, double *out)
 {
     (void)t;
-    const double omega1 = y[0];
-    const double omega2 = y[1];
-    const double omega3 = y[2];
     const double I1 = p->I1;
     const double I2 = p->I2;
     const double I3 = p->I3;
+    const double omega1 = y[0];
+    const double omega2 = y[1];
+    const double omega3 = y[2];
     const double x0 = 1.0/I1;
     const double x1 = I2*omega3;
     const double x2 = I3*omega3;
@@ -86,17 +86,102 @@ int euler_principal_jac(double t, const double *y, const euler_principal_params 
 int euler_principal_invariants(double t, const double *y, const euler_principal_params *p, double *out)
 {
     (void)t;
-    const double omega1 = y[0];
-    const double omega2 = y[1];
-    const double omega3 = y[2];
     const double I1 = p->I1;
     const double I2 = p->I2;
     const double I3 = p->I3;
+    const double omega1 = y[0];
+    const double omega2 = y[1];
+    const double omega3 = y[2];
     const double x9 = (omega1*omega1);
     const double x10 = (omega2*omega2);
     const double x11 = (omega3*omega3);
     out[0] = (0.5)*I1*x9 + (0.5)*I2*x10 + (0.5)*I3*x11;
     out[1] = (I1*I1)*x9 + (I2*I2)*x10 + (I3*I3)*x11;
+    return 0;
+}
+
+
+int euler_principal_rhs_batched(size_t n, double t, const double *restrict y, const euler_principal_params *p, double *restrict out)
+{
+    (void)t;
+    size_t i;
+    const double I1 = p->I1;
+    const double I2 = p->I2;
+    const double I3 = p->I3;
+    const double N1 = p->N1;
+    const double N2 = p->N2;
+    const double N3 = p->N3;
+    for (i = 0; i < n; i++) {
+        const double omega1 = y[i];
+        const double omega2 = y[1 * n + i];
+        const double omega3 = y[2 * n + i];
+        const double x0 = 1.0/I1;
+        const double x1 = I2*omega3;
+        const double x2 = I3*omega3;
+        const double x3 = 1.0/I2;
+        const double x4 = I1*omega3;
+        const double x5 = 1.0/I3;
+        const double x6 = I1*omega1;
+        const double x7 = I2*omega2;
+        out[i] = x0*(N1 + omega2*x1 - omega2*x2);
+        out[1 * n + i] = x3*(N2 + omega1*x2 - omega1*x4);
+        out[2 * n + i] = x5*(N3 - omega1*x7 + omega2*x6);
+    }
+    return 0;
+}
+
+
+int euler_principal_jac_batched(size_t n, double t, const double *restrict y, const euler_principal_params *p, double *restrict out)
+{
+    (void)t;
+    size_t i;
+    const double I1 = p->I1;
+    const double I2 = p->I2;
+    const double I3 = p->I3;
+    for (i = 0; i < n; i++) {
+        const double omega1 = y[i];
+        const double omega2 = y[1 * n + i];
+        const double omega3 = y[2 * n + i];
+        const double x0 = 1.0/I1;
+        const double x1 = I2*omega3;
+        const double x2 = I3*omega3;
+        const double x3 = 1.0/I2;
+        const double x4 = I1*omega3;
+        const double x5 = 1.0/I3;
+        const double x6 = I1*omega1;
+        const double x7 = I2*omega2;
+        const double x8 = -x2;
+        out[i] = 0.0;
+        out[1 * n + i] = x0*(x1 + x8);
+        out[2 * n + i] = x0*(-I3*omega2 + x7);
+        out[3 * n + i] = x3*(-x4 - x8);
+        out[4 * n + i] = 0.0;
+        out[5 * n + i] = x3*(I3*omega1 - x6);
+        out[6 * n + i] = x5*(I1*omega2 - x7);
+        out[7 * n + i] = x5*(-I2*omega1 + x6);
+        out[8 * n + i] = 0.0;
+    }
+    return 0;
+}
+
+
+int euler_principal_invariants_batched(size_t n, double t, const double *restrict y, const euler_principal_params *p, double *restrict out)
+{
+    (void)t;
+    size_t i;
+    const double I1 = p->I1;
+    const double I2 = p->I2;
+    const double I3 = p->I3;
+    for (i = 0; i < n; i++) {
+        const double omega1 = y[i];
+        const double omega2 = y[1 * n + i];
+        const double omega3 = y[2 * n + i];
+        const double x9 = (omega1*omega1);
+        const double x10 = (omega2*omega2);
+        const double x11 = (omega3*omega3);
+        out[i] = (0.5)*I1*x9 + (0.5)*I2*x10 + (0.5)*I3*x11;
+        out[1 * n + i] = (I1*I1)*x9 + (I2*I2)*x10 + (I3*I3)*x11;
+    }
     return 0;
 }
 
@@ -117,15 +202,15 @@ euler_principal_params_f euler_principal_default_params_f(void)
 int euler_principal_rhs_f(float t, const float *y, const euler_principal_params_f *p, float *out)
 {
     (void)t;
-    const float omega1 = y[0];
-    const float omega2 = y[1];
-    const float omega3 = y[2];
     const float I1 = p->I1;
     const float I2 = p->I2;
     const float I3 = p->I3;
     const float N1 = p->N1;
     const float N2 = p->N2;
     const float N3 = p->N3;
+    const float omega1 = y[0];
+    const float omega2 = y[1];
+    const float omega3 = y[2];
     const float x0 = 1.0f/I1;
     const float x1 = I2*omega3;
     const float x2 = I3*omega3;
@@ -144,12 +229,12 @@ int euler_principal_rhs_f(float t, const float *y, const euler_principal_params_
 int euler_principal_jac_f(float t, const float *y, const euler_principal_params_f *p, float *out)
 {
     (void)t;
-    const float omega1 = y[0];
-    const float omega2 = y[1];
-    const float omega3 = y[2];
     const float I1 = p->I1;
     const float I2 = p->I2;
     const float I3 = p->I3;
+    const float omega1 = y[0];
+    const float omega2 = y[1];
+    const float omega3 = y[2];
     const float x0 = 1.0f/I1;
     const float x1 = I2*omega3;
     const float x2 = I3*omega3;
@@ -175,16 +260,101 @@ int euler_principal_jac_f(float t, const float *y, const euler_principal_params_
 int euler_principal_invariants_f(float t, const float *y, const euler_principal_params_f *p, float *out)
 {
     (void)t;
-    const float omega1 = y[0];
-    const float omega2 = y[1];
-    const float omega3 = y[2];
     const float I1 = p->I1;
     const float I2 = p->I2;
     const float I3 = p->I3;
+    const float omega1 = y[0];
+    const float omega2 = y[1];
+    const float omega3 = y[2];
     const float x9 = (omega1*omega1);
     const float x10 = (omega2*omega2);
     const float x11 = (omega3*omega3);
     out[0] = (0.5f)*I1*x9 + (0.5f)*I2*x10 + (0.5f)*I3*x11;
     out[1] = (I1*I1)*x9 + (I2*I2)*x10 + (I3*I3)*x11;
+    return 0;
+}
+
+
+int euler_principal_rhs_batched_f(size_t n, float t, const float *restrict y, const euler_principal_params_f *p, float *restrict out)
+{
+    (void)t;
+    size_t i;
+    const float I1 = p->I1;
+    const float I2 = p->I2;
+    const float I3 = p->I3;
+    const float N1 = p->N1;
+    const float N2 = p->N2;
+    const float N3 = p->N3;
+    for (i = 0; i < n; i++) {
+        const float omega1 = y[i];
+        const float omega2 = y[1 * n + i];
+        const float omega3 = y[2 * n + i];
+        const float x0 = 1.0f/I1;
+        const float x1 = I2*omega3;
+        const float x2 = I3*omega3;
+        const float x3 = 1.0f/I2;
+        const float x4 = I1*omega3;
+        const float x5 = 1.0f/I3;
+        const float x6 = I1*omega1;
+        const float x7 = I2*omega2;
+        out[i] = x0*(N1 + omega2*x1 - omega2*x2);
+        out[1 * n + i] = x3*(N2 + omega1*x2 - omega1*x4);
+        out[2 * n + i] = x5*(N3 - omega1*x7 + omega2*x6);
+    }
+    return 0;
+}
+
+
+int euler_principal_jac_batched_f(size_t n, float t, const float *restrict y, const euler_principal_params_f *p, float *restrict out)
+{
+    (void)t;
+    size_t i;
+    const float I1 = p->I1;
+    const float I2 = p->I2;
+    const float I3 = p->I3;
+    for (i = 0; i < n; i++) {
+        const float omega1 = y[i];
+        const float omega2 = y[1 * n + i];
+        const float omega3 = y[2 * n + i];
+        const float x0 = 1.0f/I1;
+        const float x1 = I2*omega3;
+        const float x2 = I3*omega3;
+        const float x3 = 1.0f/I2;
+        const float x4 = I1*omega3;
+        const float x5 = 1.0f/I3;
+        const float x6 = I1*omega1;
+        const float x7 = I2*omega2;
+        const float x8 = -x2;
+        out[i] = 0.0f;
+        out[1 * n + i] = x0*(x1 + x8);
+        out[2 * n + i] = x0*(-I3*omega2 + x7);
+        out[3 * n + i] = x3*(-x4 - x8);
+        out[4 * n + i] = 0.0f;
+        out[5 * n + i] = x3*(I3*omega1 - x6);
+        out[6 * n + i] = x5*(I1*omega2 - x7);
+        out[7 * n + i] = x5*(-I2*omega1 + x6);
+        out[8 * n + i] = 0.0f;
+    }
+    return 0;
+}
+
+
+int euler_principal_invariants_batched_f(size_t n, float t, const float *restrict y, const euler_principal_params_f *p, float *restrict out)
+{
+    (void)t;
+    size_t i;
+    const float I1 = p->I1;
+    const float I2 = p->I2;
+    const float I3 = p->I3;
+    for (i = 0; i < n; i++) {
+        const float omega1 = y[i];
+        const float omega2 = y[1 * n + i];
+        const float omega3 = y[2 * n + i];
+        const float x9 = (omega1*omega1);
+        const float x10 = (omega2*omega2);
+        const float x11 = (omega3*omega3);
+        out[i] = (0.5f)*I1*x9 + (0.5f)*I2*x10 + (0.5f)*I3*x11;
+        out[1 * n + i] = (I1*I1)*x9 + (I2*I2)*x10 + (I3*I3)*x11;
+    }
     return 0;
 }

@@ -3,7 +3,7 @@
  * eulersym version: 0.1.0
  * SymPy version: 1.14.0
  * Input hash: sha256:9bd4e01a1ec22dc03f605fda472688a4231ce9d3160b7fd5df2d08fc2c5ed36c
- * C emitter version: 1
+ * C emitter version: 2
  *
  * Euler's equations in principal axes with a body torque: I ω̇ = (I ω) × ω + N, I = diag(I1, I2, I3).
  *
@@ -22,6 +22,10 @@
  *       i = d(dy_i/dt)/dy.
  *   int euler_principal_invariants(double t, const double *y, const euler_principal_params *p, double *out);
  *       out[2] = (E, L2): the invariants E, L2.
+ *   Batched (each function as euler_principal_<name>_batched and _batched_f): n states, state first, batch after, as the
+ *   NumPy module's <name>_batched: component k of state i at y[k*n + i], output entry k at out[k*n + i]; y and out may
+ *   not overlap (restrict). The same statements in a loop a compiler can vectorise (gcc -O3: several states per
+ *   instruction).
  *
  * Every function reads all its inputs before it writes the first output (out may be y), allocates nothing and uses no
  * global or static state (reentrant, thread-safe); it returns 0. C99; link with -lm.
@@ -29,6 +33,8 @@
 
 #ifndef EULERSYM_EULER_PRINCIPAL_H
 #define EULERSYM_EULER_PRINCIPAL_H
+
+#include <stddef.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -52,6 +58,9 @@ euler_principal_params euler_principal_default_params(void);
 int euler_principal_rhs(double t, const double *y, const euler_principal_params *p, double *out);
 int euler_principal_jac(double t, const double *y, const euler_principal_params *p, double *out);
 int euler_principal_invariants(double t, const double *y, const euler_principal_params *p, double *out);
+int euler_principal_rhs_batched(size_t n, double t, const double *y, const euler_principal_params *p, double *out);
+int euler_principal_jac_batched(size_t n, double t, const double *y, const euler_principal_params *p, double *out);
+int euler_principal_invariants_batched(size_t n, double t, const double *y, const euler_principal_params *p, double *out);
 
 /* The parameters in float, in order. */
 typedef struct {
@@ -67,6 +76,9 @@ euler_principal_params_f euler_principal_default_params_f(void);
 int euler_principal_rhs_f(float t, const float *y, const euler_principal_params_f *p, float *out);
 int euler_principal_jac_f(float t, const float *y, const euler_principal_params_f *p, float *out);
 int euler_principal_invariants_f(float t, const float *y, const euler_principal_params_f *p, float *out);
+int euler_principal_rhs_batched_f(size_t n, float t, const float *y, const euler_principal_params_f *p, float *out);
+int euler_principal_jac_batched_f(size_t n, float t, const float *y, const euler_principal_params_f *p, float *out);
+int euler_principal_invariants_batched_f(size_t n, float t, const float *y, const euler_principal_params_f *p, float *out);
 
 #ifdef __cplusplus
 }

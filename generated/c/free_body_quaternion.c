@@ -3,7 +3,7 @@
  * eulersym version: 0.1.0
  * SymPy version: 1.14.0
  * Input hash: sha256:5fe1e6ed6d21e839c707c8ccdba8a6838369cbdd840251dcab72057b8f8f5186
- * C emitter version: 1
+ * C emitter version: 2
  * The functions of free_body_quaternion.h; see it for the state and parameter order and the conventions.
  */
 
@@ -25,6 +25,9 @@ free_body_quaternion_params free_body_quaternion_default_params(void)
 int free_body_quaternion_rhs(double t, const double *y, const free_body_quaternion_params *p, double *out)
 {
     (void)t;
+    const double I1 = p->I1;
+    const double I2 = p->I2;
+    const double I3 = p->I3;
     const double omega1 = y[0];
     const double omega2 = y[1];
     const double omega3 = y[2];
@@ -32,9 +35,6 @@ int free_body_quaternion_rhs(double t, const double *y, const free_body_quaterni
     const double q1 = y[4];
     const double q2 = y[5];
     const double q3 = y[6];
-    const double I1 = p->I1;
-    const double I2 = p->I2;
-    const double I3 = p->I3;
     const double x0 = 1.0/I1;
     const double x1 = I2*omega3;
     const double x2 = I3*omega3;
@@ -63,6 +63,9 @@ int free_body_quaternion_rhs(double t, const double *y, const free_body_quaterni
 int free_body_quaternion_jac(double t, const double *y, const free_body_quaternion_params *p, double *out)
 {
     (void)t;
+    const double I1 = p->I1;
+    const double I2 = p->I2;
+    const double I3 = p->I3;
     const double omega1 = y[0];
     const double omega2 = y[1];
     const double omega3 = y[2];
@@ -70,9 +73,6 @@ int free_body_quaternion_jac(double t, const double *y, const free_body_quaterni
     const double q1 = y[4];
     const double q2 = y[5];
     const double q3 = y[6];
-    const double I1 = p->I1;
-    const double I2 = p->I2;
-    const double I3 = p->I3;
     const double x0 = 1.0/I1;
     const double x1 = I2*omega3;
     const double x2 = I3*omega3;
@@ -151,6 +151,9 @@ int free_body_quaternion_jac(double t, const double *y, const free_body_quaterni
 int free_body_quaternion_invariants(double t, const double *y, const free_body_quaternion_params *p, double *out)
 {
     (void)t;
+    const double I1 = p->I1;
+    const double I2 = p->I2;
+    const double I3 = p->I3;
     const double omega1 = y[0];
     const double omega2 = y[1];
     const double omega3 = y[2];
@@ -158,15 +161,170 @@ int free_body_quaternion_invariants(double t, const double *y, const free_body_q
     const double q1 = y[4];
     const double q2 = y[5];
     const double q3 = y[6];
-    const double I1 = p->I1;
-    const double I2 = p->I2;
-    const double I3 = p->I3;
     const double x22 = (omega1*omega1);
     const double x23 = (omega2*omega2);
     const double x24 = (omega3*omega3);
     out[0] = (0.5)*I1*x22 + (0.5)*I2*x23 + (0.5)*I3*x24;
     out[1] = (I1*I1)*x22 + (I2*I2)*x23 + (I3*I3)*x24;
     out[2] = (q0*q0) + (q1*q1) + (q2*q2) + (q3*q3);
+    return 0;
+}
+
+
+int free_body_quaternion_rhs_batched(size_t n, double t, const double *restrict y, const free_body_quaternion_params *p, double *restrict out)
+{
+    (void)t;
+    size_t i;
+    const double I1 = p->I1;
+    const double I2 = p->I2;
+    const double I3 = p->I3;
+    for (i = 0; i < n; i++) {
+        const double omega1 = y[i];
+        const double omega2 = y[1 * n + i];
+        const double omega3 = y[2 * n + i];
+        const double q0 = y[3 * n + i];
+        const double q1 = y[4 * n + i];
+        const double q2 = y[5 * n + i];
+        const double q3 = y[6 * n + i];
+        const double x0 = 1.0/I1;
+        const double x1 = I2*omega3;
+        const double x2 = I3*omega3;
+        const double x3 = 1.0/I2;
+        const double x4 = I1*omega3;
+        const double x5 = 1.0/I3;
+        const double x6 = I1*omega1;
+        const double x7 = I2*omega2;
+        const double x8 = (0.5)*q1;
+        const double x9 = (0.5)*q2;
+        const double x10 = (0.5)*q3;
+        const double x11 = (0.5)*omega1;
+        const double x12 = (0.5)*omega2;
+        const double x13 = (0.5)*omega3;
+        out[i] = x0*(omega2*x1 - omega2*x2);
+        out[1 * n + i] = x3*(I3*omega1*omega3 - omega1*x4);
+        out[2 * n + i] = x5*(-omega1*x7 + omega2*x6);
+        out[3 * n + i] = -omega1*x8 - omega2*x9 - omega3*x10;
+        out[4 * n + i] = -omega2*x10 + omega3*x9 + q0*x11;
+        out[5 * n + i] = omega1*x10 - omega3*x8 + q0*x12;
+        out[6 * n + i] = -omega1*x9 + omega2*x8 + q0*x13;
+    }
+    return 0;
+}
+
+
+int free_body_quaternion_jac_batched(size_t n, double t, const double *restrict y, const free_body_quaternion_params *p, double *restrict out)
+{
+    (void)t;
+    size_t i;
+    const double I1 = p->I1;
+    const double I2 = p->I2;
+    const double I3 = p->I3;
+    for (i = 0; i < n; i++) {
+        const double omega1 = y[i];
+        const double omega2 = y[1 * n + i];
+        const double omega3 = y[2 * n + i];
+        const double q0 = y[3 * n + i];
+        const double q1 = y[4 * n + i];
+        const double q2 = y[5 * n + i];
+        const double q3 = y[6 * n + i];
+        const double x0 = 1.0/I1;
+        const double x1 = I2*omega3;
+        const double x2 = I3*omega3;
+        const double x3 = 1.0/I2;
+        const double x4 = I1*omega3;
+        const double x5 = 1.0/I3;
+        const double x6 = I1*omega1;
+        const double x7 = I2*omega2;
+        const double x8 = (0.5)*q1;
+        const double x9 = (0.5)*q2;
+        const double x10 = (0.5)*q3;
+        const double x11 = (0.5)*omega1;
+        const double x12 = (0.5)*omega2;
+        const double x13 = (0.5)*omega3;
+        const double x14 = -x2;
+        const double x15 = -x8;
+        const double x16 = -x9;
+        const double x17 = -x10;
+        const double x18 = -x11;
+        const double x19 = -x12;
+        const double x20 = -x13;
+        const double x21 = (0.5)*q0;
+        out[i] = 0.0;
+        out[1 * n + i] = x0*(x1 + x14);
+        out[2 * n + i] = x0*(-I3*omega2 + x7);
+        out[3 * n + i] = 0.0;
+        out[4 * n + i] = 0.0;
+        out[5 * n + i] = 0.0;
+        out[6 * n + i] = 0.0;
+        out[7 * n + i] = x3*(-x14 - x4);
+        out[8 * n + i] = 0.0;
+        out[9 * n + i] = x3*(I3*omega1 - x6);
+        out[10 * n + i] = 0.0;
+        out[11 * n + i] = 0.0;
+        out[12 * n + i] = 0.0;
+        out[13 * n + i] = 0.0;
+        out[14 * n + i] = x5*(I1*omega2 - x7);
+        out[15 * n + i] = x5*(-I2*omega1 + x6);
+        out[16 * n + i] = 0.0;
+        out[17 * n + i] = 0.0;
+        out[18 * n + i] = 0.0;
+        out[19 * n + i] = 0.0;
+        out[20 * n + i] = 0.0;
+        out[21 * n + i] = x15;
+        out[22 * n + i] = x16;
+        out[23 * n + i] = x17;
+        out[24 * n + i] = 0.0;
+        out[25 * n + i] = x18;
+        out[26 * n + i] = x19;
+        out[27 * n + i] = x20;
+        out[28 * n + i] = x21;
+        out[29 * n + i] = x17;
+        out[30 * n + i] = x9;
+        out[31 * n + i] = x11;
+        out[32 * n + i] = 0.0;
+        out[33 * n + i] = x13;
+        out[34 * n + i] = x19;
+        out[35 * n + i] = x10;
+        out[36 * n + i] = x21;
+        out[37 * n + i] = x15;
+        out[38 * n + i] = x12;
+        out[39 * n + i] = x20;
+        out[40 * n + i] = 0.0;
+        out[41 * n + i] = x11;
+        out[42 * n + i] = x16;
+        out[43 * n + i] = x8;
+        out[44 * n + i] = x21;
+        out[45 * n + i] = x13;
+        out[46 * n + i] = x12;
+        out[47 * n + i] = x18;
+        out[48 * n + i] = 0.0;
+    }
+    return 0;
+}
+
+
+int free_body_quaternion_invariants_batched(size_t n, double t, const double *restrict y, const free_body_quaternion_params *p, double *restrict out)
+{
+    (void)t;
+    size_t i;
+    const double I1 = p->I1;
+    const double I2 = p->I2;
+    const double I3 = p->I3;
+    for (i = 0; i < n; i++) {
+        const double omega1 = y[i];
+        const double omega2 = y[1 * n + i];
+        const double omega3 = y[2 * n + i];
+        const double q0 = y[3 * n + i];
+        const double q1 = y[4 * n + i];
+        const double q2 = y[5 * n + i];
+        const double q3 = y[6 * n + i];
+        const double x22 = (omega1*omega1);
+        const double x23 = (omega2*omega2);
+        const double x24 = (omega3*omega3);
+        out[i] = (0.5)*I1*x22 + (0.5)*I2*x23 + (0.5)*I3*x24;
+        out[1 * n + i] = (I1*I1)*x22 + (I2*I2)*x23 + (I3*I3)*x24;
+        out[2 * n + i] = (q0*q0) + (q1*q1) + (q2*q2) + (q3*q3);
+    }
     return 0;
 }
 
@@ -184,6 +342,9 @@ free_body_quaternion_params_f free_body_quaternion_default_params_f(void)
 int free_body_quaternion_rhs_f(float t, const float *y, const free_body_quaternion_params_f *p, float *out)
 {
     (void)t;
+    const float I1 = p->I1;
+    const float I2 = p->I2;
+    const float I3 = p->I3;
     const float omega1 = y[0];
     const float omega2 = y[1];
     const float omega3 = y[2];
@@ -191,9 +352,6 @@ int free_body_quaternion_rhs_f(float t, const float *y, const free_body_quaterni
     const float q1 = y[4];
     const float q2 = y[5];
     const float q3 = y[6];
-    const float I1 = p->I1;
-    const float I2 = p->I2;
-    const float I3 = p->I3;
     const float x0 = 1.0f/I1;
     const float x1 = I2*omega3;
     const float x2 = I3*omega3;
@@ -222,6 +380,9 @@ int free_body_quaternion_rhs_f(float t, const float *y, const free_body_quaterni
 int free_body_quaternion_jac_f(float t, const float *y, const free_body_quaternion_params_f *p, float *out)
 {
     (void)t;
+    const float I1 = p->I1;
+    const float I2 = p->I2;
+    const float I3 = p->I3;
     const float omega1 = y[0];
     const float omega2 = y[1];
     const float omega3 = y[2];
@@ -229,9 +390,6 @@ int free_body_quaternion_jac_f(float t, const float *y, const free_body_quaterni
     const float q1 = y[4];
     const float q2 = y[5];
     const float q3 = y[6];
-    const float I1 = p->I1;
-    const float I2 = p->I2;
-    const float I3 = p->I3;
     const float x0 = 1.0f/I1;
     const float x1 = I2*omega3;
     const float x2 = I3*omega3;
@@ -310,6 +468,9 @@ int free_body_quaternion_jac_f(float t, const float *y, const free_body_quaterni
 int free_body_quaternion_invariants_f(float t, const float *y, const free_body_quaternion_params_f *p, float *out)
 {
     (void)t;
+    const float I1 = p->I1;
+    const float I2 = p->I2;
+    const float I3 = p->I3;
     const float omega1 = y[0];
     const float omega2 = y[1];
     const float omega3 = y[2];
@@ -317,14 +478,169 @@ int free_body_quaternion_invariants_f(float t, const float *y, const free_body_q
     const float q1 = y[4];
     const float q2 = y[5];
     const float q3 = y[6];
-    const float I1 = p->I1;
-    const float I2 = p->I2;
-    const float I3 = p->I3;
     const float x22 = (omega1*omega1);
     const float x23 = (omega2*omega2);
     const float x24 = (omega3*omega3);
     out[0] = (0.5f)*I1*x22 + (0.5f)*I2*x23 + (0.5f)*I3*x24;
     out[1] = (I1*I1)*x22 + (I2*I2)*x23 + (I3*I3)*x24;
     out[2] = (q0*q0) + (q1*q1) + (q2*q2) + (q3*q3);
+    return 0;
+}
+
+
+int free_body_quaternion_rhs_batched_f(size_t n, float t, const float *restrict y, const free_body_quaternion_params_f *p, float *restrict out)
+{
+    (void)t;
+    size_t i;
+    const float I1 = p->I1;
+    const float I2 = p->I2;
+    const float I3 = p->I3;
+    for (i = 0; i < n; i++) {
+        const float omega1 = y[i];
+        const float omega2 = y[1 * n + i];
+        const float omega3 = y[2 * n + i];
+        const float q0 = y[3 * n + i];
+        const float q1 = y[4 * n + i];
+        const float q2 = y[5 * n + i];
+        const float q3 = y[6 * n + i];
+        const float x0 = 1.0f/I1;
+        const float x1 = I2*omega3;
+        const float x2 = I3*omega3;
+        const float x3 = 1.0f/I2;
+        const float x4 = I1*omega3;
+        const float x5 = 1.0f/I3;
+        const float x6 = I1*omega1;
+        const float x7 = I2*omega2;
+        const float x8 = (0.5f)*q1;
+        const float x9 = (0.5f)*q2;
+        const float x10 = (0.5f)*q3;
+        const float x11 = (0.5f)*omega1;
+        const float x12 = (0.5f)*omega2;
+        const float x13 = (0.5f)*omega3;
+        out[i] = x0*(omega2*x1 - omega2*x2);
+        out[1 * n + i] = x3*(I3*omega1*omega3 - omega1*x4);
+        out[2 * n + i] = x5*(-omega1*x7 + omega2*x6);
+        out[3 * n + i] = -omega1*x8 - omega2*x9 - omega3*x10;
+        out[4 * n + i] = -omega2*x10 + omega3*x9 + q0*x11;
+        out[5 * n + i] = omega1*x10 - omega3*x8 + q0*x12;
+        out[6 * n + i] = -omega1*x9 + omega2*x8 + q0*x13;
+    }
+    return 0;
+}
+
+
+int free_body_quaternion_jac_batched_f(size_t n, float t, const float *restrict y, const free_body_quaternion_params_f *p, float *restrict out)
+{
+    (void)t;
+    size_t i;
+    const float I1 = p->I1;
+    const float I2 = p->I2;
+    const float I3 = p->I3;
+    for (i = 0; i < n; i++) {
+        const float omega1 = y[i];
+        const float omega2 = y[1 * n + i];
+        const float omega3 = y[2 * n + i];
+        const float q0 = y[3 * n + i];
+        const float q1 = y[4 * n + i];
+        const float q2 = y[5 * n + i];
+        const float q3 = y[6 * n + i];
+        const float x0 = 1.0f/I1;
+        const float x1 = I2*omega3;
+        const float x2 = I3*omega3;
+        const float x3 = 1.0f/I2;
+        const float x4 = I1*omega3;
+        const float x5 = 1.0f/I3;
+        const float x6 = I1*omega1;
+        const float x7 = I2*omega2;
+        const float x8 = (0.5f)*q1;
+        const float x9 = (0.5f)*q2;
+        const float x10 = (0.5f)*q3;
+        const float x11 = (0.5f)*omega1;
+        const float x12 = (0.5f)*omega2;
+        const float x13 = (0.5f)*omega3;
+        const float x14 = -x2;
+        const float x15 = -x8;
+        const float x16 = -x9;
+        const float x17 = -x10;
+        const float x18 = -x11;
+        const float x19 = -x12;
+        const float x20 = -x13;
+        const float x21 = (0.5f)*q0;
+        out[i] = 0.0f;
+        out[1 * n + i] = x0*(x1 + x14);
+        out[2 * n + i] = x0*(-I3*omega2 + x7);
+        out[3 * n + i] = 0.0f;
+        out[4 * n + i] = 0.0f;
+        out[5 * n + i] = 0.0f;
+        out[6 * n + i] = 0.0f;
+        out[7 * n + i] = x3*(-x14 - x4);
+        out[8 * n + i] = 0.0f;
+        out[9 * n + i] = x3*(I3*omega1 - x6);
+        out[10 * n + i] = 0.0f;
+        out[11 * n + i] = 0.0f;
+        out[12 * n + i] = 0.0f;
+        out[13 * n + i] = 0.0f;
+        out[14 * n + i] = x5*(I1*omega2 - x7);
+        out[15 * n + i] = x5*(-I2*omega1 + x6);
+        out[16 * n + i] = 0.0f;
+        out[17 * n + i] = 0.0f;
+        out[18 * n + i] = 0.0f;
+        out[19 * n + i] = 0.0f;
+        out[20 * n + i] = 0.0f;
+        out[21 * n + i] = x15;
+        out[22 * n + i] = x16;
+        out[23 * n + i] = x17;
+        out[24 * n + i] = 0.0f;
+        out[25 * n + i] = x18;
+        out[26 * n + i] = x19;
+        out[27 * n + i] = x20;
+        out[28 * n + i] = x21;
+        out[29 * n + i] = x17;
+        out[30 * n + i] = x9;
+        out[31 * n + i] = x11;
+        out[32 * n + i] = 0.0f;
+        out[33 * n + i] = x13;
+        out[34 * n + i] = x19;
+        out[35 * n + i] = x10;
+        out[36 * n + i] = x21;
+        out[37 * n + i] = x15;
+        out[38 * n + i] = x12;
+        out[39 * n + i] = x20;
+        out[40 * n + i] = 0.0f;
+        out[41 * n + i] = x11;
+        out[42 * n + i] = x16;
+        out[43 * n + i] = x8;
+        out[44 * n + i] = x21;
+        out[45 * n + i] = x13;
+        out[46 * n + i] = x12;
+        out[47 * n + i] = x18;
+        out[48 * n + i] = 0.0f;
+    }
+    return 0;
+}
+
+
+int free_body_quaternion_invariants_batched_f(size_t n, float t, const float *restrict y, const free_body_quaternion_params_f *p, float *restrict out)
+{
+    (void)t;
+    size_t i;
+    const float I1 = p->I1;
+    const float I2 = p->I2;
+    const float I3 = p->I3;
+    for (i = 0; i < n; i++) {
+        const float omega1 = y[i];
+        const float omega2 = y[1 * n + i];
+        const float omega3 = y[2 * n + i];
+        const float q0 = y[3 * n + i];
+        const float q1 = y[4 * n + i];
+        const float q2 = y[5 * n + i];
+        const float q3 = y[6 * n + i];
+        const float x22 = (omega1*omega1);
+        const float x23 = (omega2*omega2);
+        const float x24 = (omega3*omega3);
+        out[i] = (0.5f)*I1*x22 + (0.5f)*I2*x23 + (0.5f)*I3*x24;
+        out[1 * n + i] = (I1*I1)*x22 + (I2*I2)*x23 + (I3*I3)*x24;
+        out[2 * n + i] = (q0*q0) + (q1*q1) + (q2*q2) + (q3*q3);
+    }
     return 0;
 }

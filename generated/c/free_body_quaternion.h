@@ -3,7 +3,7 @@
  * eulersym version: 0.1.0
  * SymPy version: 1.14.0
  * Input hash: sha256:5fe1e6ed6d21e839c707c8ccdba8a6838369cbdd840251dcab72057b8f8f5186
- * C emitter version: 1
+ * C emitter version: 2
  *
  * The torque-free rigid body with its attitude as a unit quaternion (scalar first): Euler's equations I ω̇ = (I ω) × ω
  * and q̇ = ½ q ⊗ (0, ω_body).
@@ -23,6 +23,10 @@
  *       row i = d(dy_i/dt)/dy.
  *   int free_body_quaternion_invariants(double t, const double *y, const free_body_quaternion_params *p, double *out);
  *       out[3] = (E, L2, q_norm2): the invariants E, L2, q_norm2.
+ *   Batched (each function as free_body_quaternion_<name>_batched and _batched_f): n states, state first, batch after,
+ *   as the NumPy module's <name>_batched: component k of state i at y[k*n + i], output entry k at out[k*n + i]; y and
+ *   out may not overlap (restrict). The same statements in a loop a compiler can vectorise (gcc -O3: several states per
+ *   instruction).
  *
  * Every function reads all its inputs before it writes the first output (out may be y), allocates nothing and uses no
  * global or static state (reentrant, thread-safe); it returns 0. C99; link with -lm.
@@ -30,6 +34,8 @@
 
 #ifndef EULERSYM_FREE_BODY_QUATERNION_H
 #define EULERSYM_FREE_BODY_QUATERNION_H
+
+#include <stddef.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -50,6 +56,9 @@ free_body_quaternion_params free_body_quaternion_default_params(void);
 int free_body_quaternion_rhs(double t, const double *y, const free_body_quaternion_params *p, double *out);
 int free_body_quaternion_jac(double t, const double *y, const free_body_quaternion_params *p, double *out);
 int free_body_quaternion_invariants(double t, const double *y, const free_body_quaternion_params *p, double *out);
+int free_body_quaternion_rhs_batched(size_t n, double t, const double *y, const free_body_quaternion_params *p, double *out);
+int free_body_quaternion_jac_batched(size_t n, double t, const double *y, const free_body_quaternion_params *p, double *out);
+int free_body_quaternion_invariants_batched(size_t n, double t, const double *y, const free_body_quaternion_params *p, double *out);
 
 /* The parameters in float, in order. */
 typedef struct {
@@ -62,6 +71,9 @@ free_body_quaternion_params_f free_body_quaternion_default_params_f(void);
 int free_body_quaternion_rhs_f(float t, const float *y, const free_body_quaternion_params_f *p, float *out);
 int free_body_quaternion_jac_f(float t, const float *y, const free_body_quaternion_params_f *p, float *out);
 int free_body_quaternion_invariants_f(float t, const float *y, const free_body_quaternion_params_f *p, float *out);
+int free_body_quaternion_rhs_batched_f(size_t n, float t, const float *y, const free_body_quaternion_params_f *p, float *out);
+int free_body_quaternion_jac_batched_f(size_t n, float t, const float *y, const free_body_quaternion_params_f *p, float *out);
+int free_body_quaternion_invariants_batched_f(size_t n, float t, const float *y, const free_body_quaternion_params_f *p, float *out);
 
 #ifdef __cplusplus
 }

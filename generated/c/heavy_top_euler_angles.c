@@ -3,7 +3,7 @@
  * eulersym version: 0.1.0
  * SymPy version: 1.14.0
  * Input hash: sha256:4cdb40cfa018dc27b4e4d3e7494dada4b6b207368a041a53c1e9ebd576fc7121
- * C emitter version: 1
+ * C emitter version: 2
  * The functions of heavy_top_euler_angles.h; see it for the state and parameter order and the conventions.
  */
 
@@ -27,15 +27,15 @@ heavy_top_euler_angles_params heavy_top_euler_angles_default_params(void)
 int heavy_top_euler_angles_rhs(double t, const double *y, const heavy_top_euler_angles_params *p, double *out)
 {
     (void)t;
-    const double theta = y[1];
-    const double phidot = y[3];
-    const double thetadot = y[4];
-    const double psidot = y[5];
     const double I1 = p->I1;
     const double I3 = p->I3;
     const double M = p->M;
     const double g = p->g;
     const double l = p->l;
+    const double theta = y[1];
+    const double phidot = y[3];
+    const double thetadot = y[4];
+    const double psidot = y[5];
     const double x0 = cos(theta);
     const double x1 = I1*x0;
     const double x2 = 2.0*x1;
@@ -78,15 +78,15 @@ int heavy_top_euler_angles_rhs(double t, const double *y, const heavy_top_euler_
 int heavy_top_euler_angles_jac(double t, const double *y, const heavy_top_euler_angles_params *p, double *out)
 {
     (void)t;
-    const double theta = y[1];
-    const double phidot = y[3];
-    const double thetadot = y[4];
-    const double psidot = y[5];
     const double I1 = p->I1;
     const double I3 = p->I3;
     const double M = p->M;
     const double g = p->g;
     const double l = p->l;
+    const double theta = y[1];
+    const double phidot = y[3];
+    const double thetadot = y[4];
+    const double psidot = y[5];
     const double x0 = cos(theta);
     const double x1 = I1*x0;
     const double x2 = 2.0*x1;
@@ -164,15 +164,15 @@ int heavy_top_euler_angles_jac(double t, const double *y, const heavy_top_euler_
 int heavy_top_euler_angles_invariants(double t, const double *y, const heavy_top_euler_angles_params *p, double *out)
 {
     (void)t;
-    const double theta = y[1];
-    const double phidot = y[3];
-    const double thetadot = y[4];
-    const double psidot = y[5];
     const double I1 = p->I1;
     const double I3 = p->I3;
     const double M = p->M;
     const double g = p->g;
     const double l = p->l;
+    const double theta = y[1];
+    const double phidot = y[3];
+    const double thetadot = y[4];
+    const double psidot = y[5];
     const double x0 = cos(theta);
     const double x5 = I3*psidot;
     const double x6 = I3*x0;
@@ -197,6 +197,197 @@ int heavy_top_euler_angles_invariants(double t, const double *y, const heavy_top
 }
 
 
+int heavy_top_euler_angles_rhs_batched(size_t n, double t, const double *restrict y, const heavy_top_euler_angles_params *p, double *restrict out)
+{
+    (void)t;
+    size_t i;
+    int status = 0;
+    const double I1 = p->I1;
+    const double I3 = p->I3;
+    const double M = p->M;
+    const double g = p->g;
+    const double l = p->l;
+    for (i = 0; i < n; i++) {
+        const double theta = y[1 * n + i];
+        const double phidot = y[3 * n + i];
+        const double thetadot = y[4 * n + i];
+        const double psidot = y[5 * n + i];
+        const double x0 = cos(theta);
+        const double x1 = I1*x0;
+        const double x2 = 2.0*x1;
+        const double x3 = phidot*x2;
+        const double x4 = -x3;
+        const double x5 = I3*psidot;
+        const double x6 = I3*x0;
+        const double x7 = phidot*x6;
+        const double x8 = x5 + x7;
+        const double x9 = x4 + x8;
+        const double x10 = 1.0/I1;
+        const double x11 = sin(theta);
+        const double x12 = x10/x11;
+        const double x13 = x12*x9;
+        const double x14 = M*g*l;
+        const double x15 = phidot*x5;
+        const double x16 = (phidot*phidot);
+        const double x17 = x1*x16 + x14 - x15 - x16*x6;
+        const double x18 = x10*x11;
+        const double x19 = x0*x5;
+        const double x20 = (x11*x11);
+        const double x21 = I1*x20;
+        const double x22 = phidot*x21;
+        const double x23 = (x0*x0);
+        const double x24 = 2.0*I1*x23;
+        const double x25 = I3*x23;
+        const double x26 = phidot*x25;
+        const double x27 = phidot*x24 - x19 + x22 - x26;
+        const double x28 = x12*x27;
+        out[i] = phidot;
+        out[1 * n + i] = thetadot;
+        out[2 * n + i] = psidot;
+        out[3 * n + i] = thetadot*x13;
+        out[4 * n + i] = x17*x18;
+        out[5 * n + i] = thetadot*x28;
+        if (!(isfinite(out[i]) && isfinite(out[1 * n + i]) && isfinite(out[2 * n + i]) && isfinite(out[3 * n + i]) && isfinite(out[4 * n + i]) && isfinite(out[5 * n + i])))
+            status = 1;
+    }
+    return status;
+}
+
+
+int heavy_top_euler_angles_jac_batched(size_t n, double t, const double *restrict y, const heavy_top_euler_angles_params *p, double *restrict out)
+{
+    (void)t;
+    size_t i;
+    int status = 0;
+    const double I1 = p->I1;
+    const double I3 = p->I3;
+    const double M = p->M;
+    const double g = p->g;
+    const double l = p->l;
+    for (i = 0; i < n; i++) {
+        const double theta = y[1 * n + i];
+        const double phidot = y[3 * n + i];
+        const double thetadot = y[4 * n + i];
+        const double psidot = y[5 * n + i];
+        const double x0 = cos(theta);
+        const double x1 = I1*x0;
+        const double x2 = 2.0*x1;
+        const double x3 = phidot*x2;
+        const double x4 = -x3;
+        const double x5 = I3*psidot;
+        const double x6 = I3*x0;
+        const double x7 = phidot*x6;
+        const double x8 = x5 + x7;
+        const double x9 = x4 + x8;
+        const double x10 = 1.0/I1;
+        const double x11 = sin(theta);
+        const double x12 = x10/x11;
+        const double x13 = x12*x9;
+        const double x14 = M*g*l;
+        const double x15 = phidot*x5;
+        const double x16 = (phidot*phidot);
+        const double x17 = x1*x16 + x14 - x15 - x16*x6;
+        const double x18 = x10*x11;
+        const double x19 = x0*x5;
+        const double x20 = (x11*x11);
+        const double x21 = I1*x20;
+        const double x22 = phidot*x21;
+        const double x23 = (x0*x0);
+        const double x24 = 2.0*I1*x23;
+        const double x25 = I3*x23;
+        const double x26 = phidot*x25;
+        const double x27 = phidot*x24 - x19 + x22 - x26;
+        const double x28 = x12*x27;
+        const double x29 = I1*x11;
+        const double x30 = thetadot*x12;
+        const double x31 = x0*x10;
+        const double x32 = thetadot*x31/x20;
+        const double x33 = 2.0*x7;
+        out[i] = 0.0;
+        out[1 * n + i] = 0.0;
+        out[2 * n + i] = 0.0;
+        out[3 * n + i] = 1.0;
+        out[4 * n + i] = 0.0;
+        out[5 * n + i] = 0.0;
+        out[6 * n + i] = 0.0;
+        out[7 * n + i] = 0.0;
+        out[8 * n + i] = 0.0;
+        out[9 * n + i] = 0.0;
+        out[10 * n + i] = 1.0;
+        out[11 * n + i] = 0.0;
+        out[12 * n + i] = 0.0;
+        out[13 * n + i] = 0.0;
+        out[14 * n + i] = 0.0;
+        out[15 * n + i] = 0.0;
+        out[16 * n + i] = 0.0;
+        out[17 * n + i] = 1.0;
+        out[18 * n + i] = 0.0;
+        out[19 * n + i] = x30*(-I3*phidot*x11 + 2.0*phidot*x29) - x32*x9;
+        out[20 * n + i] = 0.0;
+        out[21 * n + i] = x30*(I3*x0 - x2);
+        out[22 * n + i] = x13;
+        out[23 * n + i] = I3*x30;
+        out[24 * n + i] = 0.0;
+        out[25 * n + i] = x17*x31 + x18*(I3*x11*x16 - x16*x29);
+        out[26 * n + i] = 0.0;
+        out[27 * n + i] = x18*(-x33 - x4 - x5);
+        out[28 * n + i] = 0.0;
+        out[29 * n + i] = -I3*phidot*x18;
+        out[30 * n + i] = 0.0;
+        out[31 * n + i] = -x27*x32 + x30*(-x11*x3 + x11*x33 + x11*x5);
+        out[32 * n + i] = 0.0;
+        out[33 * n + i] = x30*(x21 + x24 - x25);
+        out[34 * n + i] = x28;
+        out[35 * n + i] = -x30*x6;
+        if (!(isfinite(out[i]) && isfinite(out[1 * n + i]) && isfinite(out[2 * n + i]) && isfinite(out[3 * n + i]) && isfinite(out[4 * n + i]) && isfinite(out[5 * n + i]) && isfinite(out[6 * n + i]) && isfinite(out[7 * n + i]) && isfinite(out[8 * n + i]) && isfinite(out[9 * n + i]) && isfinite(out[10 * n + i]) && isfinite(out[11 * n + i]) && isfinite(out[12 * n + i]) && isfinite(out[13 * n + i]) && isfinite(out[14 * n + i]) && isfinite(out[15 * n + i]) && isfinite(out[16 * n + i]) && isfinite(out[17 * n + i]) && isfinite(out[18 * n + i]) && isfinite(out[19 * n + i]) && isfinite(out[20 * n + i]) && isfinite(out[21 * n + i]) && isfinite(out[22 * n + i]) && isfinite(out[23 * n + i]) && isfinite(out[24 * n + i]) && isfinite(out[25 * n + i]) && isfinite(out[26 * n + i]) && isfinite(out[27 * n + i]) && isfinite(out[28 * n + i]) && isfinite(out[29 * n + i]) && isfinite(out[30 * n + i]) && isfinite(out[31 * n + i]) && isfinite(out[32 * n + i]) && isfinite(out[33 * n + i]) && isfinite(out[34 * n + i]) && isfinite(out[35 * n + i])))
+            status = 1;
+    }
+    return status;
+}
+
+
+int heavy_top_euler_angles_invariants_batched(size_t n, double t, const double *restrict y, const heavy_top_euler_angles_params *p, double *restrict out)
+{
+    (void)t;
+    size_t i;
+    int status = 0;
+    const double I1 = p->I1;
+    const double I3 = p->I3;
+    const double M = p->M;
+    const double g = p->g;
+    const double l = p->l;
+    for (i = 0; i < n; i++) {
+        const double theta = y[1 * n + i];
+        const double phidot = y[3 * n + i];
+        const double thetadot = y[4 * n + i];
+        const double psidot = y[5 * n + i];
+        const double x0 = cos(theta);
+        const double x5 = I3*psidot;
+        const double x6 = I3*x0;
+        const double x7 = phidot*x6;
+        const double x8 = x5 + x7;
+        const double x11 = sin(theta);
+        const double x14 = M*g*l;
+        const double x15 = phidot*x5;
+        const double x16 = (phidot*phidot);
+        const double x19 = x0*x5;
+        const double x20 = (x11*x11);
+        const double x21 = I1*x20;
+        const double x22 = phidot*x21;
+        const double x23 = (x0*x0);
+        const double x25 = I3*x23;
+        const double x26 = phidot*x25;
+        const double x34 = (0.5)*x16;
+        out[i] = (0.5)*I1*(thetadot*thetadot) + (0.5)*I3*(psidot*psidot) + x0*x14 + x0*x15 + x21*x34 + x25*x34;
+        out[1 * n + i] = x19 + x22 + x26;
+        out[2 * n + i] = x8;
+        if (!(isfinite(out[i]) && isfinite(out[1 * n + i]) && isfinite(out[2 * n + i])))
+            status = 1;
+    }
+    return status;
+}
+
+
 heavy_top_euler_angles_params_f heavy_top_euler_angles_default_params_f(void)
 {
     heavy_top_euler_angles_params_f p;
@@ -212,15 +403,15 @@ heavy_top_euler_angles_params_f heavy_top_euler_angles_default_params_f(void)
 int heavy_top_euler_angles_rhs_f(float t, const float *y, const heavy_top_euler_angles_params_f *p, float *out)
 {
     (void)t;
-    const float theta = y[1];
-    const float phidot = y[3];
-    const float thetadot = y[4];
-    const float psidot = y[5];
     const float I1 = p->I1;
     const float I3 = p->I3;
     const float M = p->M;
     const float g = p->g;
     const float l = p->l;
+    const float theta = y[1];
+    const float phidot = y[3];
+    const float thetadot = y[4];
+    const float psidot = y[5];
     const float x0 = cosf(theta);
     const float x1 = I1*x0;
     const float x2 = 2.0f*x1;
@@ -263,15 +454,15 @@ int heavy_top_euler_angles_rhs_f(float t, const float *y, const heavy_top_euler_
 int heavy_top_euler_angles_jac_f(float t, const float *y, const heavy_top_euler_angles_params_f *p, float *out)
 {
     (void)t;
-    const float theta = y[1];
-    const float phidot = y[3];
-    const float thetadot = y[4];
-    const float psidot = y[5];
     const float I1 = p->I1;
     const float I3 = p->I3;
     const float M = p->M;
     const float g = p->g;
     const float l = p->l;
+    const float theta = y[1];
+    const float phidot = y[3];
+    const float thetadot = y[4];
+    const float psidot = y[5];
     const float x0 = cosf(theta);
     const float x1 = I1*x0;
     const float x2 = 2.0f*x1;
@@ -349,15 +540,15 @@ int heavy_top_euler_angles_jac_f(float t, const float *y, const heavy_top_euler_
 int heavy_top_euler_angles_invariants_f(float t, const float *y, const heavy_top_euler_angles_params_f *p, float *out)
 {
     (void)t;
-    const float theta = y[1];
-    const float phidot = y[3];
-    const float thetadot = y[4];
-    const float psidot = y[5];
     const float I1 = p->I1;
     const float I3 = p->I3;
     const float M = p->M;
     const float g = p->g;
     const float l = p->l;
+    const float theta = y[1];
+    const float phidot = y[3];
+    const float thetadot = y[4];
+    const float psidot = y[5];
     const float x0 = cosf(theta);
     const float x5 = I3*psidot;
     const float x6 = I3*x0;
@@ -379,4 +570,195 @@ int heavy_top_euler_angles_invariants_f(float t, const float *y, const heavy_top
     out[1] = x19 + x22 + x26;
     out[2] = x8;
     return (isfinite(out[0]) && isfinite(out[1]) && isfinite(out[2])) ? 0 : 1;
+}
+
+
+int heavy_top_euler_angles_rhs_batched_f(size_t n, float t, const float *restrict y, const heavy_top_euler_angles_params_f *p, float *restrict out)
+{
+    (void)t;
+    size_t i;
+    int status = 0;
+    const float I1 = p->I1;
+    const float I3 = p->I3;
+    const float M = p->M;
+    const float g = p->g;
+    const float l = p->l;
+    for (i = 0; i < n; i++) {
+        const float theta = y[1 * n + i];
+        const float phidot = y[3 * n + i];
+        const float thetadot = y[4 * n + i];
+        const float psidot = y[5 * n + i];
+        const float x0 = cosf(theta);
+        const float x1 = I1*x0;
+        const float x2 = 2.0f*x1;
+        const float x3 = phidot*x2;
+        const float x4 = -x3;
+        const float x5 = I3*psidot;
+        const float x6 = I3*x0;
+        const float x7 = phidot*x6;
+        const float x8 = x5 + x7;
+        const float x9 = x4 + x8;
+        const float x10 = 1.0f/I1;
+        const float x11 = sinf(theta);
+        const float x12 = x10/x11;
+        const float x13 = x12*x9;
+        const float x14 = M*g*l;
+        const float x15 = phidot*x5;
+        const float x16 = (phidot*phidot);
+        const float x17 = x1*x16 + x14 - x15 - x16*x6;
+        const float x18 = x10*x11;
+        const float x19 = x0*x5;
+        const float x20 = (x11*x11);
+        const float x21 = I1*x20;
+        const float x22 = phidot*x21;
+        const float x23 = (x0*x0);
+        const float x24 = 2.0f*I1*x23;
+        const float x25 = I3*x23;
+        const float x26 = phidot*x25;
+        const float x27 = phidot*x24 - x19 + x22 - x26;
+        const float x28 = x12*x27;
+        out[i] = phidot;
+        out[1 * n + i] = thetadot;
+        out[2 * n + i] = psidot;
+        out[3 * n + i] = thetadot*x13;
+        out[4 * n + i] = x17*x18;
+        out[5 * n + i] = thetadot*x28;
+        if (!(isfinite(out[i]) && isfinite(out[1 * n + i]) && isfinite(out[2 * n + i]) && isfinite(out[3 * n + i]) && isfinite(out[4 * n + i]) && isfinite(out[5 * n + i])))
+            status = 1;
+    }
+    return status;
+}
+
+
+int heavy_top_euler_angles_jac_batched_f(size_t n, float t, const float *restrict y, const heavy_top_euler_angles_params_f *p, float *restrict out)
+{
+    (void)t;
+    size_t i;
+    int status = 0;
+    const float I1 = p->I1;
+    const float I3 = p->I3;
+    const float M = p->M;
+    const float g = p->g;
+    const float l = p->l;
+    for (i = 0; i < n; i++) {
+        const float theta = y[1 * n + i];
+        const float phidot = y[3 * n + i];
+        const float thetadot = y[4 * n + i];
+        const float psidot = y[5 * n + i];
+        const float x0 = cosf(theta);
+        const float x1 = I1*x0;
+        const float x2 = 2.0f*x1;
+        const float x3 = phidot*x2;
+        const float x4 = -x3;
+        const float x5 = I3*psidot;
+        const float x6 = I3*x0;
+        const float x7 = phidot*x6;
+        const float x8 = x5 + x7;
+        const float x9 = x4 + x8;
+        const float x10 = 1.0f/I1;
+        const float x11 = sinf(theta);
+        const float x12 = x10/x11;
+        const float x13 = x12*x9;
+        const float x14 = M*g*l;
+        const float x15 = phidot*x5;
+        const float x16 = (phidot*phidot);
+        const float x17 = x1*x16 + x14 - x15 - x16*x6;
+        const float x18 = x10*x11;
+        const float x19 = x0*x5;
+        const float x20 = (x11*x11);
+        const float x21 = I1*x20;
+        const float x22 = phidot*x21;
+        const float x23 = (x0*x0);
+        const float x24 = 2.0f*I1*x23;
+        const float x25 = I3*x23;
+        const float x26 = phidot*x25;
+        const float x27 = phidot*x24 - x19 + x22 - x26;
+        const float x28 = x12*x27;
+        const float x29 = I1*x11;
+        const float x30 = thetadot*x12;
+        const float x31 = x0*x10;
+        const float x32 = thetadot*x31/x20;
+        const float x33 = 2.0f*x7;
+        out[i] = 0.0f;
+        out[1 * n + i] = 0.0f;
+        out[2 * n + i] = 0.0f;
+        out[3 * n + i] = 1.0f;
+        out[4 * n + i] = 0.0f;
+        out[5 * n + i] = 0.0f;
+        out[6 * n + i] = 0.0f;
+        out[7 * n + i] = 0.0f;
+        out[8 * n + i] = 0.0f;
+        out[9 * n + i] = 0.0f;
+        out[10 * n + i] = 1.0f;
+        out[11 * n + i] = 0.0f;
+        out[12 * n + i] = 0.0f;
+        out[13 * n + i] = 0.0f;
+        out[14 * n + i] = 0.0f;
+        out[15 * n + i] = 0.0f;
+        out[16 * n + i] = 0.0f;
+        out[17 * n + i] = 1.0f;
+        out[18 * n + i] = 0.0f;
+        out[19 * n + i] = x30*(-I3*phidot*x11 + 2.0f*phidot*x29) - x32*x9;
+        out[20 * n + i] = 0.0f;
+        out[21 * n + i] = x30*(I3*x0 - x2);
+        out[22 * n + i] = x13;
+        out[23 * n + i] = I3*x30;
+        out[24 * n + i] = 0.0f;
+        out[25 * n + i] = x17*x31 + x18*(I3*x11*x16 - x16*x29);
+        out[26 * n + i] = 0.0f;
+        out[27 * n + i] = x18*(-x33 - x4 - x5);
+        out[28 * n + i] = 0.0f;
+        out[29 * n + i] = -I3*phidot*x18;
+        out[30 * n + i] = 0.0f;
+        out[31 * n + i] = -x27*x32 + x30*(-x11*x3 + x11*x33 + x11*x5);
+        out[32 * n + i] = 0.0f;
+        out[33 * n + i] = x30*(x21 + x24 - x25);
+        out[34 * n + i] = x28;
+        out[35 * n + i] = -x30*x6;
+        if (!(isfinite(out[i]) && isfinite(out[1 * n + i]) && isfinite(out[2 * n + i]) && isfinite(out[3 * n + i]) && isfinite(out[4 * n + i]) && isfinite(out[5 * n + i]) && isfinite(out[6 * n + i]) && isfinite(out[7 * n + i]) && isfinite(out[8 * n + i]) && isfinite(out[9 * n + i]) && isfinite(out[10 * n + i]) && isfinite(out[11 * n + i]) && isfinite(out[12 * n + i]) && isfinite(out[13 * n + i]) && isfinite(out[14 * n + i]) && isfinite(out[15 * n + i]) && isfinite(out[16 * n + i]) && isfinite(out[17 * n + i]) && isfinite(out[18 * n + i]) && isfinite(out[19 * n + i]) && isfinite(out[20 * n + i]) && isfinite(out[21 * n + i]) && isfinite(out[22 * n + i]) && isfinite(out[23 * n + i]) && isfinite(out[24 * n + i]) && isfinite(out[25 * n + i]) && isfinite(out[26 * n + i]) && isfinite(out[27 * n + i]) && isfinite(out[28 * n + i]) && isfinite(out[29 * n + i]) && isfinite(out[30 * n + i]) && isfinite(out[31 * n + i]) && isfinite(out[32 * n + i]) && isfinite(out[33 * n + i]) && isfinite(out[34 * n + i]) && isfinite(out[35 * n + i])))
+            status = 1;
+    }
+    return status;
+}
+
+
+int heavy_top_euler_angles_invariants_batched_f(size_t n, float t, const float *restrict y, const heavy_top_euler_angles_params_f *p, float *restrict out)
+{
+    (void)t;
+    size_t i;
+    int status = 0;
+    const float I1 = p->I1;
+    const float I3 = p->I3;
+    const float M = p->M;
+    const float g = p->g;
+    const float l = p->l;
+    for (i = 0; i < n; i++) {
+        const float theta = y[1 * n + i];
+        const float phidot = y[3 * n + i];
+        const float thetadot = y[4 * n + i];
+        const float psidot = y[5 * n + i];
+        const float x0 = cosf(theta);
+        const float x5 = I3*psidot;
+        const float x6 = I3*x0;
+        const float x7 = phidot*x6;
+        const float x8 = x5 + x7;
+        const float x11 = sinf(theta);
+        const float x14 = M*g*l;
+        const float x15 = phidot*x5;
+        const float x16 = (phidot*phidot);
+        const float x19 = x0*x5;
+        const float x20 = (x11*x11);
+        const float x21 = I1*x20;
+        const float x22 = phidot*x21;
+        const float x23 = (x0*x0);
+        const float x25 = I3*x23;
+        const float x26 = phidot*x25;
+        const float x34 = (0.5f)*x16;
+        out[i] = (0.5f)*I1*(thetadot*thetadot) + (0.5f)*I3*(psidot*psidot) + x0*x14 + x0*x15 + x21*x34 + x25*x34;
+        out[1 * n + i] = x19 + x22 + x26;
+        out[2 * n + i] = x8;
+        if (!(isfinite(out[i]) && isfinite(out[1 * n + i]) && isfinite(out[2 * n + i])))
+            status = 1;
+    }
+    return status;
 }

@@ -3,7 +3,7 @@
  * eulersym version: 0.1.0
  * SymPy version: 1.14.0
  * Input hash: sha256:4cdb40cfa018dc27b4e4d3e7494dada4b6b207368a041a53c1e9ebd576fc7121
- * C emitter version: 1
+ * C emitter version: 2
  *
  * The heavy symmetric top with a fixed pivot in Euler angles (zxz): Lagrange's equations in first-order form, y = (φ,
  * θ, ψ, φ̇, θ̇, ψ̇). Singular at sin θ = 0: there the scalar flavour raises eulersym.errors.SingularConfiguration (the
@@ -22,6 +22,10 @@
  *       row i = d(dy_i/dt)/dy.
  *   int heavy_top_euler_angles_invariants(double t, const double *y, const heavy_top_euler_angles_params *p, double *out);
  *       out[3] = (E, p_phi, p_psi): the invariants E, p_phi, p_psi.
+ *   Batched (each function as heavy_top_euler_angles_<name>_batched and _batched_f): n states, state first, batch after,
+ *   as the NumPy module's <name>_batched: component k of state i at y[k*n + i], output entry k at out[k*n + i]; y and
+ *   out may not overlap (restrict). The same statements in a loop a compiler can vectorise (gcc -O3: several states per
+ *   instruction).
  *
  * Every function reads all its inputs before it writes the first output (out may be y), allocates nothing and uses no
  * global or static state (reentrant, thread-safe); it returns 0, or 1 when an output is not finite: the singular
@@ -31,6 +35,8 @@
 
 #ifndef EULERSYM_HEAVY_TOP_EULER_ANGLES_H
 #define EULERSYM_HEAVY_TOP_EULER_ANGLES_H
+
+#include <stddef.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -53,6 +59,9 @@ heavy_top_euler_angles_params heavy_top_euler_angles_default_params(void);
 int heavy_top_euler_angles_rhs(double t, const double *y, const heavy_top_euler_angles_params *p, double *out);
 int heavy_top_euler_angles_jac(double t, const double *y, const heavy_top_euler_angles_params *p, double *out);
 int heavy_top_euler_angles_invariants(double t, const double *y, const heavy_top_euler_angles_params *p, double *out);
+int heavy_top_euler_angles_rhs_batched(size_t n, double t, const double *y, const heavy_top_euler_angles_params *p, double *out);
+int heavy_top_euler_angles_jac_batched(size_t n, double t, const double *y, const heavy_top_euler_angles_params *p, double *out);
+int heavy_top_euler_angles_invariants_batched(size_t n, double t, const double *y, const heavy_top_euler_angles_params *p, double *out);
 
 /* The parameters in float, in order. */
 typedef struct {
@@ -67,6 +76,9 @@ heavy_top_euler_angles_params_f heavy_top_euler_angles_default_params_f(void);
 int heavy_top_euler_angles_rhs_f(float t, const float *y, const heavy_top_euler_angles_params_f *p, float *out);
 int heavy_top_euler_angles_jac_f(float t, const float *y, const heavy_top_euler_angles_params_f *p, float *out);
 int heavy_top_euler_angles_invariants_f(float t, const float *y, const heavy_top_euler_angles_params_f *p, float *out);
+int heavy_top_euler_angles_rhs_batched_f(size_t n, float t, const float *y, const heavy_top_euler_angles_params_f *p, float *out);
+int heavy_top_euler_angles_jac_batched_f(size_t n, float t, const float *y, const heavy_top_euler_angles_params_f *p, float *out);
+int heavy_top_euler_angles_invariants_batched_f(size_t n, float t, const float *y, const heavy_top_euler_angles_params_f *p, float *out);
 
 #ifdef __cplusplus
 }

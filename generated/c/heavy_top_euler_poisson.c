@@ -3,7 +3,7 @@
  * eulersym version: 0.1.0
  * SymPy version: 1.14.0
  * Input hash: sha256:0aadc82b22afdc160be306d4f01c429b555b2f429aa18cd24be120a5787f33d3
- * C emitter version: 1
+ * C emitter version: 2
  * The functions of heavy_top_euler_poisson.h; see it for the state and parameter order and the conventions.
  */
 
@@ -28,6 +28,12 @@ heavy_top_euler_poisson_params heavy_top_euler_poisson_default_params(void)
 int heavy_top_euler_poisson_rhs(double t, const double *y, const heavy_top_euler_poisson_params *p, double *out)
 {
     (void)t;
+    const double I1 = p->I1;
+    const double I2 = p->I2;
+    const double I3 = p->I3;
+    const double M = p->M;
+    const double g = p->g;
+    const double l = p->l;
     const double omega1 = y[0];
     const double omega2 = y[1];
     const double omega3 = y[2];
@@ -38,12 +44,6 @@ int heavy_top_euler_poisson_rhs(double t, const double *y, const heavy_top_euler
     const double q1 = y[7];
     const double q2 = y[8];
     const double q3 = y[9];
-    const double I1 = p->I1;
-    const double I2 = p->I2;
-    const double I3 = p->I3;
-    const double M = p->M;
-    const double g = p->g;
-    const double l = p->l;
     const double x0 = 1.0/I1;
     const double x1 = I2*omega3;
     const double x2 = I3*omega3;
@@ -75,6 +75,12 @@ int heavy_top_euler_poisson_rhs(double t, const double *y, const heavy_top_euler
 int heavy_top_euler_poisson_jac(double t, const double *y, const heavy_top_euler_poisson_params *p, double *out)
 {
     (void)t;
+    const double I1 = p->I1;
+    const double I2 = p->I2;
+    const double I3 = p->I3;
+    const double M = p->M;
+    const double g = p->g;
+    const double l = p->l;
     const double omega1 = y[0];
     const double omega2 = y[1];
     const double omega3 = y[2];
@@ -85,12 +91,6 @@ int heavy_top_euler_poisson_jac(double t, const double *y, const heavy_top_euler
     const double q1 = y[7];
     const double q2 = y[8];
     const double q3 = y[9];
-    const double I1 = p->I1;
-    const double I2 = p->I2;
-    const double I3 = p->I3;
-    const double M = p->M;
-    const double g = p->g;
-    const double l = p->l;
     const double x0 = 1.0/I1;
     const double x1 = I2*omega3;
     const double x2 = I3*omega3;
@@ -222,6 +222,12 @@ int heavy_top_euler_poisson_jac(double t, const double *y, const heavy_top_euler
 int heavy_top_euler_poisson_invariants(double t, const double *y, const heavy_top_euler_poisson_params *p, double *out)
 {
     (void)t;
+    const double I1 = p->I1;
+    const double I2 = p->I2;
+    const double I3 = p->I3;
+    const double M = p->M;
+    const double g = p->g;
+    const double l = p->l;
     const double omega1 = y[0];
     const double omega2 = y[1];
     const double omega3 = y[2];
@@ -232,12 +238,6 @@ int heavy_top_euler_poisson_invariants(double t, const double *y, const heavy_to
     const double q1 = y[7];
     const double q2 = y[8];
     const double q3 = y[9];
-    const double I1 = p->I1;
-    const double I2 = p->I2;
-    const double I3 = p->I3;
-    const double M = p->M;
-    const double g = p->g;
-    const double l = p->l;
     const double x2 = I3*omega3;
     const double x3 = M*g*l;
     const double x15 = I2*omega2;
@@ -246,6 +246,240 @@ int heavy_top_euler_poisson_invariants(double t, const double *y, const heavy_to
     out[1] = (Gamma1*Gamma1) + (Gamma2*Gamma2) + (Gamma3*Gamma3);
     out[2] = Gamma1*x16 + Gamma2*x15 + Gamma3*x2;
     out[3] = (q0*q0) + (q1*q1) + (q2*q2) + (q3*q3);
+    return 0;
+}
+
+
+int heavy_top_euler_poisson_rhs_batched(size_t n, double t, const double *restrict y, const heavy_top_euler_poisson_params *p, double *restrict out)
+{
+    (void)t;
+    size_t i;
+    const double I1 = p->I1;
+    const double I2 = p->I2;
+    const double I3 = p->I3;
+    const double M = p->M;
+    const double g = p->g;
+    const double l = p->l;
+    for (i = 0; i < n; i++) {
+        const double omega1 = y[i];
+        const double omega2 = y[1 * n + i];
+        const double omega3 = y[2 * n + i];
+        const double Gamma1 = y[3 * n + i];
+        const double Gamma2 = y[4 * n + i];
+        const double Gamma3 = y[5 * n + i];
+        const double q0 = y[6 * n + i];
+        const double q1 = y[7 * n + i];
+        const double q2 = y[8 * n + i];
+        const double q3 = y[9 * n + i];
+        const double x0 = 1.0/I1;
+        const double x1 = I2*omega3;
+        const double x2 = I3*omega3;
+        const double x3 = M*g*l;
+        const double x4 = 1.0/I2;
+        const double x5 = I1*omega3;
+        const double x6 = (I1 - I2)/I3;
+        const double x7 = omega2*x6;
+        const double x8 = (0.5)*q1;
+        const double x9 = (0.5)*q2;
+        const double x10 = (0.5)*q3;
+        const double x11 = (0.5)*omega1;
+        const double x12 = (0.5)*omega2;
+        const double x13 = (0.5)*omega3;
+        out[i] = x0*(Gamma2*x3 + omega2*x1 - omega2*x2);
+        out[1 * n + i] = x4*(-Gamma1*x3 + I3*omega1*omega3 - omega1*x5);
+        out[2 * n + i] = omega1*x7;
+        out[3 * n + i] = Gamma2*omega3 - Gamma3*omega2;
+        out[4 * n + i] = -Gamma1*omega3 + Gamma3*omega1;
+        out[5 * n + i] = Gamma1*omega2 - Gamma2*omega1;
+        out[6 * n + i] = -omega1*x8 - omega2*x9 - omega3*x10;
+        out[7 * n + i] = -omega2*x10 + omega3*x9 + q0*x11;
+        out[8 * n + i] = omega1*x10 - omega3*x8 + q0*x12;
+        out[9 * n + i] = -omega1*x9 + omega2*x8 + q0*x13;
+    }
+    return 0;
+}
+
+
+int heavy_top_euler_poisson_jac_batched(size_t n, double t, const double *restrict y, const heavy_top_euler_poisson_params *p, double *restrict out)
+{
+    (void)t;
+    size_t i;
+    const double I1 = p->I1;
+    const double I2 = p->I2;
+    const double I3 = p->I3;
+    const double M = p->M;
+    const double g = p->g;
+    const double l = p->l;
+    for (i = 0; i < n; i++) {
+        const double omega1 = y[i];
+        const double omega2 = y[1 * n + i];
+        const double omega3 = y[2 * n + i];
+        const double Gamma1 = y[3 * n + i];
+        const double Gamma2 = y[4 * n + i];
+        const double Gamma3 = y[5 * n + i];
+        const double q0 = y[6 * n + i];
+        const double q1 = y[7 * n + i];
+        const double q2 = y[8 * n + i];
+        const double q3 = y[9 * n + i];
+        const double x0 = 1.0/I1;
+        const double x1 = I2*omega3;
+        const double x2 = I3*omega3;
+        const double x3 = M*g*l;
+        const double x4 = 1.0/I2;
+        const double x5 = I1*omega3;
+        const double x6 = (I1 - I2)/I3;
+        const double x7 = omega2*x6;
+        const double x8 = (0.5)*q1;
+        const double x9 = (0.5)*q2;
+        const double x10 = (0.5)*q3;
+        const double x11 = (0.5)*omega1;
+        const double x12 = (0.5)*omega2;
+        const double x13 = (0.5)*omega3;
+        const double x14 = -x2;
+        const double x15 = I2*omega2;
+        const double x16 = I1*omega1;
+        const double x17 = -x8;
+        const double x18 = -x9;
+        const double x19 = -x10;
+        const double x20 = -x11;
+        const double x21 = -x12;
+        const double x22 = -x13;
+        const double x23 = (0.5)*q0;
+        out[i] = 0.0;
+        out[1 * n + i] = x0*(x1 + x14);
+        out[2 * n + i] = x0*(-I3*omega2 + x15);
+        out[3 * n + i] = 0.0;
+        out[4 * n + i] = x0*x3;
+        out[5 * n + i] = 0.0;
+        out[6 * n + i] = 0.0;
+        out[7 * n + i] = 0.0;
+        out[8 * n + i] = 0.0;
+        out[9 * n + i] = 0.0;
+        out[10 * n + i] = x4*(-x14 - x5);
+        out[11 * n + i] = 0.0;
+        out[12 * n + i] = x4*(I3*omega1 - x16);
+        out[13 * n + i] = -x3*x4;
+        out[14 * n + i] = 0.0;
+        out[15 * n + i] = 0.0;
+        out[16 * n + i] = 0.0;
+        out[17 * n + i] = 0.0;
+        out[18 * n + i] = 0.0;
+        out[19 * n + i] = 0.0;
+        out[20 * n + i] = x7;
+        out[21 * n + i] = omega1*x6;
+        out[22 * n + i] = 0.0;
+        out[23 * n + i] = 0.0;
+        out[24 * n + i] = 0.0;
+        out[25 * n + i] = 0.0;
+        out[26 * n + i] = 0.0;
+        out[27 * n + i] = 0.0;
+        out[28 * n + i] = 0.0;
+        out[29 * n + i] = 0.0;
+        out[30 * n + i] = 0.0;
+        out[31 * n + i] = -Gamma3;
+        out[32 * n + i] = Gamma2;
+        out[33 * n + i] = 0.0;
+        out[34 * n + i] = omega3;
+        out[35 * n + i] = -omega2;
+        out[36 * n + i] = 0.0;
+        out[37 * n + i] = 0.0;
+        out[38 * n + i] = 0.0;
+        out[39 * n + i] = 0.0;
+        out[40 * n + i] = Gamma3;
+        out[41 * n + i] = 0.0;
+        out[42 * n + i] = -Gamma1;
+        out[43 * n + i] = -omega3;
+        out[44 * n + i] = 0.0;
+        out[45 * n + i] = omega1;
+        out[46 * n + i] = 0.0;
+        out[47 * n + i] = 0.0;
+        out[48 * n + i] = 0.0;
+        out[49 * n + i] = 0.0;
+        out[50 * n + i] = -Gamma2;
+        out[51 * n + i] = Gamma1;
+        out[52 * n + i] = 0.0;
+        out[53 * n + i] = omega2;
+        out[54 * n + i] = -omega1;
+        out[55 * n + i] = 0.0;
+        out[56 * n + i] = 0.0;
+        out[57 * n + i] = 0.0;
+        out[58 * n + i] = 0.0;
+        out[59 * n + i] = 0.0;
+        out[60 * n + i] = x17;
+        out[61 * n + i] = x18;
+        out[62 * n + i] = x19;
+        out[63 * n + i] = 0.0;
+        out[64 * n + i] = 0.0;
+        out[65 * n + i] = 0.0;
+        out[66 * n + i] = 0.0;
+        out[67 * n + i] = x20;
+        out[68 * n + i] = x21;
+        out[69 * n + i] = x22;
+        out[70 * n + i] = x23;
+        out[71 * n + i] = x19;
+        out[72 * n + i] = x9;
+        out[73 * n + i] = 0.0;
+        out[74 * n + i] = 0.0;
+        out[75 * n + i] = 0.0;
+        out[76 * n + i] = x11;
+        out[77 * n + i] = 0.0;
+        out[78 * n + i] = x13;
+        out[79 * n + i] = x21;
+        out[80 * n + i] = x10;
+        out[81 * n + i] = x23;
+        out[82 * n + i] = x17;
+        out[83 * n + i] = 0.0;
+        out[84 * n + i] = 0.0;
+        out[85 * n + i] = 0.0;
+        out[86 * n + i] = x12;
+        out[87 * n + i] = x22;
+        out[88 * n + i] = 0.0;
+        out[89 * n + i] = x11;
+        out[90 * n + i] = x18;
+        out[91 * n + i] = x8;
+        out[92 * n + i] = x23;
+        out[93 * n + i] = 0.0;
+        out[94 * n + i] = 0.0;
+        out[95 * n + i] = 0.0;
+        out[96 * n + i] = x13;
+        out[97 * n + i] = x12;
+        out[98 * n + i] = x20;
+        out[99 * n + i] = 0.0;
+    }
+    return 0;
+}
+
+
+int heavy_top_euler_poisson_invariants_batched(size_t n, double t, const double *restrict y, const heavy_top_euler_poisson_params *p, double *restrict out)
+{
+    (void)t;
+    size_t i;
+    const double I1 = p->I1;
+    const double I2 = p->I2;
+    const double I3 = p->I3;
+    const double M = p->M;
+    const double g = p->g;
+    const double l = p->l;
+    for (i = 0; i < n; i++) {
+        const double omega1 = y[i];
+        const double omega2 = y[1 * n + i];
+        const double omega3 = y[2 * n + i];
+        const double Gamma1 = y[3 * n + i];
+        const double Gamma2 = y[4 * n + i];
+        const double Gamma3 = y[5 * n + i];
+        const double q0 = y[6 * n + i];
+        const double q1 = y[7 * n + i];
+        const double q2 = y[8 * n + i];
+        const double q3 = y[9 * n + i];
+        const double x2 = I3*omega3;
+        const double x3 = M*g*l;
+        const double x15 = I2*omega2;
+        const double x16 = I1*omega1;
+        out[i] = Gamma3*x3 + (0.5)*I1*(omega1*omega1) + (0.5)*I2*(omega2*omega2) + (0.5)*I3*(omega3*omega3);
+        out[1 * n + i] = (Gamma1*Gamma1) + (Gamma2*Gamma2) + (Gamma3*Gamma3);
+        out[2 * n + i] = Gamma1*x16 + Gamma2*x15 + Gamma3*x2;
+        out[3 * n + i] = (q0*q0) + (q1*q1) + (q2*q2) + (q3*q3);
+    }
     return 0;
 }
 
@@ -266,6 +500,12 @@ heavy_top_euler_poisson_params_f heavy_top_euler_poisson_default_params_f(void)
 int heavy_top_euler_poisson_rhs_f(float t, const float *y, const heavy_top_euler_poisson_params_f *p, float *out)
 {
     (void)t;
+    const float I1 = p->I1;
+    const float I2 = p->I2;
+    const float I3 = p->I3;
+    const float M = p->M;
+    const float g = p->g;
+    const float l = p->l;
     const float omega1 = y[0];
     const float omega2 = y[1];
     const float omega3 = y[2];
@@ -276,12 +516,6 @@ int heavy_top_euler_poisson_rhs_f(float t, const float *y, const heavy_top_euler
     const float q1 = y[7];
     const float q2 = y[8];
     const float q3 = y[9];
-    const float I1 = p->I1;
-    const float I2 = p->I2;
-    const float I3 = p->I3;
-    const float M = p->M;
-    const float g = p->g;
-    const float l = p->l;
     const float x0 = 1.0f/I1;
     const float x1 = I2*omega3;
     const float x2 = I3*omega3;
@@ -313,6 +547,12 @@ int heavy_top_euler_poisson_rhs_f(float t, const float *y, const heavy_top_euler
 int heavy_top_euler_poisson_jac_f(float t, const float *y, const heavy_top_euler_poisson_params_f *p, float *out)
 {
     (void)t;
+    const float I1 = p->I1;
+    const float I2 = p->I2;
+    const float I3 = p->I3;
+    const float M = p->M;
+    const float g = p->g;
+    const float l = p->l;
     const float omega1 = y[0];
     const float omega2 = y[1];
     const float omega3 = y[2];
@@ -323,12 +563,6 @@ int heavy_top_euler_poisson_jac_f(float t, const float *y, const heavy_top_euler
     const float q1 = y[7];
     const float q2 = y[8];
     const float q3 = y[9];
-    const float I1 = p->I1;
-    const float I2 = p->I2;
-    const float I3 = p->I3;
-    const float M = p->M;
-    const float g = p->g;
-    const float l = p->l;
     const float x0 = 1.0f/I1;
     const float x1 = I2*omega3;
     const float x2 = I3*omega3;
@@ -460,6 +694,12 @@ int heavy_top_euler_poisson_jac_f(float t, const float *y, const heavy_top_euler
 int heavy_top_euler_poisson_invariants_f(float t, const float *y, const heavy_top_euler_poisson_params_f *p, float *out)
 {
     (void)t;
+    const float I1 = p->I1;
+    const float I2 = p->I2;
+    const float I3 = p->I3;
+    const float M = p->M;
+    const float g = p->g;
+    const float l = p->l;
     const float omega1 = y[0];
     const float omega2 = y[1];
     const float omega3 = y[2];
@@ -470,12 +710,6 @@ int heavy_top_euler_poisson_invariants_f(float t, const float *y, const heavy_to
     const float q1 = y[7];
     const float q2 = y[8];
     const float q3 = y[9];
-    const float I1 = p->I1;
-    const float I2 = p->I2;
-    const float I3 = p->I3;
-    const float M = p->M;
-    const float g = p->g;
-    const float l = p->l;
     const float x2 = I3*omega3;
     const float x3 = M*g*l;
     const float x15 = I2*omega2;
@@ -484,5 +718,239 @@ int heavy_top_euler_poisson_invariants_f(float t, const float *y, const heavy_to
     out[1] = (Gamma1*Gamma1) + (Gamma2*Gamma2) + (Gamma3*Gamma3);
     out[2] = Gamma1*x16 + Gamma2*x15 + Gamma3*x2;
     out[3] = (q0*q0) + (q1*q1) + (q2*q2) + (q3*q3);
+    return 0;
+}
+
+
+int heavy_top_euler_poisson_rhs_batched_f(size_t n, float t, const float *restrict y, const heavy_top_euler_poisson_params_f *p, float *restrict out)
+{
+    (void)t;
+    size_t i;
+    const float I1 = p->I1;
+    const float I2 = p->I2;
+    const float I3 = p->I3;
+    const float M = p->M;
+    const float g = p->g;
+    const float l = p->l;
+    for (i = 0; i < n; i++) {
+        const float omega1 = y[i];
+        const float omega2 = y[1 * n + i];
+        const float omega3 = y[2 * n + i];
+        const float Gamma1 = y[3 * n + i];
+        const float Gamma2 = y[4 * n + i];
+        const float Gamma3 = y[5 * n + i];
+        const float q0 = y[6 * n + i];
+        const float q1 = y[7 * n + i];
+        const float q2 = y[8 * n + i];
+        const float q3 = y[9 * n + i];
+        const float x0 = 1.0f/I1;
+        const float x1 = I2*omega3;
+        const float x2 = I3*omega3;
+        const float x3 = M*g*l;
+        const float x4 = 1.0f/I2;
+        const float x5 = I1*omega3;
+        const float x6 = (I1 - I2)/I3;
+        const float x7 = omega2*x6;
+        const float x8 = (0.5f)*q1;
+        const float x9 = (0.5f)*q2;
+        const float x10 = (0.5f)*q3;
+        const float x11 = (0.5f)*omega1;
+        const float x12 = (0.5f)*omega2;
+        const float x13 = (0.5f)*omega3;
+        out[i] = x0*(Gamma2*x3 + omega2*x1 - omega2*x2);
+        out[1 * n + i] = x4*(-Gamma1*x3 + I3*omega1*omega3 - omega1*x5);
+        out[2 * n + i] = omega1*x7;
+        out[3 * n + i] = Gamma2*omega3 - Gamma3*omega2;
+        out[4 * n + i] = -Gamma1*omega3 + Gamma3*omega1;
+        out[5 * n + i] = Gamma1*omega2 - Gamma2*omega1;
+        out[6 * n + i] = -omega1*x8 - omega2*x9 - omega3*x10;
+        out[7 * n + i] = -omega2*x10 + omega3*x9 + q0*x11;
+        out[8 * n + i] = omega1*x10 - omega3*x8 + q0*x12;
+        out[9 * n + i] = -omega1*x9 + omega2*x8 + q0*x13;
+    }
+    return 0;
+}
+
+
+int heavy_top_euler_poisson_jac_batched_f(size_t n, float t, const float *restrict y, const heavy_top_euler_poisson_params_f *p, float *restrict out)
+{
+    (void)t;
+    size_t i;
+    const float I1 = p->I1;
+    const float I2 = p->I2;
+    const float I3 = p->I3;
+    const float M = p->M;
+    const float g = p->g;
+    const float l = p->l;
+    for (i = 0; i < n; i++) {
+        const float omega1 = y[i];
+        const float omega2 = y[1 * n + i];
+        const float omega3 = y[2 * n + i];
+        const float Gamma1 = y[3 * n + i];
+        const float Gamma2 = y[4 * n + i];
+        const float Gamma3 = y[5 * n + i];
+        const float q0 = y[6 * n + i];
+        const float q1 = y[7 * n + i];
+        const float q2 = y[8 * n + i];
+        const float q3 = y[9 * n + i];
+        const float x0 = 1.0f/I1;
+        const float x1 = I2*omega3;
+        const float x2 = I3*omega3;
+        const float x3 = M*g*l;
+        const float x4 = 1.0f/I2;
+        const float x5 = I1*omega3;
+        const float x6 = (I1 - I2)/I3;
+        const float x7 = omega2*x6;
+        const float x8 = (0.5f)*q1;
+        const float x9 = (0.5f)*q2;
+        const float x10 = (0.5f)*q3;
+        const float x11 = (0.5f)*omega1;
+        const float x12 = (0.5f)*omega2;
+        const float x13 = (0.5f)*omega3;
+        const float x14 = -x2;
+        const float x15 = I2*omega2;
+        const float x16 = I1*omega1;
+        const float x17 = -x8;
+        const float x18 = -x9;
+        const float x19 = -x10;
+        const float x20 = -x11;
+        const float x21 = -x12;
+        const float x22 = -x13;
+        const float x23 = (0.5f)*q0;
+        out[i] = 0.0f;
+        out[1 * n + i] = x0*(x1 + x14);
+        out[2 * n + i] = x0*(-I3*omega2 + x15);
+        out[3 * n + i] = 0.0f;
+        out[4 * n + i] = x0*x3;
+        out[5 * n + i] = 0.0f;
+        out[6 * n + i] = 0.0f;
+        out[7 * n + i] = 0.0f;
+        out[8 * n + i] = 0.0f;
+        out[9 * n + i] = 0.0f;
+        out[10 * n + i] = x4*(-x14 - x5);
+        out[11 * n + i] = 0.0f;
+        out[12 * n + i] = x4*(I3*omega1 - x16);
+        out[13 * n + i] = -x3*x4;
+        out[14 * n + i] = 0.0f;
+        out[15 * n + i] = 0.0f;
+        out[16 * n + i] = 0.0f;
+        out[17 * n + i] = 0.0f;
+        out[18 * n + i] = 0.0f;
+        out[19 * n + i] = 0.0f;
+        out[20 * n + i] = x7;
+        out[21 * n + i] = omega1*x6;
+        out[22 * n + i] = 0.0f;
+        out[23 * n + i] = 0.0f;
+        out[24 * n + i] = 0.0f;
+        out[25 * n + i] = 0.0f;
+        out[26 * n + i] = 0.0f;
+        out[27 * n + i] = 0.0f;
+        out[28 * n + i] = 0.0f;
+        out[29 * n + i] = 0.0f;
+        out[30 * n + i] = 0.0f;
+        out[31 * n + i] = -Gamma3;
+        out[32 * n + i] = Gamma2;
+        out[33 * n + i] = 0.0f;
+        out[34 * n + i] = omega3;
+        out[35 * n + i] = -omega2;
+        out[36 * n + i] = 0.0f;
+        out[37 * n + i] = 0.0f;
+        out[38 * n + i] = 0.0f;
+        out[39 * n + i] = 0.0f;
+        out[40 * n + i] = Gamma3;
+        out[41 * n + i] = 0.0f;
+        out[42 * n + i] = -Gamma1;
+        out[43 * n + i] = -omega3;
+        out[44 * n + i] = 0.0f;
+        out[45 * n + i] = omega1;
+        out[46 * n + i] = 0.0f;
+        out[47 * n + i] = 0.0f;
+        out[48 * n + i] = 0.0f;
+        out[49 * n + i] = 0.0f;
+        out[50 * n + i] = -Gamma2;
+        out[51 * n + i] = Gamma1;
+        out[52 * n + i] = 0.0f;
+        out[53 * n + i] = omega2;
+        out[54 * n + i] = -omega1;
+        out[55 * n + i] = 0.0f;
+        out[56 * n + i] = 0.0f;
+        out[57 * n + i] = 0.0f;
+        out[58 * n + i] = 0.0f;
+        out[59 * n + i] = 0.0f;
+        out[60 * n + i] = x17;
+        out[61 * n + i] = x18;
+        out[62 * n + i] = x19;
+        out[63 * n + i] = 0.0f;
+        out[64 * n + i] = 0.0f;
+        out[65 * n + i] = 0.0f;
+        out[66 * n + i] = 0.0f;
+        out[67 * n + i] = x20;
+        out[68 * n + i] = x21;
+        out[69 * n + i] = x22;
+        out[70 * n + i] = x23;
+        out[71 * n + i] = x19;
+        out[72 * n + i] = x9;
+        out[73 * n + i] = 0.0f;
+        out[74 * n + i] = 0.0f;
+        out[75 * n + i] = 0.0f;
+        out[76 * n + i] = x11;
+        out[77 * n + i] = 0.0f;
+        out[78 * n + i] = x13;
+        out[79 * n + i] = x21;
+        out[80 * n + i] = x10;
+        out[81 * n + i] = x23;
+        out[82 * n + i] = x17;
+        out[83 * n + i] = 0.0f;
+        out[84 * n + i] = 0.0f;
+        out[85 * n + i] = 0.0f;
+        out[86 * n + i] = x12;
+        out[87 * n + i] = x22;
+        out[88 * n + i] = 0.0f;
+        out[89 * n + i] = x11;
+        out[90 * n + i] = x18;
+        out[91 * n + i] = x8;
+        out[92 * n + i] = x23;
+        out[93 * n + i] = 0.0f;
+        out[94 * n + i] = 0.0f;
+        out[95 * n + i] = 0.0f;
+        out[96 * n + i] = x13;
+        out[97 * n + i] = x12;
+        out[98 * n + i] = x20;
+        out[99 * n + i] = 0.0f;
+    }
+    return 0;
+}
+
+
+int heavy_top_euler_poisson_invariants_batched_f(size_t n, float t, const float *restrict y, const heavy_top_euler_poisson_params_f *p, float *restrict out)
+{
+    (void)t;
+    size_t i;
+    const float I1 = p->I1;
+    const float I2 = p->I2;
+    const float I3 = p->I3;
+    const float M = p->M;
+    const float g = p->g;
+    const float l = p->l;
+    for (i = 0; i < n; i++) {
+        const float omega1 = y[i];
+        const float omega2 = y[1 * n + i];
+        const float omega3 = y[2 * n + i];
+        const float Gamma1 = y[3 * n + i];
+        const float Gamma2 = y[4 * n + i];
+        const float Gamma3 = y[5 * n + i];
+        const float q0 = y[6 * n + i];
+        const float q1 = y[7 * n + i];
+        const float q2 = y[8 * n + i];
+        const float q3 = y[9 * n + i];
+        const float x2 = I3*omega3;
+        const float x3 = M*g*l;
+        const float x15 = I2*omega2;
+        const float x16 = I1*omega1;
+        out[i] = Gamma3*x3 + (0.5f)*I1*(omega1*omega1) + (0.5f)*I2*(omega2*omega2) + (0.5f)*I3*(omega3*omega3);
+        out[1 * n + i] = (Gamma1*Gamma1) + (Gamma2*Gamma2) + (Gamma3*Gamma3);
+        out[2 * n + i] = Gamma1*x16 + Gamma2*x15 + Gamma3*x2;
+        out[3 * n + i] = (q0*q0) + (q1*q1) + (q2*q2) + (q3*q3);
+    }
     return 0;
 }

@@ -3,7 +3,7 @@
  * eulersym version: 0.1.0
  * SymPy version: 1.14.0
  * Input hash: sha256:0aadc82b22afdc160be306d4f01c429b555b2f429aa18cd24be120a5787f33d3
- * C emitter version: 1
+ * C emitter version: 2
  *
  * The heavy top in the non-singular Euler–Poisson form, centre of mass at l·e3 in the body: I ω̇ = (I ω) × ω + M g l Γ
  * × e3, Γ̇ = Γ × ω (Γ: the upward vertical in body components), with the attitude quaternion q̇ = ½ q ⊗ (0, ω).
@@ -25,6 +25,10 @@
  *       symbolically; row i = d(dy_i/dt)/dy.
  *   int heavy_top_euler_poisson_invariants(double t, const double *y, const heavy_top_euler_poisson_params *p, double *out);
  *       out[4] = (E, Gamma_norm2, L_dot_Gamma, q_norm2): the invariants E, Gamma_norm2, L_dot_Gamma, q_norm2.
+ *   Batched (each function as heavy_top_euler_poisson_<name>_batched and _batched_f): n states, state first, batch
+ *   after, as the NumPy module's <name>_batched: component k of state i at y[k*n + i], output entry k at out[k*n + i]; y
+ *   and out may not overlap (restrict). The same statements in a loop a compiler can vectorise (gcc -O3: several states
+ *   per instruction).
  *
  * Every function reads all its inputs before it writes the first output (out may be y), allocates nothing and uses no
  * global or static state (reentrant, thread-safe); it returns 0. C99; link with -lm.
@@ -32,6 +36,8 @@
 
 #ifndef EULERSYM_HEAVY_TOP_EULER_POISSON_H
 #define EULERSYM_HEAVY_TOP_EULER_POISSON_H
+
+#include <stddef.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -55,6 +61,9 @@ heavy_top_euler_poisson_params heavy_top_euler_poisson_default_params(void);
 int heavy_top_euler_poisson_rhs(double t, const double *y, const heavy_top_euler_poisson_params *p, double *out);
 int heavy_top_euler_poisson_jac(double t, const double *y, const heavy_top_euler_poisson_params *p, double *out);
 int heavy_top_euler_poisson_invariants(double t, const double *y, const heavy_top_euler_poisson_params *p, double *out);
+int heavy_top_euler_poisson_rhs_batched(size_t n, double t, const double *y, const heavy_top_euler_poisson_params *p, double *out);
+int heavy_top_euler_poisson_jac_batched(size_t n, double t, const double *y, const heavy_top_euler_poisson_params *p, double *out);
+int heavy_top_euler_poisson_invariants_batched(size_t n, double t, const double *y, const heavy_top_euler_poisson_params *p, double *out);
 
 /* The parameters in float, in order. */
 typedef struct {
@@ -70,6 +79,9 @@ heavy_top_euler_poisson_params_f heavy_top_euler_poisson_default_params_f(void);
 int heavy_top_euler_poisson_rhs_f(float t, const float *y, const heavy_top_euler_poisson_params_f *p, float *out);
 int heavy_top_euler_poisson_jac_f(float t, const float *y, const heavy_top_euler_poisson_params_f *p, float *out);
 int heavy_top_euler_poisson_invariants_f(float t, const float *y, const heavy_top_euler_poisson_params_f *p, float *out);
+int heavy_top_euler_poisson_rhs_batched_f(size_t n, float t, const float *y, const heavy_top_euler_poisson_params_f *p, float *out);
+int heavy_top_euler_poisson_jac_batched_f(size_t n, float t, const float *y, const heavy_top_euler_poisson_params_f *p, float *out);
+int heavy_top_euler_poisson_invariants_batched_f(size_t n, float t, const float *y, const heavy_top_euler_poisson_params_f *p, float *out);
 
 #ifdef __cplusplus
 }

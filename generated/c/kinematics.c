@@ -3,7 +3,7 @@
  * eulersym version: 0.1.0
  * SymPy version: 1.14.0
  * Input hash: sha256:49511ea885b14e8a76a3b9ad3a62548f56985ade2dab2130bdedbd0ec3ba267d
- * C emitter version: 1
+ * C emitter version: 2
  * The functions of kinematics.h; see it for the state and parameter order and the conventions.
  */
 

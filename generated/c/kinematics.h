@@ -3,7 +3,7 @@
  * eulersym version: 0.1.0
  * SymPy version: 1.14.0
  * Input hash: sha256:49511ea885b14e8a76a3b9ad3a62548f56985ade2dab2130bdedbd0ec3ba267d
- * C emitter version: 1
+ * C emitter version: 2
  *
  * Kinematics of the zxz Euler angles (passive, the text's convention): the attitude matrix A = B(ψ) C(θ) D(φ), r_body
  * = A @ r_space, and the body angular velocity ω from the angles and rates.
@@ -21,6 +21,8 @@
 
 #ifndef EULERSYM_KINEMATICS_H
 #define EULERSYM_KINEMATICS_H
+
+#include <stddef.h>
 
 #ifdef __cplusplus
 extern "C" {
