@@ -16,7 +16,10 @@ The C interface of a module ``name`` with state ``y`` (``n`` components) and par
     int name_invariants(double t, const double *y, const name_params *p, double *out);  /* out[k] */
 
 and the same in ``float`` with the suffix ``_f`` (``name_params_f``, ``name_rhs_f``: ``sinf``, ``sqrtf``, literals
-``0.5f``). A module of plain arguments (``kinematics``) takes them as ``double`` (or ``const double *`` for a vector).
+``0.5f``). The batched flavour ``name_rhs_batched(size_t n, double t, const double *y, const name_params *p,
+double *out)`` (and ``_batched_f``) runs the same statements over n states laid out as the NumPy module's batches,
+state first and batch after (component k of state i at ``y[k*n + i]``), a loop compilers vectorise. A module of plain
+arguments (``kinematics``) takes them as ``double`` (or ``const double *`` for a vector).
 Every function reads all its inputs into locals before it writes the first output (so ``out`` may be ``y``),
 allocates nothing, uses no global or static state (reentrant), and returns 0 — or 1 in a module with a singular
 configuration (``heavy_top_euler_angles`` at sin θ = 0) when an output is not finite. The code is C99 and compiles
@@ -480,8 +483,8 @@ def emit_c(spec: E.ModuleSpec, *, versions: dict | None = None, header: tuple = 
     double t, const double *y, const decay_params *p, double *out)
     {
         (void)t;
-        const double a = y[0];
         const double k = p->k;
+        const double a = y[0];
         out[0] = -a*k;
         return 0;
     <BLANKLINE>
