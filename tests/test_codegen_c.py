@@ -380,3 +380,24 @@ def test_the_c_splitting_step_refuses_an_unknown_method(library):
     assert lib.eulersym_pivoted_step(s, ctypes.c_double(0.1), parameters, 3, 0) == 1
     assert lib.eulersym_pivoted_step(s, ctypes.c_double(0.1), parameters, 0, 2) == 1
     assert s[:] == before
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# The README's C program
+
+
+def test_the_readmes_c_program_compiles_strictly_and_prints_what_the_readme_shows(tmp_path):
+    import re
+
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    match = re.search(r"```c\n(.*?)```\s*```text\n(.*?)```", text, re.S)
+    assert match is not None
+    program, shown = match.groups()
+    (tmp_path / "top.c").write_text(program)
+    binary = compile_c([tmp_path / "top.c", C_DIR / "heavy_top_euler_poisson.c", C_DIR / "eulersym_free_body.c"],
+                       tmp_path / "top", shared=False, include=(C_DIR,))
+    run = subprocess.run([binary], capture_output=True, text=True, check=True)
+    assert run.stdout == shown
+    omega = [float(x) for x in shown.splitlines()[1].split("=")[1].split()]
+    np.testing.assert_allclose(omega, free_rigid_body_exact((1.0, 2.0, 3.0), (1.0, 0.5, 0.2), [1e6])[0],
+                               rtol=0, atol=1e-12)  # the oracle, to the 12 digits printed
