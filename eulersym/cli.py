@@ -61,8 +61,8 @@ def main(argv: list[str] | None = None) -> int:
     target = COMMANDS[name][0]
     if name in _MODEL_ROUTES and "--model" in rest:  # a user's model: eulersym.model.cli handles the subcommand
         target = _MODEL_ROUTES[name]
-        if name == "generate" and any(a.split("=")[0] == "--target" for a in rest):  # C or JAX: eulersym.codegen
-            target = COMMANDS[name][0]
+        if name == "generate" and any(a.split("=")[0] == "--target" for a in rest):  # C or JAX
+            target = "eulersym.model.targets:cli"
     module_name, func_name = target.split(":")
     func = getattr(importlib.import_module(module_name), func_name)
     show = warnings.showwarning

@@ -37,9 +37,7 @@ def library(tmp_path_factory):
     """One shared library of every committed C file and Kovalevskaya's model, compiled with the strict flags."""
     tmp = tmp_path_factory.mktemp("c")
     model = Model.from_toml(bundled()[MODEL])
-    from eulersym.codegen.generate import model_files
-
-    for file, text in model_files(model, "c").items():
+    for file, text in kernels.files(model.mechanics, "c", digest=model.digest).items():
         (tmp / file).write_text(text)
     sources = sorted(C_DIR.glob("*.c")) + [tmp / f"{MODEL}.c"]
     lib = ctypes.CDLL(compile_c(sources, tmp / "libkernels.so", include=(C_DIR, tmp)))

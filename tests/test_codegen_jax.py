@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 from eulersym.codegen import CATALOGUE, available
-from eulersym.codegen.generate import model_files, render
-from eulersym.model import Model
+from eulersym.codegen.generate import render
+from eulersym.model import Model, kernels
 from eulersym.models import bundled
 
 jax.config.update("jax_enable_x64", True)
@@ -30,7 +30,7 @@ def modules(tmp_path_factory):
     folder = tmp_path_factory.mktemp("jax")
     files = render(target="jax")[0]
     model = Model.from_toml(bundled()[MODEL])
-    files.update(model_files(model, "jax"))
+    files.update(kernels.files(model.mechanics, "jax", digest=model.digest))
     out = {}
     for file, text in files.items():
         (folder / file).write_text(text)

@@ -20,13 +20,17 @@ from hypothesis import strategies as st
 from eulersym.bench.kernels import compile_c
 from eulersym.codegen.c import comment_text, emit_c
 from eulersym.codegen.emitter import Argument, FunctionSpec, ModuleSpec
-from eulersym.codegen.generate import model_files
 from eulersym.codegen.jax import emit_jax
 from eulersym.errors import InvalidInput
-from eulersym.model import Model
+from eulersym.model import Model, kernels
 
 CANARY = "CANARY_eulersym_targets"
 _COMMENT = re.compile(r"/\*.*?\*/", re.DOTALL)
+
+
+def model_files(model, target, *, name=None):
+    """The model's kernel files in a target, as ``eulersym generate --target ... --model`` writes them."""
+    return kernels.files(model.mechanics, target, digest=model.digest, name=name)
 
 
 def _hostile_names(canary: Path) -> list[str]:

@@ -28,7 +28,6 @@ Run ``eulersym bench kernels`` (``--states N`` to change the batch, ``--quick`` 
 from __future__ import annotations
 
 import argparse
-import importlib
 import os
 import subprocess
 import sys
@@ -253,7 +252,8 @@ def main(argv: list[str] | None = None) -> int:
     from eulersym.codegen import available
 
     if available("heavy_top_euler_angles")[0]:
-        top = importlib.import_module("eulersym.generated.heavy_top_euler_angles")
+        from eulersym.generated import heavy_top_euler_angles as top
+
         params = (1.0, 0.6, 1.2, 9.81, 0.3)
         state = np.array([0.1, 0.9, 0.2, 0.5, 0.3, 12.0])
         ours = _per_call(lambda: top.rhs(0.0, state, *params))
@@ -282,7 +282,8 @@ def main(argv: list[str] | None = None) -> int:
     # 2. Batched Euler–Poisson over n states: NumPy blocks, numba loop, hand-written NumPy, a plain copy.
     from eulersym.numerics import _fast
 
-    ep = importlib.import_module("eulersym.generated.heavy_top_euler_poisson")
+    from eulersym.generated import heavy_top_euler_poisson as ep
+
     rng = np.random.default_rng(0)
     p = (1.0, 1.6, 2.2, 1.2, 9.81, 0.3)
     Y = rng.normal(size=(10, n_states))
@@ -399,13 +400,12 @@ def _model_kernel(folder):
     """Kovalevskaya's model: its NumPy module (imported from a file, so numba caches it) and its C files."""
     import importlib.util
 
-    from eulersym.codegen.generate import model_files
-    from eulersym.model import Model
+    from eulersym.model import Model, kernels
     from eulersym.models import bundled
 
     model = Model.from_toml(bundled()["kovalevskaya"])
     for target in ("numpy", "c"):
-        for file, text in model_files(model, target).items():
+        for file, text in kernels.files(model.mechanics, target, digest=model.digest).items():
             with open(os.path.join(folder, file), "w", encoding="utf-8") as handle:
                 handle.write(text)
     spec = importlib.util.spec_from_file_location("eulersym_bench_kovalevskaya", os.path.join(folder, "kovalevskaya.py"))
@@ -425,7 +425,8 @@ def _c_target(n_states: int, repeat: int, floor) -> None:
     if not _fast.available():
         print("  numba is not installed (the fast extra): the C floors are not measured")
         return
-    top = importlib.import_module("eulersym.generated.heavy_top_euler_poisson")
+    from eulersym.generated import heavy_top_euler_poisson as top
+
     with tempfile.TemporaryDirectory() as folder:
         kov = _model_kernel(folder)
         loops = os.path.join(folder, "loops.c")
@@ -513,7 +514,8 @@ def _jax_target(n_states: int, repeat: int, floor) -> None:
     namespace: dict = {}
     source = render(["heavy_top_euler_poisson"], target="jax")[0]["heavy_top_euler_poisson.py"]
     exec(compile(source, "<jax heavy_top_euler_poisson>", "exec"), namespace)  # text we just emitted
-    top = importlib.import_module("eulersym.generated.heavy_top_euler_poisson")
+    from eulersym.generated import heavy_top_euler_poisson as top
+
     params = (1.0, 1.6, 2.2, 1.2, 9.81, 0.3)
     Y = np.random.default_rng(0).normal(size=(10, n_states))
     Yj = jnp.asarray(Y)

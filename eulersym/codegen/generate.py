@@ -7,8 +7,8 @@ Targets
     double and float, plus the free body's exact propagator and the pivoted body's splitting step, committed in
     generated/c/; ``jax`` (:mod:`eulersym.codegen.jax`): one ``<name>.py`` per kernel in ``jax.numpy``, written where
     ``--dir`` says (not committed). ``eulersym generate`` without ``--target`` writes (or checks) the two committed
-    ones: NumPy into the folder and C into its ``c/`` subfolder. A user's model: :func:`model_files`, through
-    ``eulersym generate --target c|jax --model FILE --dir DIR``.
+    ones: NumPy into the folder and C into its ``c/`` subfolder. A user's model: :mod:`eulersym.model.targets`
+    (``eulersym generate --target c|jax --model FILE --dir DIR``).
 
 What ``--check`` compares
     A generated file records the SymPy version that printed it. Printing (and CSE) can change between SymPy
@@ -54,7 +54,7 @@ from eulersym.codegen.catalogue import CATALOGUE, available, build
 from eulersym.codegen.emitter import emit_module
 from eulersym.errors import CheckFailed, InvalidInput
 
-__all__ = ["generate", "check", "render", "model_files", "default_directory", "CheckReport", "cli", "TARGETS"]
+__all__ = ["generate", "check", "render", "default_directory", "CheckReport", "cli", "TARGETS"]
 
 #: What ``--target`` accepts.
 TARGETS = ("numpy", "c", "jax")
@@ -422,80 +422,6 @@ def check(directory=None, names=None, *, target: str = "numpy") -> CheckReport:
 
 
 # ----------------------------------------------------------------------------------------------------------------
-# A user's model
-
-
-def model_files(model, target: str, *, name: str | None = None) -> dict[str, str]:
-    """``{file name: text}`` of a model's kernels in a target (the NumPy module is :func:`eulersym.model.kernels.
-    source`): the same :class:`~eulersym.codegen.emitter.ModuleSpec` as its NumPy module, the model's digest in the
-    header.
-
-    Parameters
-    ----------
-    model : eulersym.model.Model
-    target : {"numpy", "c", "jax"}
-    name : str, optional
-        The module name (default: from the model's name).
-
-    Examples
-    --------
-    >>> from eulersym.model.cli import load
-    >>> sorted(model_files(load("damped"), "c"))
-    ['damped.c', 'damped.h']
-    """
-    from eulersym.model import kernels
-
-    target = _target(target)
-    mech = model.mechanics
-    if target == "numpy":
-        return {kernels.module_name(mech, name) + ".py": kernels.source(mech, digest=model.digest, name=name)}
-    spec = kernels.module_spec(mech, name=name)
-    header = (f"Model digest: sha256:{model.digest}",)
-    if target == "c":
-        from eulersym.codegen.c import emit_c
-
-        return emit_c(spec, header=header)
-    from eulersym.codegen.jax import emit_jax
-
-    return {spec.name + ".py": emit_jax(spec, header=header)}
-
-
-def _model_cli(args) -> int:
-    """``generate --target c|jax --model FILE``: write the files into ``--dir`` one by one (the folder is the
-    user's: nothing else in it is touched), or check them."""
-    from eulersym.model.cli import load
-
-    model = load(args.model)
-    files = model_files(model, args.target, name=args.name)
-    directory = Path(args.dir if args.dir is not None else ".")
-    if args.check:
-        report = CheckReport()
-        for file, fresh in files.items():
-            path = directory / file
-            if not path.is_file():
-                report.problems.append(f"{file} is missing; run `eulersym generate --target {args.target} --model ...`")
-            else:
-                _compare(file, fresh, path.read_text(encoding="utf-8"), report)
-        for note in report.notes:
-            print(f"note: {note}")
-        if not report.ok:
-            raise CheckFailed("; ".join(report.problems))
-        print(f"check passed: {', '.join(str(directory / f) for f in files)} match a fresh generation")
-        return 0
-    directory = _target_directory(directory, "--dir")
-    try:
-        directory.mkdir(parents=True, exist_ok=True)
-        for file, text in files.items():
-            path = directory / file
-            if not path.is_file() or path.read_bytes() != text.encode():
-                path.write_bytes(text.encode())
-            print(f"wrote {path}")
-    except OSError as exc:
-        raise InvalidInput("--dir", str(directory), f"a folder that can be written ({exc.strerror or exc})") from None
-    return 0
-
-
-# ----------------------------------------------------------------------------------------------------------------
 # The command line
 
 
@@ -504,8 +430,8 @@ def _plural(n: int, word: str) -> str:
 
 
 def cli(argv: list[str]) -> int:
-    """``eulersym generate [--check] [--target numpy|c|jax] [--dir DIR] [--model FILE [--name NAME]] [NAME ...]``;
-    0 ok, 1 check failed (stale/missing/extra), 2 bad input.
+    """``eulersym generate [--check] [--target numpy|c|jax] [--dir DIR] [NAME ...]``; 0 ok, 1 check failed
+    (stale/missing/extra), 2 bad input. (With ``--model FILE``, :mod:`eulersym.cli` routes to the model's command.)
 
     Without ``--target``: the committed kernels, NumPy in DIR (default generated/) and C in DIR/c.
 
@@ -527,25 +453,11 @@ def cli(argv: list[str]) -> int:
                         help="numpy, c or jax (default: numpy and c, the committed kernels)")
     parser.add_argument("--dir", default=None, help="output folder (default: the eulersym.generated package; its c/ "
                                                     "subfolder for --target c)")
-    parser.add_argument("--model", default=None, help="a user's model: a model TOML file or a bundled model's name")
-    parser.add_argument("--name", default=None, help="with --model: the module name (default: from the model's name)")
     parser.add_argument("names", nargs="*", help=f"kernels (default: all): {', '.join(CATALOGUE)}")
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:
         return int(exc.code or 0)
-    if args.model is not None:
-        if args.names:
-            raise InvalidInput("NAME", args.names, "no kernel names with --model (the model is the kernel)")
-        if args.target in (None, "numpy"):
-            from eulersym.model.cli import generate as numpy_model
-
-            rest = ["--model", args.model] + [x for flag in ("dir", "name") if getattr(args, flag) is not None
-                                              for x in (f"--{flag}", getattr(args, flag))]
-            return numpy_model(rest + (["--check"] if args.check else []))
-        return _model_cli(args)
-    if args.name is not None:
-        raise InvalidInput("--name", args.name, "no --name without --model (catalogue kernels keep their names)")
     names = args.names or None
     if args.dir is not None:
         _target_directory(args.dir, "--dir")

@@ -46,7 +46,7 @@ from eulersym.model.derive import equations
 from eulersym.model.integrals import invariants as _invariants
 from eulersym.model.mechanics import Mechanics, t
 
-__all__ = ["module_name", "module_spec", "source", "generate", "check", "compile", "flags", "body_values"]
+__all__ = ["module_name", "module_spec", "source", "files", "generate", "check", "compile", "flags", "body_values"]
 
 _RESERVED_ARGUMENTS = {"t", "y", "params", "body"}
 _SYMPY_LINE = "# SymPy version: "
@@ -259,6 +259,35 @@ def source(mech: Mechanics, *, digest: str | None = None, name: str | None = Non
         raise InvalidInput("digest", digest, "a lower-case hex digest")
     frozen = tuple(sorted(versions.items())) if versions else None
     return _source(mech, module_name(mech, name), digest, frozen)
+
+
+def files(mech: Mechanics, target: str = "numpy", *, digest: str | None = None, name: str | None = None) -> dict:
+    """``{file name: text}`` of the model's kernels in a target: ``"numpy"`` (:func:`source`), ``"c"``
+    (:func:`eulersym.codegen.c.emit_c`: ``<name>.h`` and ``<name>.c``) or ``"jax"``
+    (:func:`eulersym.codegen.jax.emit_jax`); one :func:`module_spec`, the model's digest in every header.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from eulersym.model.mechanics import Mechanics
+    >>> sorted(files(Mechanics(name="free", inertia=sp.ImmutableMatrix(sp.eye(3)), mass=sp.Integer(1)), "c"))
+    ['free.c', 'free.h']
+    """
+    if target == "numpy":
+        return {module_name(mech, name) + ".py": source(mech, digest=digest, name=name)}
+    if target not in ("c", "jax"):
+        raise InvalidInput("--target", target, "one of numpy, c, jax")
+    if digest is not None and (not isinstance(digest, str) or not re.fullmatch(r"[0-9a-f]{8,128}", digest)):
+        raise InvalidInput("digest", digest, "a lower-case hex digest")
+    spec = module_spec(mech, name=name)
+    header = (f"Model digest: sha256:{digest}",) if digest else ()
+    if target == "c":
+        from eulersym.codegen.c import emit_c
+
+        return emit_c(spec, header=header)
+    from eulersym.codegen.jax import emit_jax
+
+    return {spec.name + ".py": emit_jax(spec, header=header)}
 
 
 def generate(mech: Mechanics, directory, *, digest: str | None = None, name: str | None = None) -> Path:
