@@ -48,7 +48,6 @@ import textwrap
 
 import numpy as np
 import sympy as sp
-from sympy.printing.precedence import PRECEDENCE
 
 from eulersym.codegen import emitter as E
 from eulersym.errors import InvalidInput
@@ -176,18 +175,7 @@ class CPrinter(E._Printer):
         """A C floating literal of a SymPy number or a float."""
         return _literal(float(value), self.precision)
 
-    def _print_Pow(self, expr, rational=False):
-        base, exp = expr.base, expr.exp
-        if exp == sp.S.Half:
-            return self._sqrt(base)
-        if exp == -sp.S.Half:
-            return f"{self._one}/{self._sqrt(base)}"
-        if exp.is_Integer and base.is_Symbol and 1 < abs(int(exp)) <= 4:
-            b = self.parenthesize(base, PRECEDENCE["Mul"], strict=True)
-            product = "(" + "*".join([b] * abs(int(exp))) + ")"
-            return product if exp > 0 else f"{self._one}/{product}"
-        if exp == -1:
-            return f"{self._one}/{self.parenthesize(base, PRECEDENCE['Mul'], strict=True)}"
+    def _power(self, base, exp) -> str:
         return f"{self._pow}({self._print(base)}, {self._print(exp)})"
 
     def _print_Integer(self, expr):
@@ -409,14 +397,15 @@ def _header_file(spec: E.ModuleSpec, versions: dict, extra: tuple) -> str:
         doc += _wrap("Arguments: " + "; ".join(f"{f.name}({', '.join(c_name(a.name) for a in f.arguments)})"
                                               for f in spec.functions) + ".")
     doc += [" *"]
-    doc += _wrap("Every function reads all its inputs before it writes the first output (out may be y), allocates "
-                 "nothing and uses no global or static state (reentrant, thread-safe); it returns 0"
+    doc += _wrap("Every function allocates nothing and uses no global or static state (reentrant, thread-safe); one "
+                 "of a single state reads all its inputs before it writes the first output"
+                 + (" (out may be y)" if spec.is_ode else "") + "; it returns 0"
                  + (", or 1 when an output is not finite: the singular configuration "
                     f"({spec.singular[0]}: {spec.singular[2]})" if spec.singular else "")
                  + ". C99; link with -lm.")
     doc += [" */"]
-    lines = doc + ["", f"#ifndef {guard}", f"#define {guard}", "", "#include <stddef.h>", "", "#ifdef __cplusplus",
-                   'extern "C" {', "#endif", ""]
+    lines = doc + ["", f"#ifndef {guard}", f"#define {guard}", ""] + (["#include <stddef.h>", ""] if spec.is_ode else [])
+    lines += ["#ifdef __cplusplus", 'extern "C" {', "#endif", ""]
     if spec.is_ode:
         lines += [f"#define {upper}_N_STATE {len(spec.state)}",
                   f"#define {upper}_N_PARAMS {len(spec.parameters)}",

@@ -414,6 +414,7 @@ class _Printer(PythonCodePrinter):
         super().__init__({"fully_qualified_modules": False, "standard": "python3"})
         self._table = table
         self._prefix = prefix
+        self._one = "1"  # the numerator of 1/x (a backend may want a floating literal)
         self.used_functions: set = set()
 
     def _print_Function(self, expr):
@@ -455,13 +456,17 @@ class _Printer(PythonCodePrinter):
         if exp == sp.S.Half:
             return self._sqrt(base)
         if exp == -sp.S.Half:
-            return f"1/{self._sqrt(base)}"
+            return f"{self._one}/{self._sqrt(base)}"
         if exp.is_Integer and base.is_Symbol and 1 < abs(int(exp)) <= 4:
             b = self.parenthesize(base, PRECEDENCE["Mul"], strict=True)
             product = "(" + "*".join([b] * abs(int(exp))) + ")"
-            return product if exp > 0 else f"1/{product}"
+            return product if exp > 0 else f"{self._one}/{product}"
         if exp == -1:
-            return f"1/{self.parenthesize(base, PRECEDENCE['Mul'], strict=True)}"
+            return f"{self._one}/{self.parenthesize(base, PRECEDENCE['Mul'], strict=True)}"
+        return self._power(base, exp)
+
+    def _power(self, base, exp) -> str:
+        """A power the cases above do not cover: ``b**e`` (a C backend writes ``pow(b, e)``)."""
         b = self.parenthesize(base, PRECEDENCE["Pow"], strict=True)
         e = self.parenthesize(exp, PRECEDENCE["Pow"], strict=True)
         return f"{b}**{e}"

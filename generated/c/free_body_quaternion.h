@@ -28,8 +28,8 @@
  *   out may not overlap (restrict). The same statements in a loop a compiler can vectorise (gcc -O3: several states per
  *   instruction).
  *
- * Every function reads all its inputs before it writes the first output (out may be y), allocates nothing and uses no
- * global or static state (reentrant, thread-safe); it returns 0. C99; link with -lm.
+ * Every function allocates nothing and uses no global or static state (reentrant, thread-safe); one of a single state
+ * reads all its inputs before it writes the first output (out may be y); it returns 0. C99; link with -lm.
  */
 
 #ifndef EULERSYM_FREE_BODY_QUATERNION_H

@@ -27,10 +27,11 @@
  *   out may not overlap (restrict). The same statements in a loop a compiler can vectorise (gcc -O3: several states per
  *   instruction).
  *
- * Every function reads all its inputs before it writes the first output (out may be y), allocates nothing and uses no
- * global or static state (reentrant, thread-safe); it returns 0, or 1 when an output is not finite: the singular
- * configuration (theta: sin(theta) != 0 (theta strictly between 0 and pi, modulo pi): the Euler-angle equations are
- * singular at theta = 0 and pi (the sleeping top); use heavy_top_euler_poisson there). C99; link with -lm.
+ * Every function allocates nothing and uses no global or static state (reentrant, thread-safe); one of a single state
+ * reads all its inputs before it writes the first output (out may be y); it returns 0, or 1 when an output is not
+ * finite: the singular configuration (theta: sin(theta) != 0 (theta strictly between 0 and pi, modulo pi): the
+ * Euler-angle equations are singular at theta = 0 and pi (the sleeping top); use heavy_top_euler_poisson there). C99;
+ * link with -lm.
  */
 
 #ifndef EULERSYM_HEAVY_TOP_EULER_ANGLES_H

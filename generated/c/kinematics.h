@@ -15,14 +15,12 @@
  *       out[3] = (omega1, omega2, omega3): ω in body components.
  * Arguments: attitude_matrix(phi, theta, psi); omega_body(phi, theta, psi, phidot, thetadot, psidot).
  *
- * Every function reads all its inputs before it writes the first output (out may be y), allocates nothing and uses no
- * global or static state (reentrant, thread-safe); it returns 0. C99; link with -lm.
+ * Every function allocates nothing and uses no global or static state (reentrant, thread-safe); one of a single state
+ * reads all its inputs before it writes the first output; it returns 0. C99; link with -lm.
  */
 
 #ifndef EULERSYM_KINEMATICS_H
 #define EULERSYM_KINEMATICS_H
-
-#include <stddef.h>
 
 #ifdef __cplusplus
 extern "C" {
