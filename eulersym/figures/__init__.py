@@ -1,0 +1,1 @@
+"""Pictures of the motion a physicist draws (placeholder, filled below)."""
