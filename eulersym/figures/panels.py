@@ -44,7 +44,7 @@ def panels(result, scene=None) -> list:
     ['omega', 'invariants']
     >>> scene = load("heavy-top-nutation")
     >>> panels(simulate(scene), scene)
-    ['omega', 'tilt', 'precession', 'euler', 'invariants']
+    ['spin', 'transverse', 'tilt', 'precession', 'euler', 'invariants']
     """
     facts = facts_of(result, scene)
     if result.omega is None:
@@ -106,8 +106,8 @@ def figure(result, scene=None, k: int = 0):
     >>> from eulersym.scene import load, simulate
     >>> scene = load("heavy-top-nutation")
     >>> fig = figure(simulate(scene), scene)
-    >>> [ax.get_ylabel() for ax in fig.axes][:3]
-    ['angular velocity (rad/s)', 'θ, tilt from the vertical (degrees)', 'dφ/dt, precession rate (rad/s)']
+    >>> [ax.get_ylabel() for ax in fig.axes][:4]
+    ['ω3 (rad/s)', 'angular velocity (rad/s)', 'θ, tilt from the vertical (degrees)', 'dφ/dt, precession rate (rad/s)']
     """
     plt = pyplot()
     facts = facts_of(result, scene, k)
