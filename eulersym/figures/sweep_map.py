@@ -171,6 +171,7 @@ def figure(result, scene=None):
         x, xlabel = _axis(key, result.sweep[key])
         order = np.argsort(x, kind="stable")
         ax.plot(x[order], values[order], "o-", ms=3)
+        ax.set_ylim(0.0, max(5.0, 1.05 * float(np.nanmax(values))))
         ax.set_xlabel(xlabel)
         ax.set_ylabel(what)
         ax.grid(alpha=0.3)
