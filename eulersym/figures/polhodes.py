@@ -59,7 +59,7 @@ def family(moments, energy: float, samples: int = 361) -> list:
     a, b, c = np.argsort(I)
     ia, ib, ic = 1.0 / I[a], 1.0 / I[b], 1.0 / I[c]
     s = np.linspace(0.0, 2 * np.pi, samples)
-    if not ic < energy < ia or energy == ib:
+    if not ic < energy < ia or abs(energy - ib) <= 1e-12 * ia:
         return []
     if energy < ib:  # about ±c
         circle, around = ((a, np.sqrt((energy - ic) / (ia - ic))), (b, np.sqrt((energy - ic) / (ib - ic)))), c
@@ -88,7 +88,8 @@ def separatrix(moments, samples: int = 361) -> list:
     """
     I = np.asarray(moments, dtype=float)
     a, b, c = np.argsort(I)
-    if not I[a] < I[b] < I[c]:
+    gap = 1e-9 * I[c]
+    if not (I[b] - I[a] > gap and I[c] - I[b] > gap):  # two moments equal (to round-off): no separatrix
         return []
     ia, ib, ic = 1.0 / I[a], 1.0 / I[b], 1.0 / I[c]
     k = np.sqrt((ia - ib) / (ib - ic))
