@@ -9,6 +9,7 @@ its file descriptor 3 and come back on 4, so no port is opened.
 from __future__ import annotations
 
 import base64
+import fcntl
 import json
 import os
 import shutil
@@ -35,6 +36,14 @@ def find_chromium() -> str | None:
     return None
 
 
+def _high(fd: int) -> int:
+    """``fd`` moved to a descriptor number of 10 or more (close-on-exec), so that placing the child's 3 and 4 cannot
+    overwrite it."""
+    high = fcntl.fcntl(fd, fcntl.F_DUPFD_CLOEXEC, 10)
+    os.close(fd)
+    return high
+
+
 class Chromium:
     """One headless browser and one page in it.
 
@@ -55,18 +64,19 @@ class Chromium:
             raise EulersymError("Chromium was not found on PATH (Debian: apt-get install chromium)")
         self.timeout = timeout
         self._profile = tempfile.mkdtemp(prefix="eulersym-chromium-")
-        to_browser_r, self._to_browser = os.pipe()
-        self._from_browser, from_browser_w = os.pipe()
+        to_browser_r, self._to_browser = (_high(fd) for fd in os.pipe())
+        self._from_browser, from_browser_w = (_high(fd) for fd in os.pipe())
 
-        def fds():  # in the child: the protocol's descriptors 3 (in) and 4 (out)
+        def fds():  # in the child: the protocol's descriptors 3 (in) and 4 (out), kept across exec
             os.dup2(to_browser_r, 3)
             os.dup2(from_browser_w, 4)
 
+        # close_fds=False: every other descriptor of ours is close-on-exec (Python's default), and 3 and 4 must stay
         self._process = subprocess.Popen(
             [executable, *FLAGS, f"--user-data-dir={self._profile}", "--remote-debugging-pipe",
              f"--window-size={width},{height}", "about:blank"],
             stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-            pass_fds=(3, 4, to_browser_r, from_browser_w), preexec_fn=fds)
+            close_fds=False, preexec_fn=fds)
         os.close(to_browser_r)
         os.close(from_browser_w)
         self._buffer = b""
