@@ -172,3 +172,13 @@ def test_the_readme_figure_is_committed_where_the_readme_points():
     (image,) = re.findall(r"!\[[^\]]*\]\(([^)]+\.png)\)", readme)
     assert image.split("/")[0] in ("eulersym", "generated", "tests", "derivations")  # the design card's folders
     assert open(os.path.join(root, image), "rb").read(4) == b"\x89PNG"
+
+
+def test_importing_the_pictures_loads_no_plotting_library():
+    import subprocess
+    import sys
+
+    code = ("import sys, eulersym.figures, eulersym.animation; "
+            "print(sorted(m for m in ('matplotlib', 'PIL', 'sympy') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=60)
+    assert out.stdout.strip() == "[]"

@@ -52,7 +52,7 @@ def panels(result, scene=None) -> list:
     names = ["omega"] if _dominant(member(result.omega, 0)) is None else ["spin", "transverse"]
     if facts.gravity and (result.gamma is not None or result.attitude is not None):
         names += ["tilt", "precession"]
-    elif facts.regime == "torque-free" and facts.symmetric:
+    elif facts.regime == "torque-free" and facts.symmetric and not _along_L(result, facts):
         names.append("precession")
     if result.euler_angles is not None:
         names.append("euler")
@@ -61,6 +61,15 @@ def panels(result, scene=None) -> list:
     if result.invariants:
         names.append("invariants")
     return names
+
+
+def _along_L(result, facts) -> bool:
+    """A free symmetric body spinning about its figure axis (ω, L and the axis along one line): no precession."""
+    P, I = facts.axes, facts.moments
+    w = member(result.omega, 0)[0]
+    L = P @ (I * (w @ P))
+    norm = np.linalg.norm(L)
+    return norm == 0 or abs(L @ facts.figure_axis) >= (1 - 1e-9) * norm
 
 
 def _asked(result, scene, output: str) -> bool:
