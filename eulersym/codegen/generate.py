@@ -446,7 +446,9 @@ def cli(argv: list[str]) -> int:
     """
     parser = argparse.ArgumentParser(prog="eulersym generate",
                                      description="Write the kernels: NumPy into generated/ and C into generated/c/ "
-                                                 "(or one --target; JAX needs --dir).")
+                                                 "(or one --target; JAX needs --dir).",
+                                     epilog="A model of your own: eulersym generate --model FILE [--target c|jax] "
+                                            "[--dir DIR] [--name NAME] [--check].")
     parser.add_argument("--check", action="store_true",
                         help="do not write; exit 1 if a file is stale, missing or extra")
     parser.add_argument("--target", choices=TARGETS, default=None,
