@@ -34,7 +34,7 @@ __all__ = ["positive", "moments", "finite_array", "choice", "is_symbolic", "GENE
 #: shadow what the code calls (``float``, ``isinstance``, ``fabs``, ``rhs_flat``), so they are refused by name.
 GENERATED_CODE_NAMES = frozenset(
     set(keyword.kwlist) | set(dir(builtins)) | set(dir(math))
-    | {"np", "numpy", "math", "out", "extra", "shape", "row", "InvalidInput", "body", "STATE", "PARAMETERS",
+    | {"np", "numpy", "jax", "jnp", "math", "out", "extra", "shape", "row", "InvalidInput", "body", "STATE", "PARAMETERS",
        "DEFAULTS", "INVARIANTS", "FLAGS", "QUANTITIES"}
     | {f + s for f in ("rhs", "jac", "invariants", "quantities") for s in ("", "_flat", "_batched", "_loop")}
 )
