@@ -53,8 +53,8 @@ import numpy as np
 from eulersym.attitude import _from_matrices, rotate, rotvec_to_quaternion
 from eulersym.quaternion import conjugate as _quat_conj, multiply as quaternion_multiply
 from eulersym.numerics import _doubledouble as _dd
-from eulersym.numerics.elliptic import (_agm_landen, _carlson_rf, _rf, _rj, _reduce_phase_scalar, _sncndn,
-                                        _sncndn_scalar, complete_elliptic_k, jacobi_sncndn, reduce_phase)
+from eulersym.numerics.elliptic import (_agm_landen, _carlson_rf, _reduce_phase_scalar, _sncndn, _sncndn_scalar,
+                                        _third_kind, complete_elliptic_k, jacobi_sncndn, reduce_phase)
 from eulersym.errors import InvalidInput
 from eulersym.validation import finite_array, moments
 
@@ -359,8 +359,17 @@ def _perm_quaternion(idx, signs):
     return _from_matrices(P[None])[0]
 
 
-def _phi_integral(sol, r, j):
-    """W(u) = ∫₀ᵘ ds / (1 + n sn² s) at u = j·4K + r, via Carlson R_F, R_J and quasi-periodicity over 2K."""
+def _phi_half_period(sol):
+    """∫₀ᴷ ds / (1 + n sn² s), the increment of :func:`_phi_integral` over each half period (None on or next to the
+    separatrix, where the m = 1 limit is used): once per motion."""
+    if math.isinf(sol.K) or sol.mc < 1e-280:
+        return None
+    return float(_third_kind(1.0, 0.0, sol.mc, -sol.n, 1.0 + sol.n))
+
+
+def _phi_integral(sol, r, j, whole):
+    """W(u) = ∫₀ᵘ ds / (1 + n sn² s) at u = j·4K + r, via Carlson R_F, R_J and quasi-periodicity over 2K (``whole``:
+    :func:`_phi_half_period`)."""
     n = sol.n
     rn = math.sqrt(n)
 
@@ -380,13 +389,13 @@ def _phi_integral(sol, r, j):
     c2 = c * c
     d2 = c2 + mc * s * s
     s2 = s * s
-    part = s * _rf(c2, d2, 1.0) - (n / 3.0) * s * s2 * _rj(c2, d2, 1.0, 1.0 + n * s2)
-    whole = float(_rf(0.0, mc, 1.0) - (n / 3.0) * _rj(0.0, mc, 1.0, 1.0 + n))
+    part = _third_kind(s, c2, d2, -n, 1.0 + n * s2)  # ∫ du/(1 + n sn² u), 0 ≤ u ≤ K
     return 2.0 * j * whole + np.sign(r) * part
 
 
-def _invariable_quaternion(sol, t):
-    """q_inv(t): active rotation (a, b, c) frame → invariable frame (ẑ ∥ L), and ω_abc."""
+def _invariable_quaternion(sol, t, whole, W0):
+    """q_inv(t): active rotation (a, b, c) frame → invariable frame (ẑ ∥ L); ``whole`` (:func:`_phi_half_period`)
+    and ``W0`` (W at t = 0) are the motion's, computed once."""
     r, j = reduce_phase(t, *sol.phase)
     sn, cn, dn = jacobi_sncndn(r, sol.mc, rootmc=sol.rootmc)
     A, B, C = sol.amp
@@ -400,8 +409,7 @@ def _invariable_quaternion(sol, t):
     # ψ = π/2 − ψ' − 2π·sign(B)·j is continuous; qz(ψ) = (−1)^j qz(π/2 − ψ'), so keep ψ small (accurate)
     flip = np.where(np.mod(j, 2.0) == 0.0, 1.0, -1.0)
     psi = 0.5 * math.pi - psi_p
-    r0, j0 = reduce_phase(np.zeros(1), *sol.phase)
-    W = _phi_integral(sol, r, j) - _phi_integral(sol, r0, j0)[0]
+    W = _phi_integral(sol, r, j, whole) - W0
     phi = (L / Ic) * t + (L * (Ic - Ia) / (Ia * Ic * sol.lam)) * W
     # half angles of θ without cancellation
     half_c = np.sqrt(np.maximum(0.5 * (1.0 + lc), 0.0))
@@ -471,11 +479,14 @@ def free_rigid_body_attitude_exact(I, omega0, q0, t, *, check_body=True):
         q = quaternion_multiply(quaternion_multiply(left, q0), right)
     else:
         q_perm = _perm_quaternion(sol.idx, sol.signs)
-        q_inv0 = _invariable_quaternion(sol, np.zeros(1))[0]
+        whole = _phi_half_period(sol)
+        W0 = _phi_integral(sol, *reduce_phase(np.zeros(1), *sol.phase), whole)[0]
+        q_inv0 = _invariable_quaternion(sol, np.zeros(1), whole, W0)[0]
         q_fix = quaternion_multiply(quaternion_multiply(q0, _quat_conj(q_perm)), _quat_conj(q_inv0))
         q = np.empty((tt.size, 4))
         for start in range(0, tt.size, _BLOCK):  # blocks: the temporaries stay in cache, the cost per point flat
             block = slice(start, start + _BLOCK)
-            q[block] = quaternion_multiply(quaternion_multiply(q_fix, _invariable_quaternion(sol, tt[block])), q_perm)
+            q_inv = _invariable_quaternion(sol, tt[block], whole, W0)
+            q[block] = quaternion_multiply(quaternion_multiply(q_fix, q_inv), q_perm)
     q = q / np.sqrt(np.sum(q * q, axis=-1, keepdims=True))
     return omega, q

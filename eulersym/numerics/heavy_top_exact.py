@@ -38,7 +38,7 @@ Carlson's R_F in double where m_c > 1e-6 (to 36 digits nearer the separatrix), t
 the third-kind integrals, the rates — in double where their error bound allows: :func:`_setup_double`, ~0.11 ms).
 The phase ``λ t + τ0`` is reduced modulo ``2K`` and the secular angles modulo ``4π`` in
 double-double, so the error does not grow with t. A double root (steady precession, the sleeping top) is
-exact: the motion is then a uniform rotation of the Euler angles. For 48 output times or more the third-kind
+exact: the motion is then a uniform rotation of the Euler angles. For 4 output times or more the third-kind
 integrals come from an odd Chebyshev series of W on [−K, K], obtained per call by integrating the series of its
 derivative ``1/((1 − n) + n cn²)`` (32 values at the nodes, no elliptic integral) and cut at its noise floor;
 where that series does not reach round-off (a pass close to the vertical) W is evaluated directly (Carlson's
@@ -622,9 +622,10 @@ def _resolved(mo):
     return replace(mo, near=replace(mo.near, W0=W0n, j0=j0n), far=replace(mo.far, W0=W0f, j0=j0f))
 
 
-#: From this many output times on, W comes from its Chebyshev series (fitted per call at 32 nodes) rather than from
-#: Carlson's integrals at every time.
-_SERIES_FROM = 48
+#: From this many output times on, W comes from its Chebyshev series (fitted per call at 32 nodes, both poles at once:
+#: ~40 array operations) rather than from Carlson's integrals at every time (~300 array operations for both poles in
+#: NumPy's duplication loop, or ~9 µs a time and pole one by one).
+_SERIES_FROM = 4
 
 
 def _phase_double(mo, t):
@@ -718,10 +719,10 @@ def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0, node_c2=None):
             chi[rows] += _horner_odd(y, b if len(series) == 2 else b[0])
         else:
             chi[rows] += _clenshaw_odd(y, list(a.T[:, :, None]) if len(series) == 2 else [float(v) for v in a[0]])
-    for k in active:
-        if fits[k] is None:
-            pole = poles[k]
-            chi[k] += pole.coef * _W_direct(x[k], pole.n, pole.one_minus_n, mo.mc, mo.rootmc)
+    direct = [k for k in active if fits[k] is None]
+    if direct:  # both poles' W at once (one pass of Carlson's duplication over both rows)
+        column = lambda name: np.array([[getattr(poles[k], name)] for k in direct])  # noqa: E731
+        chi[direct] += column("coef") * _W_direct(x[direct], column("n"), column("one_minus_n"), mo.mc, mo.rootmc)
     return chi
 
 

@@ -12,8 +12,6 @@ components (det P = +1): ``v_body = P @ v_principal``, ``R_principal = R_body @ 
 
 from __future__ import annotations
 
-import re
-
 import numpy as np
 
 from eulersym.attitude import Attitude, _from_euler, _from_matrices, _normalized, rotate_back
@@ -22,10 +20,15 @@ from eulersym.errors import InvalidInput
 __all__ = ["quaternion_to_rotation", "rotation_to_quaternion", "rotate_to_body", "is_identity", "Rotation"]
 
 
+#: SciPy's sequences of three axes, none twice in a row: lower case extrinsic, upper case intrinsic.
+_SCIPY_SEQUENCES = frozenset(a + b + c for a in "xyz" for b in "xyz" for c in "xyz" if a != b != c)
+_SCIPY_SEQUENCES |= frozenset(s.upper() for s in _SCIPY_SEQUENCES)
+
+
 def _scipy_sequence(seq) -> tuple[str, bool]:
     """SciPy's sequence: three of x, y, z (lower case: extrinsic) or X, Y, Z (upper case: intrinsic), no axis twice in
     a row; returns (axes in lower case, intrinsic)."""
-    if not isinstance(seq, str) or not re.fullmatch(r"[xyz]{3}|[XYZ]{3}", seq) or seq[0] == seq[1] or seq[1] == seq[2]:
+    if seq not in _SCIPY_SEQUENCES:
         raise InvalidInput("seq", seq, "three axes from 'xyz' (extrinsic) or 'XYZ' (intrinsic), none twice in a row")
     return seq.lower(), seq.isupper()
 
