@@ -368,86 +368,91 @@ def _pointwise(fn, arrays):
     return out
 
 
-def _rf(x, y, z):
-    """``R_F`` of arrays that broadcast (non-negative, at most one zero per point; unchecked): the duplication until
-    every point's spread is below :data:`_SPREAD`, then the fifth-order series (DLMF 19.36.1); up to :data:`_FEW`
-    points one by one in ``math``. Each step divides every deviation from the mean by exactly 4, so the spread is
-    followed from the first deviations (no per-step maximum over the arguments)."""
-    x, y, z = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64),
-                                  np.asarray(z, dtype=np.float64))
-    if x.size <= _FEW:
-        return _pointwise(_carlson_rf, (x, y, z))
-    mu = (x + y + z) / 3.0
-    deviation = np.maximum(np.maximum(np.abs(x - mu), np.abs(y - mu)), np.abs(z - mu))
-    scale = 1.0
+def _duplicate(x, y, z, p=None):
+    """``(R_F(x, y, z), R_J(x, y, z, p))`` of broadcast float arrays by one Carlson duplication (λ depends on x, y, z
+    alone, so both integrals ride on one loop; R_J is None without p). Each step divides every deviation from a mean
+    by exactly 4, so each integral's spread is followed from its first deviations; the loop runs until both are below
+    :data:`_SPREAD`. ``δ_m = (p − x)(p − y)(p − z)`` keeps its sign, so which form of ``R_C(1, 1 + e_m)`` a point
+    takes is known from the start (:func:`_rc_terms`)."""
+    mu_f = (x + y + z) / 3.0
+    spread_f = np.maximum(np.maximum(np.abs(x - mu_f), np.abs(y - mu_f)), np.abs(z - mu_f))
+    if p is not None:
+        delta = (p - x) * (p - y) * (p - z)
+        above, below = delta > 0.0, delta < 0.0  # e_m > 0: the atan form; e_m < 0: the log form; e_m = 0: 1
+        forms = (above, below, bool(above.any()), bool(below.any()))
+        mu_j = (x + y + z + 2.0 * p) / 5.0
+        spread_j = np.maximum(np.maximum(np.abs(x - mu_j), np.abs(y - mu_j)),
+                              np.maximum(np.abs(z - mu_j), np.abs(p - mu_j)))
+    total = 0.0
+    scale = 1.0  # 4⁻ᵐ
     for _ in range(200):
-        if not scale * _largest(deviation / mu) >= _SPREAD:
+        widest = _largest(spread_f / mu_f) if p is None else max(_largest(spread_f / mu_f), _largest(spread_j / mu_j))
+        if not scale * widest >= _SPREAD:
             break
         sx, sy, sz = np.sqrt(x), np.sqrt(y), np.sqrt(z)
         lam = sx * (sy + sz) + sy * sz
         x, y, z = x + lam, y + lam, z + lam
+        if p is not None:
+            sp = np.sqrt(p)
+            d = (sp + sx) * (sp + sy) * (sp + sz)
+            total = total + _rc_terms(delta / (d * d), d, sp, p, lam, *forms) * (scale / d)
+            p = p + lam
+            p *= 0.25
+            delta *= 1.0 / 64.0
         x *= 0.25
         y *= 0.25
         z *= 0.25
-        mu = (x + y + z) / 3.0
+        mu_f = (x + y + z) / 3.0
+        if p is not None:
+            mu_j = (x + y + z + 2.0 * p) / 5.0
         scale *= 0.25
-    dx, dy, dz = 1.0 - x / mu, 1.0 - y / mu, 1.0 - z / mu
+    dx, dy, dz = 1.0 - x / mu_f, 1.0 - y / mu_f, 1.0 - z / mu_f
     e2 = dx * dy - dz * dz
     e3 = dx * dy * dz
-    return (1.0 + (e2 / 24.0 - 0.1 - 3.0 * e3 / 44.0) * e2 + e3 / 14.0) / np.sqrt(mu)
+    rf = (1.0 + (e2 / 24.0 - 0.1 - 3.0 * e3 / 44.0) * e2 + e3 / 14.0) / np.sqrt(mu_f)
+    if p is None:
+        return rf, None
+    rj = scale * _rj_series(1.0 - x / mu_j, 1.0 - y / mu_j, 1.0 - z / mu_j) / (mu_j * np.sqrt(mu_j)) + 6.0 * total
+    return rf, rj
 
 
-def _rc_terms(e, d, sp, p, lam, above, below, level, some_above, some_below):
+def _rc_terms(e, d, sp, p, lam, above, below, some_above, some_below):
     """``R_C(1, 1 + e)`` of one duplication step: ``atan(√e)/√e`` where δ > 0, ``½ log1p(2s(1 + s)/(1 + e))/s``
     (s = √−e) where δ < 0 with ``1 + e = (d² + δ)/d² = 2√p (p + λ)/d`` (no cancellation as e → −1), 1 where δ = 0;
     the masks (the sign of δ never changes) say which forms are needed."""
-    if level:
-        root = np.sqrt(np.abs(e))
-        safe = np.where(root == 0.0, 1.0, root)
-        rc = np.where(above, np.arctan(safe) / safe, 1.0)
-        if some_below:
-            rc = np.where(below, np.log1p(safe * (1.0 + safe) * d / (sp * (p + lam))) / (2.0 * safe), rc)
-        return rc
-    if some_above:
+    if some_above and above.all():
         root = np.sqrt(e)
         return np.arctan(root) / root
-    root = np.sqrt(-e)
-    return np.log1p(root * (1.0 + root) * d / (sp * (p + lam))) / (2.0 * root)
+    if some_below and below.all():
+        root = np.sqrt(-e)
+        return np.log1p(root * (1.0 + root) * d / (sp * (p + lam))) / (2.0 * root)
+    root = np.sqrt(np.abs(e))  # both forms, or points of e = 0
+    safe = np.where(root == 0.0, 1.0, root)
+    rc = np.where(above, np.arctan(safe) / safe, 1.0)
+    if some_below:
+        rc = np.where(below, np.log1p(safe * (1.0 + safe) * d / (sp * (p + lam))) / (2.0 * safe), rc)
+    return rc
+
+
+def _arrays(*values):
+    """The values as float arrays broadcast together."""
+    return np.broadcast_arrays(*(np.asarray(v, dtype=np.float64) for v in values))
+
+
+def _rf(x, y, z):
+    """``R_F`` of arrays that broadcast (non-negative, at most one zero per point; unchecked): the duplication until
+    every point's spread is below :data:`_SPREAD`, then the fifth-order series (DLMF 19.36.1); up to :data:`_FEW`
+    points one by one in ``math``."""
+    x, y, z = _arrays(x, y, z)
+    return _pointwise(_carlson_rf, (x, y, z)) if x.size <= _FEW else _duplicate(x, y, z)[0]
 
 
 def _rj(x, y, z, p):
     """``R_J`` of arrays that broadcast (x, y, z ≥ 0 with at most one zero, p > 0; unchecked): Carlson's duplication
     with the R_C terms (see the module docstring), then the series of DLMF 19.36.2 through degree 5; up to
-    :data:`_FEW` points one by one in ``math``. ``δ_m`` keeps its sign, so which form of ``R_C(1, 1 + e_m)`` a point
-    takes is known from the start."""
-    x, y, z, p = np.broadcast_arrays(*(np.asarray(v, dtype=np.float64) for v in (x, y, z, p)))
-    if x.size <= _FEW:
-        return _pointwise(_carlson_rj, (x, y, z, p))
-    delta = (p - x) * (p - y) * (p - z)
-    above, below = delta > 0.0, delta < 0.0  # e_m > 0: R_C = atan(√e)/√e; e_m < 0: the log form; e_m = 0: 1
-    some_above, some_below = bool(above.any()), bool(below.any())
-    level = not (some_above and above.all() or some_below and below.all())  # points of e = 0, or both forms
-    mu = (x + y + z + 2.0 * p) / 5.0
-    deviation = np.maximum(np.maximum(np.abs(x - mu), np.abs(y - mu)), np.maximum(np.abs(z - mu), np.abs(p - mu)))
-    total = 0.0
-    scale = 1.0  # 4⁻ᵐ
-    for _ in range(200):
-        if not scale * _largest(deviation / mu) >= _SPREAD:
-            break
-        sx, sy, sz, sp = np.sqrt(x), np.sqrt(y), np.sqrt(z), np.sqrt(p)
-        lam = sx * (sy + sz) + sy * sz
-        d = (sp + sx) * (sp + sy) * (sp + sz)
-        total = total + _rc_terms(delta / (d * d), d, sp, p, lam, above, below, level, some_above, some_below) * (
-            scale / d)
-        x, y, z, p = x + lam, y + lam, z + lam, p + lam
-        x *= 0.25
-        y *= 0.25
-        z *= 0.25
-        p *= 0.25
-        mu = (x + y + z + 2.0 * p) / 5.0
-        delta *= 1.0 / 64.0
-        scale *= 0.25
-    return scale * _rj_series(1.0 - x / mu, 1.0 - y / mu, 1.0 - z / mu) / (mu * np.sqrt(mu)) + 6.0 * total
+    :data:`_FEW` points one by one in ``math``."""
+    x, y, z, p = _arrays(x, y, z, p)
+    return _pointwise(_carlson_rj, (x, y, z, p)) if x.size <= _FEW else _duplicate(x, y, z, p)[1]
 
 
 def _carlson_arguments(names, values, *, positive_last=False):
@@ -540,51 +545,15 @@ def carlson_rj(x, y, z, p):
 def _third_kind(s, c2, d2, n, p):
     """``∫₀ˣ dy/(1 − n sn² y) = s R_F(c², d², 1) + (n/3) s³ R_J(c², d², 1, p)`` for 0 ≤ x ≤ K from ``s = sn x ≥ 0``,
     ``c2 = cn² x``, ``d2 = dn² x`` and ``p = 1 − n s²`` (formed by the caller as ``(1 − n) + n c²`` where that keeps
-    the digits); ``n`` a number or an array (a term whose n is 0 adds 0; a scalar 0 needs no R_J).
-
-    R_F and R_J of the same (x, y, z) share one duplication (λ depends on x, y, z alone): one pass of the loop, each
-    integral's own spread followed until both are below :data:`_SPREAD`; up to :data:`_FEW` points one by one in
-    ``math``."""
+    the digits); ``n`` a number or an array (a term whose n is 0 adds 0; a scalar 0 needs no R_J). R_F and R_J share
+    one duplication (:func:`_duplicate`); up to :data:`_FEW` points one by one in ``math``."""
     if np.ndim(n) == 0 and n == 0.0:
         return s * _rf(c2, d2, 1.0)
-    x, y, p, n_ = np.broadcast_arrays(*(np.asarray(v, dtype=np.float64) for v in (c2, d2, p, n)))
+    x, y, z, p, _ = _arrays(c2, d2, 1.0, p, n)
     if x.size <= _FEW:
-        rf = _pointwise(_carlson_rf, (x, y, np.ones(x.shape)))
-        rj = _pointwise(_carlson_rj, (x, y, np.ones(x.shape), p))
-        return s * rf + (n / 3.0) * s * s * s * rj
-    z = np.ones(x.shape)
-    delta = (p - x) * (p - y) * (p - z)
-    above, below = delta > 0.0, delta < 0.0
-    some_above, some_below = bool(above.any()), bool(below.any())
-    level = not (some_above and above.all() or some_below and below.all())
-    mu_f = (x + y + z) / 3.0
-    mu_j = (x + y + z + 2.0 * p) / 5.0
-    dev_f = np.maximum(np.maximum(np.abs(x - mu_f), np.abs(y - mu_f)), np.abs(z - mu_f))
-    dev_j = np.maximum(np.maximum(np.abs(x - mu_j), np.abs(y - mu_j)), np.maximum(np.abs(z - mu_j), np.abs(p - mu_j)))
-    total = 0.0
-    scale = 1.0
-    for _ in range(200):
-        if not scale * max(_largest(dev_f / mu_f), _largest(dev_j / mu_j)) >= _SPREAD:
-            break
-        sx, sy, sz, sp = np.sqrt(x), np.sqrt(y), np.sqrt(z), np.sqrt(p)
-        lam = sx * (sy + sz) + sy * sz
-        d = (sp + sx) * (sp + sy) * (sp + sz)
-        total = total + _rc_terms(delta / (d * d), d, sp, p, lam, above, below, level, some_above, some_below) * (
-            scale / d)
-        x, y, z, p = x + lam, y + lam, z + lam, p + lam
-        x *= 0.25
-        y *= 0.25
-        z *= 0.25
-        p *= 0.25
-        mu_f = (x + y + z) / 3.0
-        mu_j = (x + y + z + 2.0 * p) / 5.0
-        delta *= 1.0 / 64.0
-        scale *= 0.25
-    dx, dy, dz = 1.0 - x / mu_f, 1.0 - y / mu_f, 1.0 - z / mu_f
-    e2 = dx * dy - dz * dz
-    e3 = dx * dy * dz
-    rf = (1.0 + (e2 / 24.0 - 0.1 - 3.0 * e3 / 44.0) * e2 + e3 / 14.0) / np.sqrt(mu_f)
-    rj = scale * _rj_series(1.0 - x / mu_j, 1.0 - y / mu_j, 1.0 - z / mu_j) / (mu_j * np.sqrt(mu_j)) + 6.0 * total
+        rf, rj = _pointwise(_carlson_rf, (x, y, z)), _pointwise(_carlson_rj, (x, y, z, p))
+    else:
+        rf, rj = _duplicate(x, y, z, p)
     return s * rf + (n / 3.0) * s * s * s * rj
 
 
