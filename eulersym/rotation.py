@@ -188,8 +188,7 @@ def from_axis_angle(axis, angle, *, degrees: bool = False):
     axis = _unit_axis(axis)
     if _is_numeric(*axis, angle):
         n = _numbers("axis", axis, shape=(3,), what="an axis")
-        norm = np.linalg.norm(n)
-        if norm == 0.0:
+        if not np.any(n):
             raise InvalidInput("axis", axis, "a non-zero 3-vector")
         angle = _radians(float(_numbers("angle", angle, shape=())), degrees)
         return Attitude.from_axis_angle(n, angle).as_matrix(passive=True)

@@ -65,6 +65,7 @@ from decimal import Decimal
 
 import numpy as np
 
+from eulersym.attitude import hamilton
 from eulersym.errors import InvalidInput, SingularConfiguration
 from eulersym.numerics import _decimal_elliptic as _de
 from eulersym.numerics._odd_series import (POWERS_MAX as _MONOMIAL_MAX, clenshaw as _clenshaw_odd, horner as _horner_odd,
@@ -543,8 +544,7 @@ def _finish(motion, near, far, omega, q, start=None, lazy=False):
     norm = math.sqrt(sum(v * v for v in qn))
     qn = [v / norm for v in qn]
     w1, w2, w3 = (float(v) for v in omega)
-    qdot = (0.5 * (-qn[1] * w1 - qn[2] * w2 - qn[3] * w3), 0.5 * (qn[0] * w1 - qn[3] * w2 + qn[2] * w3),
-            0.5 * (qn[3] * w1 + qn[0] * w2 - qn[1] * w3), 0.5 * (-qn[2] * w1 + qn[1] * w2 + qn[0] * w3))
+    qdot = [0.5 * c for c in hamilton(qn, (0.0, w1, w2, w3))]  # q̇0 = ½ q0 ⊗ (0, ω0)
     lazy = lazy and not (motion["steady"] or near["signed"] or far["signed"])
     landen = None
     if motion["steady"] or lazy:  # no signed amplitude: its sign at t = 0 does not enter
