@@ -540,10 +540,11 @@ class Attitude:
     def _axis_angle(self):
         """Rows of unit axes and angles ``2 atan2(|v|, |q0|)`` (q0 ≥ 0 taken): no cancellation near 0 or π."""
         q = np.where(self._q[:, :1] < 0, -self._q, self._q)
-        s = _lengths(q[:, 1:])
-        angle = 2.0 * np.arctan2(s, q[:, 0])
-        zero = s == 0.0
-        axis = q[:, 1:] / np.where(zero, 1.0, s)[:, None]
+        top, scaled = _scaled(q[:, 1:])  # the axis from the scaled vector part: unit even where v is subnormal
+        length = np.sqrt(np.einsum("ij,ij->i", scaled, scaled))
+        angle = 2.0 * np.arctan2(top * length, q[:, 0])
+        zero = top == 0.0
+        axis = scaled / np.where(zero, 1.0, length)[:, None]
         axis[zero] = (0.0, 0.0, 1.0)
         return axis, angle
 
@@ -604,9 +605,14 @@ def _normalized(q: np.ndarray) -> np.ndarray:
     return q / np.sqrt(np.einsum("ij,ij->i", q, q))[:, None]
 
 
+def _scaled(rows: np.ndarray) -> tuple:
+    """``(top, rows / top)``: each row's largest |component| and the row divided by it (1 where the row is 0)."""
+    top = np.max(np.abs(rows), axis=1, initial=0.0)
+    return top, rows / np.where(top > 0.0, top, 1.0)[:, None]
+
+
 def _lengths(rows: np.ndarray) -> np.ndarray:
     """The Euclidean length of each row, free of the underflow and overflow of its squares (rows scaled by their
     largest component first): a user's quaternion or axis of any size."""
-    top = np.max(np.abs(rows), axis=1, initial=0.0)
-    safe = np.where(top > 0.0, top, 1.0)[:, None]
-    return top * np.sqrt(np.einsum("ij,ij->i", rows / safe, rows / safe))
+    top, scaled = _scaled(rows)
+    return top * np.sqrt(np.einsum("ij,ij->i", scaled, scaled))
