@@ -277,8 +277,9 @@ def _omega(sol, w, t):
     sa, sb, sc = sol.signs[0] * A, sol.signs[1] * B, sol.signs[2] * C
     out = np.empty((t.size, 3))
     if t.size <= _SMALL and sol.landen:
+        rate, start, period = sol.phase
         for k, tk in enumerate(t.tolist()):
-            sn, cn, dn = _sncndn_scalar(_reduce_phase_scalar(tk, *sol.phase)[0], sol.rootmc, sol.landen)
+            sn, cn, dn = _sncndn_scalar(_reduce_phase_scalar(tk, rate, start, period)[0], sol.rootmc, sol.landen)
             out[k, a], out[k, b], out[k, c] = sa * cn, sb * sn, sc * dn
         return out
     for start in range(0, t.size, _BLOCK):
