@@ -582,7 +582,7 @@ int eulersym_free_body_omega(const eulersym_free_body *body, double t, double om
         omega[i] = body->scale * (c * body->w[i] - s * body->w[j]);
         omega[j] = body->scale * (s * body->w[i] + c * body->w[j]);
     } else {
-        /* u = lambda t + u0 = j 4K + r, |r| <= 2K, in double-double (as eulersym.numerics.exact._phase) */
+        /* u = lambda t + u0 = j 4K + r, |r| <= 2K, in double-double (as eulersym.numerics.elliptic.reduce_phase) */
         double p_hi, p_lo, u_hi, u_lo, r, sn, cn, dn;
         two_prod(body->lam, ts, &p_hi, &p_lo);
         p_lo = p_lo + body->lam_lo * ts;
@@ -668,6 +668,9 @@ _PIVOTED_C = _NOTICE + r""" * One step of the exact-flow splitting of a pivoted 
 
 #include "eulersym_pivoted.h"
 
+/* Below this angle sin(x/2)/x rounds to 1/2 (eulersym.attitude.SMALL_ROTATION). */
+#define SMALL_ROTATION ${SMALL_ROTATION}
+
 /* L and Gamma turned by -2 half about e1, q <- q (x) (cos half, sin half e1) (increment form). */
 static void turn1(double *s, double half)
 {
@@ -727,18 +730,21 @@ static void free_symmetric(double *s, double tau, const eulersym_pivoted_params 
     const double i1 = par->inv_moments[0];
     const double L1 = s[0], L2 = s[1], L3 = s[2], G1 = s[3], G2 = s[4], G3 = s[5];
     const double q0 = s[6], q1 = s[7], q2 = s[8], q3 = s[9];
-    const double w0 = L1 * i1, w1 = L2 * i1, w2 = L3 * i1;
-    const double half = 0.5 * tau * pow(w0 * w0 + w1 * w1 + w2 * w2, 0.5);
-    const double zero = half == 0.0 ? 1.0 : 0.0, safe = half + zero;
-    const double c = cos(half), sn = sin(safe);
-    const double k = 0.5 * tau * (sn / safe * (1.0 - zero) + zero);
-    const double p0 = c, p1 = k * w0, p2 = k * w1, p3 = k * w2;
-    /* Gamma <- R(p)^T Gamma: v - 2 p0 (u x v) + 2 u x (u x v), u = (p1, p2, p3) */
-    const double c0 = p2 * G3 - p3 * G2, c1 = p3 * G1 - p1 * G3, c2 = p1 * G2 - p2 * G1;
-    const double d0 = p2 * c2 - p3 * c1, d1 = p3 * c0 - p1 * c2, d2 = p1 * c1 - p2 * c0;
-    s[3] = G1 - 2.0 * p0 * c0 + 2.0 * d0;
-    s[4] = G2 - 2.0 * p0 * c1 + 2.0 * d1;
-    s[5] = G3 - 2.0 * p0 * c2 + 2.0 * d2;
+    /* p = exp(tau omega / 2), omega = L / I1: eulersym.attitude.rotvec_to_quaternion (one small-angle rule) */
+    const double k = tau * i1, v0 = k * L1, v1 = k * L2, v2 = k * L3;
+    const double angle = pow(v0 * v0 + v1 * v1 + v2 * v2, 0.5);
+    const double small = angle < SMALL_ROTATION ? 1.0 : 0.0, safe = angle + small;
+    const double c = cos(0.5 * angle), sn = sin(0.5 * safe);
+    const double f = sn / safe * (1.0 - small) + 0.5 * small;
+    const double p0 = c, p1 = f * v0, p2 = f * v1, p3 = f * v2;
+    /* Gamma <- R(p)^T Gamma = R(p*) Gamma: v + 2 u x (u x v + p0 v), u = -(p1, p2, p3) (eulersym.attitude.rotate) */
+    const double n1 = -p1, n2 = -p2, n3 = -p3;
+    const double w0 = (n2 * G3 - n3 * G2) + p0 * G1;
+    const double w1 = (n3 * G1 - n1 * G3) + p0 * G2;
+    const double w2 = (n1 * G2 - n2 * G1) + p0 * G3;
+    s[3] = G1 + 2.0 * (n2 * w2 - n3 * w1);
+    s[4] = G2 + 2.0 * (n3 * w0 - n1 * w2);
+    s[5] = G3 + 2.0 * (n1 * w1 - n2 * w0);
     /* q <- q (x) p */
     s[6] = q0 * p0 - q1 * p1 - q2 * p2 - q3 * p3;
     s[7] = q0 * p1 + q1 * p0 + q2 * p3 - q3 * p2;
@@ -826,10 +832,12 @@ def library_files() -> dict[str, str]:
     >>> "eulersym_free_body_omega" in library_files()["eulersym_free_body.h"]
     True
     """
+    from eulersym.attitude import SMALL_ROTATION
     from eulersym.numerics._doubledouble import PI
     from eulersym.numerics.pivoted import COMPOSITIONS
 
-    values = {"PI_HI": repr(PI[0]), "PI_LO": repr(PI[1]), "STRANG": _numbers(COMPOSITIONS["strang"]),
+    values = {"PI_HI": repr(PI[0]), "PI_LO": repr(PI[1]), "SMALL_ROTATION": repr(SMALL_ROTATION),
+              "STRANG": _numbers(COMPOSITIONS["strang"]),
               "YOSHIDA4": _numbers(COMPOSITIONS["yoshida4"]), "YOSHIDA6": _numbers(COMPOSITIONS["yoshida6"])}
     texts = {"eulersym_free_body.h": _FREE_BODY_H, "eulersym_free_body.c": _FREE_BODY_C,
              "eulersym_pivoted.h": _PIVOTED_H, "eulersym_pivoted.c": _PIVOTED_C}

@@ -482,7 +482,7 @@ int eulersym_free_body_omega(const eulersym_free_body *body, double t, double om
         omega[i] = body->scale * (c * body->w[i] - s * body->w[j]);
         omega[j] = body->scale * (s * body->w[i] + c * body->w[j]);
     } else {
-        /* u = lambda t + u0 = j 4K + r, |r| <= 2K, in double-double (as eulersym.numerics.exact._phase) */
+        /* u = lambda t + u0 = j 4K + r, |r| <= 2K, in double-double (as eulersym.numerics.elliptic.reduce_phase) */
         double p_hi, p_lo, u_hi, u_lo, r, sn, cn, dn;
         two_prod(body->lam, ts, &p_hi, &p_lo);
         p_lo = p_lo + body->lam_lo * ts;
