@@ -590,7 +590,7 @@ class Model:
             "rotor": _rotor(kwargs.get("rotor"), check),
         }
         if pivot is not None and pivot["centre_of_mass"] is not None and ("shape" in body or "parts" in body):
-            self.mechanics  # a shape's centre of mass is derived: a contradictory one is refused now
+            self._check_centre()  # a shape's centre of mass is derived: a contradictory one is refused now
 
     # ---- construction ---------------------------------------------------------------------------------------
     @classmethod
@@ -745,8 +745,58 @@ class Model:
     def __eq__(self, other: object) -> bool:
         return isinstance(other, Model) and other._data == self._data
 
-    def __hash__(self) -> int:
-        return hash(self.digest)
+    def __hash__(self) -> int:  # of the data alone (the digest also reads installed versions: slower)
+        return hash(json.dumps(self._data, sort_keys=True))
+
+    # ---- numbers (NumPy) -------------------------------------------------------------------------------------
+    def facts(self, values: Mapping | None = None, *, batch: int | None = None):
+        """The body's numbers for parameter ``values``, every member at once, in NumPy
+        (:class:`~eulersym.model.facts.Facts`: mass, centre of mass, tensor, rotor, g, the constant torques, flags).
+
+        Parameters
+        ----------
+        values : mapping name → float or ndarray (batch,), optional
+            Parameter values (the defaults fill the others); arrays give one member per entry.
+        batch : int, optional
+            The number of members (default: the arrays' length, 1 without arrays).
+
+        Numbers and entries that name a parameter need no SymPy; a named shape's tensor and centre come from the
+        committed closed forms (:mod:`eulersym.shapes`); only a formula such as ``"2*C"`` is parsed (SymPy).
+        Every member is validated (:mod:`eulersym.validation`), errors naming the TOML key.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> m = Model(parameters={"I3": 1.0}, body={"moments": [2, 2, "I3"]})
+        >>> m.facts({"I3": np.array([1.0, 3.0])}).tensor[:, 2, 2].tolist()
+        [1.0, 3.0]
+        >>> m.facts({"I3": np.array([1.0, 5.0])})
+        Traceback (most recent call last):
+        ...
+        eulersym.errors.InvalidInput: body.moments=[2.0, 2.0, 'I3'] is not valid: expected principal moments of a body: positive and I1 + I2 >= I3, I2 + I3 >= I1, I3 + I1 >= I2 (here I1 + I2 = 4 < I3 = 5, member 1)
+        """
+        from eulersym.model.facts import facts
+
+        return facts(self._data, values, batch)
+
+    def _check_centre(self) -> None:
+        """A centre of mass given for a shape or parts must be the one they derive (at the defaults, NumPy)."""
+        import numpy as np
+
+        pivot = self._data["pivot"]
+        key = "pivot.l" if pivot.get("l") else "pivot.centre_of_mass"
+        derived = self.facts(batch=1)
+        given = dict(self._data, body={"moments": [1.0, 1.0, 1.0]})
+        from eulersym.model.facts import facts
+
+        stated = facts(given, batch=1).centre_of_mass[0]
+        centre = derived.centre_of_mass[0]
+        scale = max(float(np.max(np.abs(centre))), float(np.max(np.abs(stated))), 1e-300)
+        if np.max(np.abs(stated - centre)) > 1e-9 * scale:
+            raw = pivot["centre_of_mass"][2] if pivot.get("l") else pivot["centre_of_mass"]
+            raise InvalidInput(key, raw, f"the centre of mass the body derives, {[float(f'{c:.6g}') for c in centre]} "
+                               "from the pivot (a shape's or the parts' centre of mass is derived: leave "
+                               f"{key} out)")
 
     def __getstate__(self) -> dict:  # pickles (Dask, multiprocessing) carry the data, not the derived SymPy
         return {"_data": self._data}
