@@ -164,9 +164,9 @@ def moments(argument: str, values: Any, *, body: bool = True, shown: Any = None)
     eulersym.errors.InvalidInput: moments=[[1.0, 2.0, 3.0], [1.0, 2.0, 3.5]] is not valid: expected principal moments of a body: positive and I1 + I2 >= I3, I2 + I3 >= I1, I3 + I1 >= I2 (here I1 + I2 = 3 < I3 = 3.5, member 1)
     """
     shown = values if shown is None else shown
-    if isinstance(shown, np.ndarray):
+    if hasattr(shown, "tolist") and hasattr(shown, "dtype"):  # an array (duck-typed: NumPy is not imported here)
         shown = shown.tolist()
-    if isinstance(values, np.ndarray) and values.ndim >= 1 and values.dtype.kind in "fiu":
+    if hasattr(values, "dtype") and getattr(values, "ndim", 0) >= 1 and values.dtype.kind in "fiu":
         return _moment_rows(argument, values, body, shown)
     try:
         items = tuple(values)
@@ -181,11 +181,19 @@ def moments(argument: str, values: Any, *, body: bool = True, shown: Any = None)
             raise InvalidInput(argument, shown, f"three positive principal moments (I{k}={value!r} is not)") from None
     if not body or any(is_symbolic(v) and v.free_symbols for v in items):
         return items
-    _moment_rows(argument, np.array([[float(v) for v in items]]), body, shown, items)
+    floats = [float(v) for v in items]  # one body: plain floats (the symbolic layers import no NumPy)
+    scale = max(floats) * TRIANGLE_SLACK
+    for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+        if floats[i] + floats[j] < floats[k] - scale:
+            raise InvalidInput(argument, shown, _TRIANGLE + f" (here I{i + 1} + I{j + 1} = {items[i] + items[j]:g} < "
+                                                            f"I{k + 1} = {items[k]:g})")
     return items
 
 
-def _moment_rows(argument: str, rows: np.ndarray, body: bool, shown: Any, items: tuple | None = None) -> np.ndarray:
+_TRIANGLE = "principal moments of a body: positive and I1 + I2 >= I3, I2 + I3 >= I1, I3 + I1 >= I2"
+
+
+def _moment_rows(argument: str, rows, body: bool, shown: Any, items: tuple | None = None):
     """:func:`moments` on an array of rows (..., 3); ``items``: the one row as the caller wrote it (for the message)."""
     m = np.asarray(rows, dtype=float)
     if m.shape[-1:] != (3,):
@@ -206,12 +214,8 @@ def _moment_rows(argument: str, rows: np.ndarray, body: bool, shown: Any, items:
             member = int(np.argmax(broken))
             row = items if items is not None and len(flat) == 1 else flat[member].tolist()
             where = f", member {member}" if len(flat) > 1 else ""
-            raise InvalidInput(
-                argument,
-                shown,
-                "principal moments of a body: positive and I1 + I2 >= I3, I2 + I3 >= I1, I3 + I1 >= I2 "
-                f"(here I{i + 1} + I{j + 1} = {row[i] + row[j]:g} < I{k + 1} = {row[k]:g}{where})",
-            )
+            raise InvalidInput(argument, shown, _TRIANGLE + f" (here I{i + 1} + I{j + 1} = {row[i] + row[j]:g} < "
+                                                            f"I{k + 1} = {row[k]:g}{where})")
     return rows
 
 
@@ -229,7 +233,7 @@ def inertia_tensor(argument: str, tensors: Any, *, shown: Any = None) -> np.ndar
     eulersym.errors.InvalidInput: tensor=[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 3.0]] is not valid: expected the tensor of a body: its principal moments [1.0, 1.0, 3.0] must satisfy I1 + I2 >= I3 (the triangle inequality)
     """
     shown = tensors if shown is None else shown
-    if isinstance(shown, np.ndarray):
+    if hasattr(shown, "tolist") and hasattr(shown, "dtype"):
         shown = shown.tolist()
     T = np.asarray(tensors, dtype=float)
     if T.shape[-2:] != (3, 3):

@@ -112,8 +112,8 @@ class Facts:
     @property
     def regime_hint(self) -> str:
         """What acts on the body, read from the facts alone: ``"free"`` (nothing), ``"gravity"`` (gravity through
-        the pivot alone), ``"constant torque"`` (a constant torque alone) or ``"other"`` (a varying torque, a
-        potential, a rotor, or gravity with a torque).
+        the pivot alone), ``"constant torque"`` (a constant torque alone, body- or space-fixed) or ``"other"`` (a
+        varying torque, a potential, a rotor, gravity with a torque, body- and space-fixed torques together).
 
         Examples
         --------
@@ -124,9 +124,9 @@ class Facts:
         if self.torque == "varying" or self.potential or self.has_rotor:
             return "other"
         heavy = self.pivoted and bool(np.any(self.weight != 0))
-        torqued = self.torque == "constant" and any(
-            v is not None and bool(np.any(v != 0)) for v in (self.torque_body, self.torque_space))
-        if heavy and torqued:
+        given = [v for v in (self.torque_body, self.torque_space) if v is not None and bool(np.any(v != 0))]
+        torqued = self.torque == "constant" and bool(given)
+        if (heavy and torqued) or len(given) == 2:  # gravity and a torque, or body- and space-fixed torques at once
             return "other"
         return "gravity" if heavy else ("constant torque" if torqued else "free")
 

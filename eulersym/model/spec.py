@@ -328,11 +328,15 @@ def _quaternion(key: str, value: Any, check: _Checker) -> list:
 
 
 def _moments(key: str, value: Any, check: _Checker) -> list:
-    moments = check.vector(key, value, sign="positive")
-    if all(isinstance(m, float) for m in moments):
+    moments = check.vector(key, value)
+    numbers = [m for m in moments if isinstance(m, float)]
+    if len(numbers) == 3:
         from eulersym.validation import moments as valid_moments
 
-        valid_moments(key, moments)
+        valid_moments(key, moments, shown=value)
+    elif any(m <= 0 for m in numbers):
+        raise InvalidInput(key, value, "positive principal moments (an expression is checked at the parameters' "
+                           "values)")
     return moments
 
 
@@ -356,19 +360,9 @@ def _tensor(key: str, value: Any, check: _Checker) -> list:
 
 def _check_tensor(key: str, raw: Any, rows: list) -> None:
     """Positive definite, and its principal moments obey the triangle inequalities (numbers: NumPy)."""
-    import numpy as np
+    from eulersym.validation import inertia_tensor
 
-    from eulersym.validation import TRIANGLE_SLACK
-
-    arr = np.array(rows, dtype=float)
-    scale = float(np.max(np.abs(arr))) or 1.0
-    eig = np.linalg.eigvalsh((arr + arr.T) / 2)
-    if eig[0] <= 1e-14 * scale:
-        raise InvalidInput(key, raw, f"a positive-definite tensor (its principal moments are "
-                           f"{[float(f'{e:.6g}') for e in eig]})")
-    if eig[0] + eig[1] < eig[2] * (1 - TRIANGLE_SLACK):
-        raise InvalidInput(key, raw, f"the tensor of a body: its principal moments {[float(f'{e:.6g}') for e in eig]}"
-                           " must satisfy I1 + I2 >= I3 (the triangle inequality)")
+    inertia_tensor(key, rows, shown=raw)
 
 
 def _body(value: Any, check: _Checker, weighed: bool) -> dict:
@@ -399,7 +393,7 @@ def _body(value: Any, check: _Checker, weighed: bool) -> dict:
             out["mass"] = check.number("body.mass", table["mass"], sign="positive")
         elif weighed:
             raise InvalidInput("body.mass", None, "the body's mass M: a pivoted body under gravity feels the torque "
-                               "M g c × gamma (or pivot.g = 0)")
+                               "M g l (M g c × gamma; or pivot.g = 0)")
         else:
             out["mass"] = None
         return out
@@ -558,7 +552,7 @@ class Model:
     >>> Model(body={"moments": [1, 1, 3]})
     Traceback (most recent call last):
     ...
-    eulersym.errors.InvalidInput: body.moments=[1.0, 1.0, 3.0] is not valid: expected principal moments of a body: ...
+    eulersym.errors.InvalidInput: body.moments=[1, 1, 3] is not valid: expected principal moments of a body: ...
     """
 
     def __init__(self, **kwargs: Any):
@@ -794,9 +788,10 @@ class Model:
         scale = max(float(np.max(np.abs(centre))), float(np.max(np.abs(stated))), 1e-300)
         if np.max(np.abs(stated - centre)) > 1e-9 * scale:
             raw = pivot["centre_of_mass"][2] if pivot.get("l") else pivot["centre_of_mass"]
-            raise InvalidInput(key, raw, f"the centre of mass the body derives, {[float(f'{c:.6g}') for c in centre]} "
-                               "from the pivot (a shape's or the parts' centre of mass is derived: leave "
-                               f"{key} out)")
+            along = f"l = {centre[2]:.6g}, " if pivot.get("l") and centre[0] == 0 and centre[1] == 0 else ""
+            raise InvalidInput(key, raw, f"the centre of mass the body derives, {along}"
+                               f"{[float(f'{c:.6g}') for c in centre]} from the pivot (a shape's or the parts' centre "
+                               f"of mass is derived: leave {key} out)")
 
     def __getstate__(self) -> dict:  # pickles (Dask, multiprocessing) carry the data, not the derived SymPy
         return {"_data": self._data}
