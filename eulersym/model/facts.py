@@ -30,6 +30,7 @@ Examples
 from __future__ import annotations
 
 import dataclasses
+import functools
 from dataclasses import dataclass
 from typing import Any, Mapping
 
@@ -99,17 +100,17 @@ class Facts:
         """The number of members."""
         return len(self.mass)
 
-    @property
+    @functools.cached_property
     def has_rotor(self) -> bool:
         """True when some member has a rotor momentum h ≠ 0."""
         return bool(np.any(self.rotor != 0))
 
-    @property
+    @functools.cached_property
     def weight(self) -> np.ndarray:
         """M g |c| per member: the largest gravity torque about the pivot (0 for a free body)."""
         return self.mass * self.g * np.linalg.norm(self.centre_of_mass, axis=1)
 
-    @property
+    @functools.cached_property
     def regime_hint(self) -> str:
         """What acts on the body, read from the facts alone: ``"free"`` (nothing), ``"gravity"`` (gravity through
         the pivot alone), ``"constant torque"`` (a constant torque alone, body- or space-fixed) or ``"other"`` (a

@@ -86,9 +86,14 @@ def rate_bound(scene) -> float:
     >>> rate_bound(Scene(moments=(1, 2, 3), omega=(0, 4, 3), t_end=1))
     5.0
     """
+    return scene._rate  # a scene is frozen: computed once (rate_of)
+
+
+def rate_of(scene) -> float:
+    """:func:`rate_bound`, computed (a :class:`Scene` keeps it)."""
     facts = scene.facts
     rate = _norm(scene.omega)
-    i_min = _spread(scene)[0]
+    i_min = scene._spread[0]
     if i_min <= 0:
         return rate
     torques = [t for t in (facts.torque_body, facts.torque_space) if t is not None]
@@ -122,6 +127,11 @@ def refuse_phase(argument: str, value, rate: float, t_end: float) -> None:
 
 def _spread(scene) -> tuple:
     """(smallest, largest) principal moment over the distinct bodies (the rate of ω's turn in the body)."""
+    return scene._spread
+
+
+def spread_of(scene) -> tuple:
+    """:func:`_spread`, computed (a :class:`Scene` keeps it)."""
     tensor = scene.facts.tensor
     if len(tensor) == 1 and not (tensor[0] - np.diag(np.diag(tensor[0]))).any():  # given as moments
         d = np.diag(tensor[0])

@@ -238,7 +238,7 @@ def make_plan(scene, kernel=None) -> Plan:
     derive: list[str] = []
     kernels: list[str] = []
     options: dict = {}
-    body = "derived" if kind == "model" else classify_moments(regime.moments)
+    body = "derived" if kind == "model" else regime.body
     # the own kernel always propagates the attitude: the vertical and its invariants are functions of it
     wants_attitude = "attitude" in outputs or "euler_angles" in outputs or kind == "model"
     first = _body_lines(scene, regime, steps, skipped)
@@ -288,7 +288,7 @@ def make_plan(scene, kernel=None) -> Plan:
             steps.append(Step("compute", "attitude", "q(t) and the vertical Γ(t) from the same closed form (θ, φ ± ψ)"))
         else:
             steps.append(Step("compute", "attitude", "propagated: the gravity torque M g l Γ × e3 depends on the vertical Γ"))
-        symmetric = symmetric_about_axis3(regime.moments)
+        symmetric = regime.symmetric
         if batch == 1 and symmetric and "euler_angles" in outputs and method.closed_form:
             options["turning"] = "closed form"  # its cubic's roots u1 ≤ u2, already solved (no SymPy, no bisection)
             steps.append(Step("compute", "turning points θ1, θ2", "θ(t) is reported against the roots u1 ≤ u2 of the "

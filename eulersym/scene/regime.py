@@ -29,11 +29,15 @@ Examples
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
 
 from eulersym.errors import InvalidInput
+from eulersym.numerics.methods import classify_moments, symmetric_about_axis3
+
+_EYE = np.eye(3)
 
 __all__ = ["Regime", "classify", "heavy_top_frame", "principal_axes"]
 
@@ -57,6 +61,10 @@ class Regime:
         The heavy top's M, g and pivot–centre-of-mass distance.
     body_frame : bool
         The principal frame is the body frame (``axes`` is exactly the identity).
+    body : str
+        'spherical', 'symmetric', 'asymmetric' or 'mixed' (:func:`eulersym.numerics.methods.classify_moments`).
+    symmetric : bool
+        Every body symmetric about e3 (I1 = I2 to 1e-12).
     """
 
     regime: str
@@ -67,9 +75,17 @@ class Regime:
     g: np.ndarray | None = None
     l: np.ndarray | None = None
 
-    @property
+    @functools.cached_property
     def body_frame(self) -> bool:
-        return bool((self.axes == np.eye(3)).all())
+        return bool((self.axes == _EYE).all())
+
+    @functools.cached_property
+    def body(self) -> str:
+        return classify_moments(self.moments)
+
+    @functools.cached_property
+    def symmetric(self) -> bool:
+        return symmetric_about_axis3(self.moments)
 
 
 def principal_axes(tensor) -> tuple:
@@ -173,7 +189,7 @@ def classify(facts) -> Regime:
     lengths = np.linalg.norm(c, axis=1)
     k = int(np.argmax(lengths > 0))
     e3 = c[k] / lengths[k]
-    if not np.allclose(c, lengths[:, None] * e3, rtol=0, atol=1e-12 * float(np.max(lengths))):
+    if len(c) > 1 and np.max(np.abs(c - lengths[:, None] * e3)) > 1e-12 * float(np.max(lengths)):
         return _model("the sweep turns the pivot–centre-of-mass line: the model's own kernel is integrated", T)
     Te3 = T @ e3
     along = Te3 @ e3

@@ -53,7 +53,7 @@ from eulersym import shapes as _shapes, validation
 from eulersym.errors import InvalidInput
 from eulersym.model.spec import MODEL_SECTIONS, Model
 from eulersym.scene.catalog import bundled
-from eulersym.scene.cost import PHASE_LIMIT, rate_bound, refuse_phase
+from eulersym.scene.cost import PHASE_LIMIT, rate_bound, rate_of, refuse_phase, spread_of
 from eulersym.scene.plan import Plan, make_plan
 from eulersym.scene.regime import Regime, classify
 from eulersym.scene.values import Sweep, did_you_mean as _did_you_mean, number as _number, scalar as _scalar
@@ -380,6 +380,16 @@ class Scene:
     @functools.cached_property
     def _regime(self) -> Regime:
         return classify(self.facts)
+
+    @functools.cached_property
+    def _rate(self) -> float:
+        """The scene's one rate bound (:func:`eulersym.scene.cost.rate_bound`), computed once."""
+        return rate_of(self)
+
+    @functools.cached_property
+    def _spread(self) -> tuple:
+        """(smallest, largest) principal moment over the distinct bodies, computed once."""
+        return spread_of(self)
 
     @property
     def regime(self) -> str:
@@ -929,8 +939,7 @@ def _check_scales(scene, regime: Regime, raw: dict) -> None:
     :data:`MAGNITUDE_LIMIT`, a gravity or applied torque that large, or more than :data:`PHASE_LIMIT` radians of
     rotation by t_end. (A scene in other units is the same motion: rescale time or inertia.)"""
     facts = scene.facts
-    eig = np.linalg.eigvalsh(facts.tensor)
-    i_max = float(np.max(eig))
+    i_max = scene._spread[1]
     spin = _largest(scene.omega)
     why = ("double precision (largest 1.8e308) cannot carry the products the motion needs; the same motion in "
            "other units (a larger unit of time, a smaller one of inertia) can")

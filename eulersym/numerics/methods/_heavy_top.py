@@ -19,6 +19,13 @@ SPLITTING_ACCURACY = 1e-5
 _SYMMETRIC = [0, 0, 2]
 
 
+def _weighty(problem: Problem) -> bool:
+    """M g l > 0 for every member (one member: the same comparison on floats)."""
+    if len(problem.mass) == 1:
+        return float(problem.mass[0]) * float(problem.g[0]) * float(problem.l[0]) > 0
+    return bool(np.all(problem.mass * problem.g * problem.l > 0))
+
+
 class LagrangeTopClosedForm(Method):
     """The heavy symmetric top in closed form (:func:`eulersym.numerics.heavy_top_exact`: u = cos θ from Jacobi's
     sn, φ ± ψ from elliptic integrals of the third kind) — ω(t), Γ(t), q(t) and the zxz Euler angles, every member
@@ -53,7 +60,7 @@ class LagrangeTopClosedForm(Method):
         if not problem.symmetric:
             return ("I1 ≠ I2 about the pivot: the asymmetric heavy top has no closed form in general "
                     "(Lagrange's top needs I1 = I2 with the centre of mass on the axis)")
-        if problem.mass is not None and np.any(problem.mass * problem.g * problem.l <= 0):
+        if problem.mass is not None and not _weighty(problem):
             return "the closed form needs M g l > 0 for every member"
         return None
 
