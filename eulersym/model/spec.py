@@ -60,13 +60,11 @@ eulersym.errors.InvalidInput: pivot.g='gg' is not valid: expected an expression 
 from __future__ import annotations
 
 import difflib
-import hashlib
 import json
 import math
 import numbers
 import tomllib
 from functools import cached_property
-from importlib import metadata
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -495,6 +493,8 @@ def _drop_none(table: dict) -> dict:
 
 
 def _distribution_version(name: str) -> str:
+    from importlib import metadata  # only for a digest: not paid by a scene that needs none
+
     try:
         return metadata.version(name)
     except metadata.PackageNotFoundError:
@@ -731,6 +731,8 @@ class Model:
         payload = {"model": data, "eulersym": _distribution_version("eulersym"),
                    "sympy": _distribution_version("sympy")}
         text = json.dumps(payload, sort_keys=True, separators=(",", ":"), ensure_ascii=True)
+        import hashlib
+
         return hashlib.sha256(text.encode("ascii")).hexdigest()
 
     def __repr__(self) -> str:
