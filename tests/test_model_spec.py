@@ -749,3 +749,14 @@ def test_delegation_kernels(damped_gyrostat, tmp_path):
 def test_delegation_check_of_a_heavy_top_from_a_scene():
     report = Model.from_toml(SCENES / "heavy-top-nutation.toml").check()
     assert report.ok
+
+
+def test_the_digest_does_not_depend_on_how_eulersym_was_installed(monkeypatch):
+    """An editable and an installed copy (whatever their distribution metadata says) give one digest: the model,
+    eulersym.__version__ and SymPy's version make it (issue 19)."""
+    from importlib import metadata
+
+    model = Model(body={"moments": [1, 2, 3]}, torque={"body": "-0.1*omega"})
+    real = metadata.version
+    monkeypatch.setattr(metadata, "version", lambda name: "0.0.dev-editable" if name == "eulersym" else real(name))
+    assert Model(body={"moments": [1, 2, 3]}, torque={"body": "-0.1*omega"}).digest == model.digest

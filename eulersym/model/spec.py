@@ -529,7 +529,7 @@ class Model:
     name : str
     parameters : dict name → float (file order)
     digest : str
-        Hex SHA-256 of the normalised model, the eulersym and SymPy versions (SymPy-free).
+        Hex SHA-256 of the normalised model, eulersym.__version__ and SymPy's version (SymPy-free).
     pivoted : bool
     mechanics : Mechanics
         The symbolic content (built on first use; imports SymPy).
@@ -682,6 +682,21 @@ class Model:
         """
         return self._data["pivot"] is not None
 
+    @property
+    def normalised(self) -> Mapping:
+        """The validated sections as the model keeps them (read-only view): ``name``, ``parameters`` (``[[name,
+        default], ...]``), ``body``, ``pivot`` (None, or ``centre_of_mass``/``l``/``g``), ``torque`` (``body``,
+        ``space``, ``potential``), ``rotor`` — numbers as floats, formulas as strings; what :meth:`facts` reads.
+
+        Examples
+        --------
+        >>> Model(body={"moments": [1, 2, 3]}, pivot={"l": 0.1, "g": 0}).normalised["pivot"]
+        {'centre_of_mass': [0.0, 0.0, 0.1], 'l': True, 'g': 0.0}
+        """
+        from types import MappingProxyType
+
+        return MappingProxyType(self._data)
+
     def to_dict(self) -> dict:
         """The normalised model as a mapping :meth:`from_dict` reads back (numbers as floats, expressions as
         stripped strings, defaults filled in): what :attr:`digest` hashes.
@@ -717,7 +732,8 @@ class Model:
 
     @cached_property
     def digest(self) -> str:
-        """Hex SHA-256 of the normalised model and the eulersym and SymPy distribution versions.
+        """Hex SHA-256 of the normalised model, eulersym's version (``eulersym.__version__``: the same however it is
+        installed) and SymPy's distribution version (read without importing SymPy).
 
         Examples
         --------
@@ -728,8 +744,9 @@ class Model:
         data = json.loads(json.dumps(self._data))
         if data["pivot"] is not None:
             del data["pivot"]["l"]  # l = 0.1 is centre_of_mass = [0, 0, 0.1]; the flag only names the key
-        payload = {"model": data, "eulersym": _distribution_version("eulersym"),
-                   "sympy": _distribution_version("sympy")}
+        from eulersym import __version__  # the package's own: the same for an editable and an installed copy
+
+        payload = {"model": data, "eulersym": __version__, "sympy": _distribution_version("sympy")}
         text = json.dumps(payload, sort_keys=True, separators=(",", ":"), ensure_ascii=True)
         import hashlib
 

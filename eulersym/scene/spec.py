@@ -443,30 +443,30 @@ class Scene:
     @property
     def tensor(self) -> tuple | None:
         """The tensor as given, or None."""
-        rows = self.model._data["body"].get("tensor")
+        rows = self.model.normalised["body"].get("tensor")
         return None if rows is None else tuple(tuple(row) for row in rows)
 
     @property
     def shape(self) -> str | None:
         """The named shape, or None."""
-        return self.model._data["body"].get("shape")
+        return self.model.normalised["body"].get("shape")
 
     @property
     def dimensions(self) -> tuple | None:
         """The shape's dimensions as ``((name, value), ...)``, or None."""
-        dims = self.model._data["body"].get("dimensions")
+        dims = self.model.normalised["body"].get("dimensions")
         return None if dims is None else tuple(dims.items())
 
     @property
     def origin(self) -> str | None:
         """The shape's origin, or None."""
-        return self.model._data["body"].get("origin")
+        return self.model.normalised["body"].get("origin")
 
     @property
     def mass(self):
         """The body's mass as given (a number, a :class:`Sweep`), derived for parts; None for a free body given
         without one."""
-        body = self.model._data["body"]
+        body = self.model.normalised["body"]
         if "parts" in body:
             return float(self.facts.mass[0])
         return self._read("body", "mass")
@@ -475,7 +475,7 @@ class Scene:
     def l(self):
         """The pivot–centre-of-mass distance along e3 (as given, or derived for a shape), or None without a pivot
         or with the centre of mass off e3."""
-        pivot = self.model._data["pivot"]
+        pivot = self.model.normalised["pivot"]
         if pivot is None:
             return None
         if pivot.get("l"):
@@ -486,26 +486,26 @@ class Scene:
     @property
     def g(self):
         """Gravity as given (9.81 without a pivot)."""
-        pivot = self.model._data["pivot"]
+        pivot = self.model.normalised["pivot"]
         return 9.81 if pivot is None else self._read("pivot", "g")
 
     @property
     def torque(self) -> tuple | None:
         """The constant torque's components as given (body or space: :attr:`torque_frame`), or None."""
-        torque = self.model._data["torque"]
+        torque = self.model.normalised["torque"]
         frame = self.torque_frame
         return None if torque[frame] is None else self._read("torque", frame)
 
     @property
     def torque_frame(self) -> str:
         """'space' for a space-fixed torque, else 'body'."""
-        torque = self.model._data["torque"]
+        torque = self.model.normalised["torque"]
         return "space" if torque["space"] is not None and torque["body"] is None else "body"
 
     def _read(self, section: str, key: str):
         """A body keyword's value from the model's data: numbers as they are, a parameter by its value (the
         scene's sweep or number, else the model's default)."""
-        table = self.model._data[section] or {}
+        table = self.model.normalised[section] or {}
         raw = (table.get("centre_of_mass") or [None] * 3)[2] if (section, key) == ("pivot", "l") else table.get(key)
         given = {name: value for name, value, _ in self.parameters}
 
@@ -943,7 +943,7 @@ def _check_scales(scene, regime: Regime, raw: dict) -> None:
     spin = _largest(scene.omega)
     why = ("double precision (largest 1.8e308) cannot carry the products the motion needs; the same motion in "
            "other units (a larger unit of time, a smaller one of inertia) can")
-    body = scene.model._data["body"]
+    body = scene.model.normalised["body"]
     key = next((f"body.{k}" for k in ("moments", "tensor") if k in body), "body.mass" if "mass" in body else "body")
     if i_max * i_max > MAGNITUDE_LIMIT:
         raise InvalidInput(key, body.get(key[5:]), f"moments of inertia below {math.sqrt(MAGNITUDE_LIMIT):.0e} (here "
@@ -962,7 +962,7 @@ def _check_scales(scene, regime: Regime, raw: dict) -> None:
                  default=0.0)
     if torque * max(i_max, 1.0) > MAGNITUDE_LIMIT:
         frame = "body" if facts.torque_body is not None else "space"
-        raise InvalidInput(f"torque.{frame}", scene.model._data["torque"][frame],
+        raise InvalidInput(f"torque.{frame}", scene.model.normalised["torque"][frame],
                            f"a torque below {MAGNITUDE_LIMIT / max(i_max, 1.0):.3g} (here up to {torque:.3g}): {why}")
     rate = rate_bound(scene)
     if i_max * rate * rate > MAGNITUDE_LIMIT or (i_max * rate) * (i_max * rate) > MAGNITUDE_LIMIT:
