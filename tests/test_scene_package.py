@@ -19,6 +19,7 @@ PACKAGE = Path(eulersym.scene.__file__).parent
 LAYERS = (
     "values", "regime", "cost", "catalog", "model_kernel", "rates", "plan", "spec", "frames", "derive", "problem",
     "progress", "result", "chunked", "run", "io", "cli", "__init__",
+    "engines",  # empty: kept while pyproject.toml lists it (see its docstring)
 )
 
 

@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from eulersym.errors import InvalidInput
+from eulersym.errors import IntegrationFailed, InvalidInput
 from eulersym.numerics import _fast
 from eulersym.numerics.trajectory import Trajectory
 from eulersym.numerics.pivoted import (
@@ -150,6 +150,8 @@ def integrate_pivoted_batch(inertia, M, g, c, omega0, q0, t, *, rotor=(0.0, 0.0,
     ------
     eulersym.errors.InvalidInput
         Bad shapes or values (named), or an output larger than ``max_bytes``.
+    eulersym.errors.IntegrationFailed
+        A member left the finite numbers (its step too long for its motion): the member and the step are named.
 
     Examples
     --------
@@ -203,9 +205,10 @@ def integrate_pivoted_batch(inertia, M, g, c, omega0, q0, t, *, rotor=(0.0, 0.0,
     else:
         with np.errstate(all="ignore"):  # an overflowing member becomes NaN, refused below by name
             out = _run_numpy(state, par, hs, tt, subs, kind)
-    if not np.all(np.isfinite(out)):
+    if not np.all(np.isfinite(out)):  # a run that failed (valid input: the step was too long for this motion)
         bad = int(np.argmax(~np.all(np.isfinite(out), axis=(1, 2))))
-        raise InvalidInput("h", float(hs[bad]), f"a step small enough for a finite solution (member {bad})")
+        raise IntegrationFailed("integrate_pivoted_batch", f"member {bad} left the finite numbers with the step "
+                                f"h = {float(hs[bad]):g}", "a smaller step h, or an accuracy")
     omega, gamma, q = _to_body(out, par, frame)
     kicks = sum(sum(_counts(tt, float(hv))) * int(np.sum(hs == hv)) for hv in np.unique(hs)) * 2 * len(subs)
     return BatchTrajectory(t=tt, omega=omega, gamma=gamma, q=q, steps=hs, n_kicks=int(kicks), method=f"pivoted:{method}")
