@@ -592,10 +592,10 @@ def test_heavy_top_conserves_invariants_and_nutates():
     theta1, theta2 = r.turning_points
     assert theta1 == pytest.approx(theta.min(), abs=1e-6) and theta2 == pytest.approx(theta.max(), abs=1e-5)
     # the closed form's roots are eulersym.top's (the cubic's roots bracketed by its critical points, bisected)
-    from eulersym.scene import derive
+    from eulersym.scene import symbolic
 
     record = []
-    by_top = derive.turning_points(r.moments, TOP["mass"], 9.81, TOP["l"], r.omega[0], r.gamma[0], r.attitude[0], record)
+    by_top = symbolic.turning_points(r.moments, TOP["mass"], 9.81, TOP["l"], r.omega[0], r.gamma[0], r.attitude[0], record)
     assert record == ["top.turning_points"] and np.allclose(r.turning_points, by_top, rtol=0, atol=1e-12)
 
 

@@ -17,7 +17,7 @@ from the facts) → :mod:`~eulersym.scene.plan` (pure: the loop over the methods
 (:class:`Scene`: a model, its start, validated) → :mod:`~eulersym.scene.problem` (the prepared problem) →
 :mod:`eulersym.numerics.methods` (the motion) → :mod:`~eulersym.scene.result` → :mod:`~eulersym.scene.run`
 (:func:`simulate`, the one driver) → :mod:`~eulersym.scene.io` (files, plots) → :mod:`~eulersym.scene.cli`.
-SymPy comes in only with :mod:`~eulersym.scene.derive` (the sleeping-top bound, turning points) and a model's own
+SymPy comes in only with :mod:`~eulersym.scene.symbolic` (the sleeping-top bound, turning points) and a model's own
 kernel when first emitted.
 
 Conventions (as everywhere in eulersym). The attitude is the unit quaternion q = (q0, q1, q2, q3), scalar first,

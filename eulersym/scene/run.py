@@ -3,7 +3,7 @@ regime needs it, prepare the problem, run the method the plan chose (:func:`eule
 derive what the motion's start determines, and build the :class:`Result`.
 
 Data flows one way: scene (a model, its facts) → plan → problem → method → result (SymPy only inside
-:mod:`eulersym.scene.derive` and when a model's kernel is first emitted).
+:mod:`eulersym.scene.symbolic` and when a model's kernel is first emitted).
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ import time
 import numpy as np
 
 from eulersym.errors import InvalidInput
-from eulersym.scene import chunked, cost, derive, model_kernel
+from eulersym.scene import chunked, cost, model_kernel, symbolic
 from eulersym.scene.plan import make_plan
 from eulersym.scene.problem import prepare
 from eulersym.scene.progress import Progress
@@ -79,7 +79,7 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     problem = prepare(scene, plan, kernel=kernel)
     bound = None
     if "top.sleeping_top_threshold" in plan.derive:
-        bound = derive.sleeping_threshold(problem.moments, problem.mass, problem.g, problem.l, record)
+        bound = symbolic.sleeping_threshold(problem.moments, problem.mass, problem.g, problem.l, record)
     timings["derive"] = time.perf_counter() - clock
     bar.stage("derived", 0.1)
 
@@ -103,7 +103,7 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         clock = time.perf_counter()
         start = (traj.omega[0, 0], traj.gamma[0, 0], traj.q[0, 0]) if traj is not None else (
             problem.omega0[0], problem.gamma0[0], problem.q0[0])
-        turning = derive.turning_points(problem.moments[0], problem.mass[0], problem.g[0], problem.l[0], *start,
+        turning = symbolic.turning_points(problem.moments[0], problem.mass[0], problem.g[0], problem.l[0], *start,
                                         record)
         timings["derive"] += time.perf_counter() - clock
 
@@ -155,7 +155,7 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
 
 def _turning_angles(u) -> tuple:
     """(θ1, θ2) = (arccos u2, arccos u1) in radians from the turning points ``u = (u1, u2)``, u1 ≤ u2, clipped to
-    [−1, 1] as :func:`eulersym.scene.derive.turning_points` clips them.
+    [−1, 1] as :func:`eulersym.scene.symbolic.turning_points` clips them.
 
     Examples
     --------

@@ -1,4 +1,5 @@
-"""The derivations a scene may need — the only place of :mod:`eulersym.scene` where SymPy may come in.
+"""The symbolic derivations a scene may need (the sleeping-top bound, the turning points) — the only place of
+:mod:`eulersym.scene` where SymPy may come in.
 
 Each function records, in the list ``record`` it is given, the name of the derivation that ran
 (``top.sleeping_top_threshold``, ``top.turning_points``), so a run reports exactly what was derived. The symbolic
