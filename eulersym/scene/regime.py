@@ -99,7 +99,8 @@ def principal_axes(tensor) -> tuple:
     >>> m.tolist(), round(float(np.linalg.det(P)), 12)
     ([1.0, 2.5, 3.0], 1.0)
     """
-    moments, Q = np.linalg.eigh(np.asarray(tensor, dtype=float))
+    T = np.asarray(tensor, dtype=float)
+    moments, Q = np.linalg.eigh((T + T.T) / 2)  # symmetric to the bit, as inertia.principal_axes makes it
     for col in (0, 1):
         if Q[np.argmax(np.abs(Q[:, col])), col] < 0:
             Q[:, col] = -Q[:, col]
