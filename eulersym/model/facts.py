@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 from dataclasses import dataclass
 from typing import Any, Mapping
 
@@ -248,10 +249,14 @@ def _numeric(expr, values: Mapping):
 
 def _column(x, batch: int) -> np.ndarray:
     """A float or an array as an array (batch,)."""
+    if isinstance(x, float):  # a number (the common case): one member, or the same for all
+        return np.array([x]) if batch == 1 else np.full(batch, x)
     return np.broadcast_to(np.asarray(x, dtype=float), (batch,)).copy() if np.ndim(x) else np.full(batch, float(x))
 
 
 def _positive(key: str, raw, x, batch: int, what: str = "a positive number", zero: bool = False) -> np.ndarray:
+    if isinstance(x, float) and math.isfinite(x) and (x >= 0 if zero else x > 0):  # a valid number: no array check
+        return _column(x, batch)
     values = _column(x, batch)
     bad = ~np.isfinite(values) | ((values < 0) if zero else (values <= 0))
     if bad.any():
@@ -378,7 +383,10 @@ def facts(data: dict, values: Mapping | None = None, batch: int | None = None) -
         given = "moments" if "moments" in body else "tensor"
         if given == "moments":
             entries = [_column(x, batch) for x in reader.vector("body.moments", body["moments"])]
-            validation.moments("body.moments", np.stack(entries, axis=1), shown=body["moments"])
+            if batch == 1:  # one body: the check on floats
+                validation.moments("body.moments", tuple(float(e[0]) for e in entries), shown=body["moments"])
+            else:
+                validation.moments("body.moments", np.stack(entries, axis=1), shown=body["moments"])
             tensor = _diagonal(entries, batch)
         else:
             tensor = _matrix(reader, "body.tensor", body["tensor"], batch)
