@@ -18,7 +18,7 @@ from typing import Mapping
 import numpy as np
 
 from eulersym.errors import InvalidInput
-from eulersym.numerics.methods import Problem, choose, classify_moments, symmetric_about_axis3, tolerances
+from eulersym.numerics.methods import Problem, choose, classify_moments, tolerances, worth_saying
 from eulersym.numerics.methods import SPLITTING_ACCURACY, _base
 from eulersym.scene import model_kernel
 from eulersym.scene.regime import heavy_top_frame
@@ -89,7 +89,8 @@ class Plan:
         The function that does the work (e.g. 'free_rigid_body_exact', 'batched').
     options : mapping
         What the driver needs: ``options["engine"]`` names the method of :data:`eulersym.numerics.methods.METHODS`
-        that gets the motion; ``ivp_method``, ``module``, ``turning`` where they apply.
+        that gets the motion; ``options["declined"]`` maps each method before it to why it did not apply (the
+        closed forms' reasons are also skip lines); ``ivp_method``, ``module``, ``turning`` where they apply.
 
     Examples
     --------
@@ -264,10 +265,11 @@ def make_plan(scene, kernel=None) -> Plan:
     # ---- the motion: the first method that applies ------------------------------------------------------------------------
     problem = head(scene, propagate, kernel if kernel is not None else _cached_kernel(scene))
     method, declined = choose(problem)
+    said_no = worth_saying(problem, declined)
     if scene.method == "closed-form" and not method.closed_form:
-        why = declined[0][1] if declined else f"none for the regime {kind!r}"
+        why = said_no[0][1] if said_no else f"none for the regime {kind!r}"
         raise InvalidInput("method", "closed-form", f"an integrator ('auto', 'DOP853', 'splitting', ...): {why}")
-    for other, why in declined:
+    for other, why in said_no:
         skipped.append(Step("skip", "closed form", why))
     said = method.explain(problem)
     if kind == "heavy top" and not method.closed_form:
@@ -279,6 +281,7 @@ def make_plan(scene, kernel=None) -> Plan:
     options.update(said.options)
     options["engine"] = method.name
     options["call"] = said.runner
+    options["declined"] = {other.name: why for other, why in declined}  # every method before it, and why not
     propagate = said.propagate or propagate
     if kind == "torque-free" and not wants_attitude and "attitude" not in propagate:
         skipped.append(Step("skip", "attitude propagation",

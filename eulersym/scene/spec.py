@@ -602,7 +602,8 @@ class Scene:
         """
         if self.regime == "model":  # its plan reads the kernel cache on disk: made anew each time
             return make_plan(self)
-        return dataclasses.replace(self._plan, options=dict(self._plan.options))  # a caller's change stays its own
+        options = {k: dict(v) if isinstance(v, dict) else v for k, v in self._plan.options.items()}
+        return dataclasses.replace(self._plan, options=options)  # a caller's change stays its own
 
     @functools.cached_property
     def _plan(self) -> Plan:

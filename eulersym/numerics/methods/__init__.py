@@ -5,8 +5,8 @@ The model is ``scipy.integrate``: ``OdeSolver`` (one class per method, its facts
 how a plan describes it, what it costs (:class:`Cost`, read by :mod:`eulersym.sweeps.cost`), and runs a prepared
 problem into one batch-first :class:`~eulersym.numerics.trajectory.Trajectory`. :data:`METHODS` lists them in order
 of preference — exact before integrated, geometric where asked for, a step per member before a shared one, many
-members before one — so a plan is :func:`choose`: the first method that applies; every method before it that is
-worth a word (a closed form) says why it did not. :func:`solve` runs the chosen one; members a closed form refuses
+members before one — so a plan is :func:`choose`: the first method that applies, with every method before it and
+why it did not (the plan prints those worth a word, :func:`worth_saying`: a closed form's). :func:`solve` runs the chosen one; members a closed form refuses
 (:class:`~eulersym.errors.SingularConfiguration`) go to its fallback one by one. A run that fails raises
 :class:`~eulersym.errors.IntegrationFailed`.
 
@@ -71,6 +71,7 @@ __all__ = [
     "Explanation",
     "get",
     "choose",
+    "worth_saying",
     "solve",
     "costs",
     "tolerances",
@@ -121,8 +122,8 @@ def get(name: str) -> Method:
 
 def choose(problem: Problem) -> tuple:
     """``(method, declined)``: the first method of :data:`METHODS` that applies to ``problem``, and ``((method,
-    reason), ...)`` for the methods before it that serve the problem's regime, did not apply, and say so
-    (:attr:`Method.announce`: the closed forms). Pure: runs nothing.
+    reason), ...)`` for every method before it, each with why it did not apply. Pure: runs nothing. (A plan prints
+    the reasons worth a line: :func:`worth_saying`.)
 
     Examples
     --------
@@ -131,7 +132,7 @@ def choose(problem: Problem) -> tuple:
     ...             moments=np.array([[1.0, 1.5, 0.5]]), axes=np.eye(3), mass=np.ones(1), g=np.full(1, 9.81),
     ...             l=np.full(1, 0.1))
     >>> method, declined = choose(p)
-    >>> method.name, [(m.name, why[:7]) for m, why in declined]
+    >>> method.name, [(m.name, why[:7]) for m, why in worth_saying(p, declined)]
     ('ivp', [('heavy_top_exact', 'I1 ≠ I2')])
     """
     declined = []
@@ -139,9 +140,20 @@ def choose(problem: Problem) -> tuple:
         why = method.applies(problem)
         if why is None:
             return method, tuple(declined)
-        if method.announce and problem.regime in method.regimes:
-            declined.append((method, why))
+        declined.append((method, why))
     raise InvalidInput("problem", problem.regime, "a problem some method applies to")  # SolveIVP takes any one member
+
+
+def worth_saying(problem: Problem, declined) -> tuple:
+    """The declines a plan prints as skip lines: those of the methods that announce them (:attr:`Method.announce`:
+    the closed forms — "why was it integrated?") and serve the problem's regime.
+
+    Examples
+    --------
+    >>> worth_saying(None, ())
+    ()
+    """
+    return tuple((m, why) for m, why in declined if m.announce and problem.regime in m.regimes)
 
 
 def solve(problem: Problem, name: str, *, progress=None) -> tuple:
