@@ -189,6 +189,10 @@ class Scene:
     Any number of the start (and the body's moments, mass, l, g and torque) may be a list or ``{start, stop, num}``
     range: a sweep (see :class:`Sweep`).
 
+    A scene is frozen: ``dataclasses.replace(scene, t_end=..., omega=...)`` builds a validated new one that keeps the
+    model; to change the body, give a new ``model=`` (or build the scene anew from the keywords). The body's keywords
+    read back as properties (``scene.moments``, ``scene.mass``, ``scene.l``...) from the model.
+
     Examples
     --------
     >>> Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1).regime
