@@ -1,8 +1,8 @@
 """The batched adaptive integrator: Dormand–Prince 8(5,3) (scipy's tableau) over many members at once, one step
 size shared by a chunk of members, the state first and the batch after (the layout of the batched kernels).
 
-Imports ``scipy.integrate`` (for the tableau): only the engines that integrate import this module, when they run.
-Extension point: chunking, streaming and distributed execution of sweeps wrap :func:`dop853_batched`.
+Imports ``scipy.integrate`` (for the tableau): only the methods that integrate import this module, when they run
+(:class:`eulersym.numerics.methods.BatchedDOP853`). Chunking, streaming and distributed execution of sweeps wrap it.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import DOP853
 
-from eulersym.errors import InvalidInput
+from eulersym.errors import IntegrationFailed
 
 __all__ = ["dop853_batched"]
 
@@ -160,7 +160,8 @@ def _dop853_chunk(fun, y0, t_eval, rtol, atol, Y, progress):
                 norms = np.where(denom > 0, h_use * e5 / np.sqrt(denom * n), 0.0)
             err = float(np.max(norms)) if norms.size else 0.0
             if not np.isfinite(err):
-                raise InvalidInput("scene", "sweep", "a sweep whose members stay finite (a member's state overflowed)")
+                raise IntegrationFailed("batched_dop853", "a member's state overflowed (not finite)",
+                                        "members whose motion stays finite: smaller rates or a shorter t_end")
             if err < 1:
                 factor = 10.0 if err == 0 else min(10.0, 0.9 * err ** exponent)
                 t = target if h_use == target - t else t + h_use
@@ -169,7 +170,8 @@ def _dop853_chunk(fun, y0, t_eval, rtol, atol, Y, progress):
             else:
                 h = h_use * max(0.2, 0.9 * err ** exponent)
                 if h < 1e-14 * max(1.0, abs(t)):
-                    raise InvalidInput("accuracy", rtol, "an accuracy the batched integrator can reach (the step size underflowed)")
+                    raise IntegrationFailed("batched_dop853", f"the step size underflowed at t = {t:g} (rtol = {rtol:g})",
+                                            "a looser accuracy")
         Y[i] = y
         if progress is not None:
             progress(i / (m - 1))

@@ -1,6 +1,6 @@
 """Dormand–Prince 8(5,3) compiled by numba, one heavy top per iteration of a ``prange`` loop over members.
 
-Scipy's DOP853 tableau, error norm and step control, as :func:`eulersym.scene.dop853.dop853_batched` uses them,
+Scipy's DOP853 tableau, error norm and step control, as :func:`~eulersym.numerics.methods._batched_dop853.dop853_batched` uses them,
 but each member adapts its own step, clipped to land on the output times; a member's numbers depend on its own
 start only (chunks and Dask workers give the same bits). The right-hand side is the generated flat kernel
 ``eulersym.generated.heavy_top_euler_poisson.rhs_flat`` (y = ω, Γ, q; parameters I1, I2, I3, M, g, l), inlined
@@ -21,7 +21,7 @@ asymmetric top, one thread: 74 ns per kernel call before, ~30 ns now (~1500 floa
 ~1.7 per cycle: near this CPU's scalar limit; interleaving two members in one loop gained 6 %, not kept).
 
 A member that overflows returns −1 (its start, a stage or its new state not finite), one whose tolerance no step
-can meet −2 (the engine turns both into :class:`eulersym.errors.InvalidInput`).
+can meet −2 (:class:`eulersym.numerics.methods.CompiledDOP853` raises :class:`eulersym.errors.IntegrationFailed`).
 
 Examples
 --------

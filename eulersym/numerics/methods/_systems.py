@@ -1,21 +1,20 @@
 """A problem's equations of motion as one batched ODE system over the committed kernels
-(``eulersym.generated.*``): the right-hand side, the initial state (state first, batch after), the parameters per
-member, and how the state splits back into ω, q and Γ. Used by the integrating engines.
+(``eulersym.generated.*``) or a model's own kernel: the right-hand side, the initial state (state first, batch
+after), the parameters per member, and how the state splits back into ω, q and Γ. Used by the integrating methods.
 
-Frames: everything in the principal frame of the :class:`~eulersym.scene.problem.Problem`.
+Frames: everything in the principal frame of the :class:`~eulersym.numerics.methods.Problem` (a model's own kernel:
+the model frame).
 """
 
 from __future__ import annotations
 
-import importlib
 from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
 
 from eulersym import quaternion as _quaternion
-from eulersym.scene.frames import rotate_to_body
-from eulersym.scene.trajectory import Trajectory
+from eulersym.numerics.trajectory import Trajectory
 
 __all__ = ["System", "system", "model_state", "model_system"]
 
@@ -38,10 +37,10 @@ class System:
 
     Examples
     --------
-    >>> from eulersym.scene import Scene
-    >>> from eulersym.scene.problem import member_moments, prepare
-    >>> scene = Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1, method="DOP853", outputs=("omega",))
-    >>> s = system(prepare(scene, scene.plan(), member_moments(scene), np.eye(3)))
+    >>> from eulersym.numerics.methods import Problem
+    >>> s = system(Problem(name="p", regime="torque-free", t=np.linspace(0, 1, 3), batch=1, members={},
+    ...                    moments=np.array([[1.0, 2.0, 3.0]]), axes=np.eye(3), omega0=np.array([[0.0, 1.0, 0.0]]),
+    ...                    q0=np.array([[1.0, 0, 0, 0]]), gamma0=np.array([[0.0, 0, 1]])))
     >>> s.layout, s.y0.shape
     ('omega', (3, 1))
     """
@@ -53,20 +52,28 @@ class System:
     layout: str = "omega"
     normalize_q: bool = True
 
-    def trajectory(self, Y: np.ndarray, n_calls: int) -> Trajectory:
-        """A :class:`Trajectory` from the integrated states ``Y`` (n_times, n_state, batch)."""
+    def trajectory(self, t: np.ndarray, Y: np.ndarray, n_calls: int, method: str = "") -> Trajectory:
+        """A batch-first :class:`Trajectory` at times ``t`` from the integrated states ``Y`` (n_times, n_state,
+        batch)."""
         Y = np.moveaxis(Y, (0, 1, 2), (1, 2, 0))  # (batch, n, state)
         if self.layout == "omega":
-            return Trajectory(Y, None, None, n_calls)
+            return Trajectory(t=t, omega=Y, n_rhs_calls=n_calls, method=method)
         if self.layout == "omega+q":
             q = _quaternion.normalize(Y[..., 3:7]) if self.normalize_q else Y[..., 3:7]
-            return Trajectory(Y[..., :3], q, None, n_calls)
+            return Trajectory(t=t, omega=Y[..., :3], q=q, n_rhs_calls=n_calls, method=method)
         q = _quaternion.normalize(Y[..., 6:10]) if self.normalize_q else Y[..., 6:10]
-        return Trajectory(Y[..., :3], q, Y[..., 3:6], n_calls)
+        return Trajectory(t=t, omega=Y[..., :3], q=q, gamma=Y[..., 3:6], n_rhs_calls=n_calls, method=method)
 
 
 def _kernel(name: str):
-    return importlib.import_module(f"eulersym.generated.{name}")
+    """The committed kernel module ``eulersym.generated.<name>`` (imported when a system needs it)."""
+    if name == "free_body_quaternion":
+        from eulersym.generated import free_body_quaternion as module
+    elif name == "euler_principal":
+        from eulersym.generated import euler_principal as module
+    else:
+        from eulersym.generated import heavy_top_euler_poisson as module
+    return module
 
 
 def system(problem) -> System:
@@ -100,8 +107,8 @@ def _torqued(problem, I) -> System:
         return System(euler.rhs_batched, problem.omega0.T, params)
     free = _kernel("free_body_quaternion")
 
-    def fun(tt, y, I1, I2, I3, N1, N2, N3):  # y (7, batch)
-        torque = rotate_to_body(y[3:7], np.stack([N1, N2, N3])) if space else (N1, N2, N3)
+    def fun(tt, y, I1, I2, I3, N1, N2, N3):  # y (7, batch); a space-fixed torque turned to body components
+        torque = _quaternion.rotate_back(y[3], y[4], y[5], y[6], N1, N2, N3) if space else (N1, N2, N3)
         dw = euler.rhs_batched(tt, y[:3], I1, I2, I3, torque[0], torque[1], torque[2])
         dq = free.rhs_batched(tt, y, I1, I2, I3)[3:7]
         return np.concatenate([dw, dq], axis=0)
