@@ -19,7 +19,6 @@ PACKAGE = Path(eulersym.scene.__file__).parent
 LAYERS = (
     "values", "regime", "cost", "catalog", "model_kernel", "rates", "plan", "spec", "frames", "symbolic", "problem",
     "progress", "result", "chunked", "run", "io", "cli", "__init__",
-    "engines",  # empty: kept while pyproject.toml lists it (see its docstring)
 )
 
 

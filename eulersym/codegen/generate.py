@@ -470,6 +470,8 @@ def cli(argv: list[str]) -> int:
         runs = [("numpy", root), ("c", None if root is None else root / "c")]
     else:
         runs = [(args.target, args.dir)]
+    # The committed artefacts as a whole: every kernel in its default place (then the shapes' file too).
+    committed = args.target is None and args.dir is None and names is None
     start = time.perf_counter()
     if args.check:
         problems, count = [], 0
@@ -479,6 +481,12 @@ def cli(argv: list[str]) -> int:
                 print(f"note: {note}")
             problems += report.problems
             count += len(render(names, target=target)[0])
+        if committed:  # the shapes' closed forms, derived by eulersym.inertia, are committed beside the kernels
+            from eulersym import shapes
+
+            count += 1
+            if shapes.write(check=True):
+                problems.append(f"eulersym/{shapes.MODULE} is stale; run `eulersym generate`")
         if problems:
             raise CheckFailed("; ".join(problems))
         print(f"check passed: {_plural(count, 'file')} match a fresh generation ({time.perf_counter() - start:.1f} s)")
@@ -492,5 +500,10 @@ def cli(argv: list[str]) -> int:
                 raise
             raise InvalidInput("--dir", exc.value, exc.expected) from None
         done.append(f"{_plural(len(written), 'file')} in {Path(written[0]).parent}")
+    if committed:
+        from eulersym import shapes
+
+        shapes.write()
+        done.append(f"eulersym/{shapes.MODULE}")
     print(f"generated {' and '.join(done)} ({time.perf_counter() - start:.1f} s)")
     return 0
