@@ -33,6 +33,7 @@ __version__ = "0.1.0"
 _SUBMODULES = (
     "errors",
     "symbols",
+    "attitude",
     "quaternion",
     "rotation",
     "kinematics",
@@ -47,6 +48,8 @@ _SUBMODULES = (
     "numerics",
     "model",
     "scene",
+    "figures",
+    "animation",
     "generated",
 )
 

@@ -34,13 +34,14 @@ Examples
 from __future__ import annotations
 
 import functools
-import importlib
 from dataclasses import dataclass
 from typing import Callable
 
 import sympy as sp
 
+from eulersym import dynamics, kinematics, rotation
 from eulersym import symbols as S
+from eulersym import top as top_module
 from eulersym.codegen.emitter import Argument, FunctionSpec, ModuleSpec
 from eulersym.errors import InvalidInput
 
@@ -184,9 +185,14 @@ def _full_tensor():
     return sp.Matrix([[I11, I12, I13], [I12, I22, I23], [I13, I23, I33]])
 
 
+#: The derivation modules the catalogue draws on, by name (imported as themselves, so the graph shows them).
+_DERIVATIONS = {"eulersym.dynamics": dynamics, "eulersym.kinematics": kinematics, "eulersym.rotation": rotation,
+                "eulersym.top": top_module}
+
+
 def _call(target: str):
     module, name = target.split(":")
-    return getattr(importlib.import_module(module), name)
+    return getattr(_DERIVATIONS[module], name)
 
 
 def _ode(name, description, source, state, params, rhs, invariants=None, invariant_names=(), notes=(), singular=(),
@@ -276,7 +282,7 @@ def _build_free_body_quaternion() -> ModuleSpec:
 
 
 def _build_heavy_top_euler_angles() -> ModuleSpec:
-    top = importlib.import_module("eulersym.top")
+    top = top_module
     eqs = [freeze_state(_residual(e), _ANGLES) for e in top.equations_of_motion()]
     accelerations = first_order(eqs, ACCELERATIONS)
     p_phi, p_psi = top.conserved_momenta()
@@ -298,7 +304,6 @@ def _build_heavy_top_euler_angles() -> ModuleSpec:
 
 
 def _build_heavy_top_euler_poisson() -> ModuleSpec:
-    dynamics = importlib.import_module("eulersym.dynamics")
     omega_dot, gamma_dot = dynamics.euler_poisson_equations()
     frozen = {**_OMEGA, **_GAMMA}
     rates = [freeze_state(e, frozen) for m in (omega_dot, gamma_dot) for e in m]
@@ -377,11 +382,8 @@ def available(name: str) -> tuple[bool, str]:
         raise InvalidInput("name", name, "one of " + ", ".join(CATALOGUE))
     for target in CATALOGUE[name].requires:
         module, func = target.split(":")
-        try:
-            mod = importlib.import_module(module)
-        except ImportError as exc:
-            return False, f"its derivation {module}.{func} is not available ({exc})"
-        if not hasattr(mod, func):
+        mod = _DERIVATIONS.get(module)
+        if mod is None or not hasattr(mod, func):
             return False, f"its derivation {module}.{func} is not available (not defined yet)"
     return True, ""
 

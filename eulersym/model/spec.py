@@ -68,6 +68,7 @@ from functools import cached_property
 from pathlib import Path
 from typing import Any, Mapping
 
+from eulersym.attitude import SEQUENCES
 from eulersym.errors import InvalidInput
 from eulersym.validation import GENERATED_CODE_NAMES
 from eulersym.model import names as N
@@ -83,7 +84,7 @@ SCENE_KEYS = ("description", "initial", "time", "output")
 #: Gravity when a ``[pivot]`` gives no ``g``.
 DEFAULT_G = 9.81
 #: Euler / Tait–Bryan sequences an orientation may name (as :func:`eulersym.rotation.euler_matrix`).
-CONVENTIONS = ("zxz", "xyx", "yzy", "zyz", "xzx", "yxy", "xyz", "yzx", "zxy", "xzy", "zyx", "yxz")
+CONVENTIONS = SEQUENCES
 #: Limits that keep a model's work bounded.
 MAX_PARTS = 256
 MAX_PARAMETERS = 256

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 
 from eulersym.errors import InvalidInput
@@ -83,11 +84,16 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _parser() -> argparse.ArgumentParser:
+    from eulersym.figures import FIGURES  # the figures' package reads results: imported when a command runs
+
     p = _Parser(prog="eulersym simulate", description="Run a scene: a TOML file or a bundled scene's name.")
     p.add_argument("scene", nargs="?", metavar="SCENE", help="a TOML file or a bundled name (see --list)")
     p.add_argument("--explain", action="store_true", help="print the plan (what is derived, integrated, skipped, and why) and stop")
     p.add_argument("-o", "--output", metavar="OUT", help="write the result to OUT.npz or OUT.csv")
-    p.add_argument("--plot", metavar="PNG", help="plot to PNG (needs the plot extra: matplotlib)")
+    p.add_argument("--plot", metavar="PNG", help="draw the figures that fit the scene: PNG (PDF, SVG) and beside it "
+                   "(needs the plot extra: matplotlib)")
+    p.add_argument("--figure", metavar="NAME", choices=tuple(FIGURES),
+                   help="with --plot: draw this figure only, one of " + ", ".join(FIGURES))
     p.add_argument("--list", action="store_true", help="list the bundled scenes and where their TOML files are")
     p.add_argument("--template", action="store_true", help="print an annotated scene file to start from")
     p.add_argument("--memory-budget", metavar="SIZE", help='refuse beyond this memory, e.g. "4 GiB" (default: the '
@@ -97,6 +103,10 @@ def _parser() -> argparse.ArgumentParser:
     where.add_argument("--workers", metavar="N", type=_count, help="run a sweep's chunks on a local Dask cluster of N processes (the dask extra)")
     where.add_argument("--scheduler", metavar="ADDRESS", help="run a sweep's chunks on the Dask cluster at ADDRESS (tcp://host:8786)")
     return p
+
+
+#: The figures drawn from the attitude: --figure with one of them makes the run keep it.
+_NEEDS_ATTITUDE = ("axis-path", "poinsot")
 
 
 def _count(text: str) -> int:
@@ -137,6 +147,11 @@ def cli(argv: list) -> int:
         raise InvalidInput("SCENE", None, "a TOML file or a bundled scene name (eulersym simulate --list), or "
                                           "--template")
     scene = load(args.scene)
+    if args.figure is not None:
+        if not args.plot:
+            raise InvalidInput("--figure", args.figure, "--plot FILE as well (the file the figure is drawn into)")
+        if args.figure in _NEEDS_ATTITUDE and "attitude" not in scene.outputs and "summary" not in scene.outputs:
+            scene = dataclasses.replace(scene, outputs=(*scene.outputs, "attitude"))  # drawn from the attitude
     memory, work = cost.budgets(scene, args.memory_budget, args.work_budget)
     if args.explain:
         _explain(scene, memory, work)
@@ -160,8 +175,7 @@ def cli(argv: list) -> int:
     if args.output:
         print("wrote " + " and ".join(save(result, args.output)))
     if args.plot:
-        plot(result, args.plot)
-        print(f"wrote {args.plot}")
+        print("wrote " + " and ".join(plot(result, args.plot, figure=args.figure)))
     return 0
 
 

@@ -92,6 +92,28 @@ class Result:
     gamma: np.ndarray | None = None
     turning_points: tuple | None = None
     summary: Mapping = field(default_factory=dict)
+    scene: object = field(default=None, repr=False, compare=False)
+
+    def animate(self, path: str, **options) -> str:
+        """Write an animation of this run to ``path`` (``.gif``, ``.mp4`` or a self-contained ``.html``); return it.
+
+        :func:`eulersym.animation.animate` with this run's scene; ``options``: ``seconds``, ``fps``, ``size``,
+        ``member``. Frames come from the run's own output times (the run needs its attitude:
+        ``want = ["attitude", ...]``).
+
+        Examples
+        --------
+        >>> import os, tempfile
+        >>> from eulersym.scene import Scene, simulate
+        >>> run = simulate(Scene(moments=(1, 2, 3), omega=(0.1, 1, 0), t_end=2, points=41,
+        ...                      outputs=("omega", "attitude")))
+        >>> path = run.animate(os.path.join(tempfile.mkdtemp(), "spin.html"))
+        >>> open(path, encoding="utf-8").read(15)
+        '<!DOCTYPE html>'
+        """
+        from eulersym.animation import animate
+
+        return animate(self, path, scene=self.scene, **options)
 
     def report(self) -> str:
         """A short text report: the plan, the invariants' drift, the timings and notes.

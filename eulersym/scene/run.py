@@ -148,6 +148,7 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         n_rhs_calls=int(out["n_calls"] if streamed else traj.n_rhs_calls),
         notes=tuple(out["notes"]),
         turning_points=out["turning_points"],
+        scene=scene,
         gamma=_gamma(scene, plan, traj, out, squeeze),
         summary=out.get("summary", {}),
     )

@@ -50,6 +50,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from eulersym import shapes as _shapes, validation
+from eulersym.attitude import SEQUENCES
 from eulersym.errors import InvalidInput
 from eulersym.model.spec import MODEL_SECTIONS, Model
 from eulersym.scene.catalog import bundled
@@ -72,7 +73,7 @@ SHAPES = dict(_shapes.SHAPES)
 #: Shapes that take an ``origin`` and its valid values (first = default; :data:`eulersym.shapes.SHAPE_ORIGINS`).
 SHAPE_ORIGINS = dict(_shapes.SHAPE_ORIGINS)
 #: Euler / Tait–Bryan sequences (lower case: the text's passive, body-fixed sequence; A = A3(c) A2(b) A1(a)).
-CONVENTIONS = ("zxz", "xyx", "yzy", "zyz", "xzx", "yxy", "xyz", "yzx", "zxy", "xzy", "zyx", "yxz")
+CONVENTIONS = SEQUENCES
 #: Accuracies the plan accepts (relative error wanted on the outputs).
 ACCURACY_RANGE = (1e-13, 1e-1)
 #: TOML sections of a scene that are not the model's (a scene file is a model file plus these).
