@@ -53,11 +53,12 @@ from eulersym.numerics.methods._base import (
     symmetric_about_axis3,
     tolerances,
 )
-from eulersym.numerics.methods._free_body import FreeBodyClosedForm, FreeBodySplitting
-from eulersym.numerics.methods._heavy_top import (
+from eulersym.numerics.methods._free_body import FreeBodyClosedForm
+from eulersym.numerics.methods._heavy_top import LagrangeTopClosedForm
+from eulersym.numerics.methods._splitting import (
     SPLITTING_ACCURACY,
+    FreeBodySplitting,
     HeavyTopSplitting,
-    LagrangeTopClosedForm,
     PivotedSplitting,
 )
 from eulersym.numerics.methods._integrators import BatchedDOP853, CompiledDOP853, SolveIVP

@@ -1,5 +1,4 @@
-"""The torque-free body: its closed form (Jacobi's elliptic functions, or trigonometric for a symmetric top) and its
-fourth-order Moser–Veselov splitting with modified moments."""
+"""The torque-free body in closed form (Jacobi's elliptic functions, or trigonometric for a symmetric top)."""
 
 from __future__ import annotations
 
@@ -8,13 +7,11 @@ import numpy as np
 from eulersym.numerics.methods._base import Cost, Explanation, Method, Problem, classify_moments
 from eulersym.numerics.trajectory import Trajectory
 
-__all__ = ["FreeBodyClosedForm", "FreeBodySplitting", "CLOSED_FORM_COST", "YOSHIDA4_COST", "splitting_step"]
+__all__ = ["FreeBodyClosedForm", "CLOSED_FORM_COST"]
 
 #: A closed form holds ~15 kB per member while it evaluates (measured with tracemalloc on the heavy top's).
 CLOSED_FORM_COST = Cost("closed-form", order=0, stages=1, constant=1.0, working=110, grain=1,
                         seconds_per_evaluation=4e-7)
-#: The fourth-order splittings (Yoshida's composition; the free body's DMV4 costs the same per step).
-YOSHIDA4_COST = Cost("yoshida4", order=4, stages=3, constant=0.6, working=8, grain=1, seconds_per_evaluation=6e-9)
 
 _KINDS = {"spherical": "constant", "symmetric": "trigonometric", "asymmetric": "elliptic"}
 _WHY = {
@@ -83,53 +80,3 @@ class FreeBodyClosedForm(Method):
             if progress is not None and batch > 1:
                 progress((b + 1) / batch)
         return Trajectory(t=problem.t, omega=omega, q=q, method=self.name, message="closed form")
-
-
-def splitting_step(I, omega0, t, accuracy: float) -> float:
-    """Step for the 4th-order splitting: (Ω h)^4 ≈ accuracy, Ω = |ω0| · max|I_j − I_k| / min I, rounded so whole
-    steps fit between output times.
-
-    Examples
-    --------
-    >>> splitting_step((1.0, 2.0, 3.0), (0.0, 1.0, 0.0), np.linspace(0, 1, 11), 1e-8)
-    0.005
-    """
-    spread = (max(I) - min(I)) / min(I)
-    rate = max(np.linalg.norm(omega0) * max(spread, 1e-3), 1e-12)
-    dt = t[1] - t[0]
-    h = min(dt, accuracy ** 0.25 / rate)
-    return float(dt / np.ceil(dt / h))
-
-
-class FreeBodySplitting(Method):
-    """One torque-free member by the fourth-order Moser–Veselov splitting with modified moments
-    (:func:`eulersym.numerics.integrate_free_body`, method 'dmv4'): |L| conserved to round-off, energy bounded."""
-
-    name = "free_body_splitting"
-    cost = YOSHIDA4_COST
-    regimes = ("torque-free",)
-
-    def applies(self, problem: Problem) -> str | None:
-        if problem.regime != "torque-free":
-            return "a torque acts on the body"
-        if problem.method != "splitting":
-            return "not asked for (method 'splitting')"
-        if problem.batch > 1:
-            return "one member at a time (a sweep runs on the batched DOP853 path)"
-        return None
-
-    def explain(self, problem: Problem) -> Explanation:
-        return Explanation(
-            engine="integrate: splitting (Moser–Veselov, modified moments, order 4)",
-            steps=(("integrate", "eulersym.numerics.integrate_free_body(method='dmv4')",
-                    "asked for: geometric, |L| conserved to round-off, energy bounded"),),
-            runner="integrate_free_body", propagate=("omega", "attitude"))
-
-    def run(self, problem: Problem, *, progress=None) -> Trajectory:
-        from eulersym.numerics.splitting import integrate_free_body
-
-        I = tuple(problem.moments[0])
-        h = splitting_step(I, problem.omega0[0], problem.t, problem.accuracy)
-        traj = integrate_free_body(I, problem.omega0[0], problem.q0[0], problem.t, method="dmv4", h=h)
-        return Trajectory(t=problem.t, omega=traj.omega[None], q=traj.q[None] if traj.q is not None else None,
-                          n_rhs_calls=traj.n_rhs_calls, method=self.name, message=f"splitting dmv4, h = {h:g}")
