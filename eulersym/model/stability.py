@@ -107,13 +107,19 @@ def _is_positive(expr, positive) -> bool:
     return view.is_positive is True
 
 
-def _factor_sign(f, positive) -> tuple:
+def _factor_sign(f, positive, deep: bool = True) -> tuple:
     """``(sign, strict)`` of a factor when it is known — a positive parameter's expression ``(+1, True)``, its
-    negative ``(-1, True)``, ``1 ± cos x`` ``(+1, False)``, ``cos x − 1`` ``(-1, False)`` — else ``(0, False)``."""
+    negative ``(-1, True)``, ``1 ± cos x`` ``(+1, False)``, ``cos x − 1`` ``(-1, False)``, a manifestly
+    non-negative quadratic form ``(+1, False)`` — else ``(0, False)``."""
     if _is_positive(f, positive):
         return 1, True
     if _is_positive(-f, positive):
         return -1, True
+    if deep and f.free_symbols:
+        if _is_nonnegative(f, positive, depth=1):
+            return 1, False
+        if _is_nonnegative(-f, positive, depth=1):
+            return -1, False
     for trig in f.atoms(sp.cos, sp.sin):
         for sign in (1, -1):
             for offset in (1, -1):
@@ -140,7 +146,7 @@ def _is_nonnegative(expr, positive, depth: int = 0) -> bool:
     for f, k in factors:
         if k % 2 == 0:
             continue
-        fs, _ = _factor_sign(f, positive)
+        fs, _ = _factor_sign(f, positive, deep=False)
         if fs == 0:
             known = False
             break
@@ -273,7 +279,7 @@ def real_nonpositive_roots(coefficients, positive=frozenset()):
             H = _hermite_matrix(poly)
             for size in range(1, n + 1):
                 for rows in itertools.combinations(range(n), size):
-                    minor = H.extract(list(rows), list(rows)).det(method="berkowitz")
+                    minor = _det(H.extract(list(rows), list(rows)))
                     conds.append(_sign_condition(minor, positive, strict=False))
     return sp.And(*conds)
 
@@ -317,7 +323,7 @@ def hurwitz_conditions(coefficients, positive=frozenset()):
     H = sp.Matrix(n, n, lambda i, j: a(2 * (j + 1) - (i + 1)))
     conds = []
     for k in range(1, n + 1):
-        minor = sp.expand(H[:k, :k].det(method="berkowitz"))
+        minor = _det(H[:k, :k])
         if k == n and n > 1:
             # Δ_n = a_n Δ_{n-1}: with Δ_{n-1} > 0 the last condition is a_n > 0
             conds.append(_sign_condition(cs[n], positive, strict=True))
@@ -430,7 +436,7 @@ class Stability:
         --------
         >>> from eulersym.model.cli import load
         >>> from eulersym.model.steady import steady_motions
-        >>> st = steady_motions(load("free-body")).named("rotation about e2").stability()
+        >>> st = steady_motions(load("torque-free")).named("rotation about e2").stability()
         >>> st.eigenvalues({"s": 1.0}).round(6)          # ±ω0 √((I3 − I2)(I2 − I1)/(I1 I3)) = ±1/√3
         array([-0.57735+0.j,  0.57735+0.j])
         """
@@ -457,7 +463,7 @@ class Stability:
         --------
         >>> from eulersym.model.cli import load
         >>> from eulersym.model.steady import steady_motions
-        >>> [f.stability().classify({"s": 1.0}) for f in steady_motions(load("free-body"))]
+        >>> [f.stability().classify({"s": 1.0}) for f in steady_motions(load("torque-free"))]
         ['spectrally stable', 'unstable', 'spectrally stable']
         """
         point = self._point(values)
@@ -502,19 +508,20 @@ def _integrals(ctx, symmetries):
 
 
 def _numeric_rank(rows, point, dps: int = 40) -> int:
+    """The rank of a matrix of expressions at a point, from the eigenvalues of ``M Mᴴ`` at ``dps`` digits (an
+    eigenvalue below ``10^(−dps/2)`` of the largest counts as zero)."""
     import mpmath
 
+    if not rows:
+        return 0
     with mpmath.workdps(dps):
         M = mpmath.matrix([[mpmath.mpmathify(complex(sp.sympify(e).xreplace(point).evalf(dps))) for e in row]
-                           for row in rows]) if rows else None
-        if M is None:
+                           for row in rows])
+        ev = mpmath.eighe(M * M.H, eigvals_only=True)
+        big = max(abs(v) for v in ev)
+        if big == 0:
             return 0
-        M = M.T * M if M.rows > M.cols else M * M.T
-        n = M.rows
-        # rank from the eigenvalues of a Gram matrix (Hermitian, non-negative)
-        ev = mpmath.eighe(M.apply(lambda z: z) if False else (M + M.H) / 2, eigvals_only=True)
-        big = max(abs(v) for v in ev) if n else 0
-        return sum(1 for v in ev if abs(v) > big * mpmath.mpf(10) ** (-dps // 2))
+        return sum(1 for v in ev if abs(v) > big * mpmath.mpf(10) ** (-(dps // 2)))
 
 
 def _random_family_point(fam, chart_symbols, rng, tries: int = 50):
@@ -544,6 +551,67 @@ def _random_family_point(fam, chart_symbols, rng, tries: int = 50):
     return None
 
 
+class _NumericStability(Stability):
+    """The stability of a family without a closed form: decided member by member, at numbers, from the
+    eigenvalues of the linearisation at the member (30 digits), the trivial zero modes (the integrals' level sets)
+    removed. ``characteristic_polynomial`` is ``det(λ − J(x))`` in the state names, unreduced; ``conditions`` None."""
+
+    def _member(self, values):
+        fam = self.family
+        values = dict(values or {})
+        chosen = {k: values.pop(k) for k in list(values) if k in fam.state}
+        members = fam.members(values)
+        if not members:
+            raise InvalidInput("values", dict(values), f"numbers where {fam.name!r} has a member")
+        if chosen:
+            def distance(m):
+                return sum((m[k] - float(v)) ** 2 for k, v in chosen.items())
+            return min(members, key=distance), values
+        if len(members) > 1:
+            raise InvalidInput("values", dict(values), f"the state of one of the {len(members)} members of "
+                               f"{fam.name!r} at these numbers (e.g. omega2=...): "
+                               + "; ".join(", ".join(f"{k} = {v:.6g}" for k, v in m.items()) for m in members))
+        return members[0], values
+
+    def eigenvalues(self, values=None):
+        import mpmath
+        import numpy as np
+
+        member, rest = self._member(values)
+        fam = self.family
+        ctx = fam._context
+        point = fam.values(rest)
+        point.update({sp.Symbol(k, real=True): sp.Float(v, 30) for k, v in member.items()})
+        x = list(ctx.x)
+        J = sp.Matrix(ctx.f).jacobian(x).xreplace(point).evalf(30)
+        with mpmath.workdps(30):
+            ev = mpmath.eig(mpmath.matrix([[complex(e) for e in row] for row in J.tolist()]), left=False,
+                            right=False)
+        ev = sorted((complex(v) for v in ev), key=abs)
+        integrals = _integrals(ctx, [])
+        grads = [[sp.diff(H, s).xreplace(point) for s in x] for H in integrals.values()]
+        r = _numeric_rank(grads, {}) if grads else 0
+        out = np.array(ev[r:], dtype=complex)
+        return out[np.lexsort((out.imag, out.real))]
+
+    def classify(self, values=None) -> str:
+        roots = self.eigenvalues(values)
+        scale = 1.0 + (max(abs(roots)) if len(roots) else 0.0)
+        top = max(roots.real) if len(roots) else 0.0
+        if top < -1e-12 * scale:
+            return "asymptotically stable"
+        return "spectrally stable" if top <= 1e-12 * scale else "unstable"
+
+
+def _numeric_stability(fam: Family) -> Stability:
+    ctx = fam._context
+    x = list(ctx.x)
+    J = sp.Matrix(ctx.f).jacobian(x)
+    P = J.charpoly(LAM).as_expr()
+    return _NumericStability(fam, P, None, True, "numeric: the integrals' zero modes removed at each member", (),
+                             None, (P, None, ""), None)
+
+
 def stability(fam: Family) -> Stability:
     """The stability of a family (see the module docstring): characteristic polynomial, conditions, Lyapunov.
 
@@ -556,7 +624,7 @@ def stability(fam: Family) -> Stability:
     --------
     >>> from eulersym.model.cli import load
     >>> from eulersym.model.steady import steady_motions
-    >>> st = steady_motions(load("free-body")).named("rotation about e2").stability()
+    >>> st = steady_motions(load("torque-free")).named("rotation about e2").stability()
     >>> st.characteristic_polynomial
     lam**2 - s**2*(I1 - I2)*(I2 - I3)/(I1*I3)
     >>> st.conditions, st.lyapunov is None
@@ -569,6 +637,8 @@ def stability(fam: Family) -> Stability:
 
 @functools.lru_cache(maxsize=64)
 def _stability(fam: Family) -> Stability:
+    if not fam.closed_form:
+        return _numeric_stability(fam)
     ctx = fam._context
     mech = ctx.mech
     x = list(ctx.x)
@@ -604,10 +674,9 @@ def _stability(fam: Family) -> Stability:
         point[DRIFT] = drift
         chart_symbols = list(fam.family)
         back = {}
-    J0 = J.xreplace(point).applyfunc(_tidy)
+    J0 = J.xreplace(point).applyfunc(_cancel)
     N = len(x)
-    char = (LAM * sp.eye(N) - J0).det(method="berkowitz")
-    full = [_tidy(c) for c in sp.Poly(sp.expand(char), LAM).all_coeffs()]  # λ^N ... λ^0
+    full = [_cancel(c) for c in J0.charpoly(LAM).all_coeffs()]  # λ^N ... λ^0 (DomainMatrix: fast)
     # the trivial zero modes: integrals' gradients (left) and the orbit (right)
     rng = random.Random(5)
     integrals = _integrals(ctx, axes)
@@ -634,7 +703,7 @@ def _stability(fam: Family) -> Stability:
             k = vanish
         names = ", ".join(integrals) or "none"
         notes.append(f"λ^{k} divided out: the level sets of {names}" + (" and the orbit of the symmetry" if g else ""))
-    coeffs = [sp.factor(c) if not c.has(sp.sqrt) else c for c in full[:N - k + 1]]
+    coeffs = [_factor(c) for c in full[:N - k + 1]]
     n = len(coeffs) - 1
     P_chart = sum(c * LAM ** (n - i) for i, c in enumerate(coeffs))
     odd = [coeffs[i] for i in range(1, n + 1, 2)]
@@ -656,6 +725,37 @@ def _stability(fam: Family) -> Stability:
         readable = (_pretty_poly(coeffs), cond_chart, f"{u} = {value}")
     return Stability(fam, P, conditions, not even, "; ".join(notes), public_coeffs, chart, readable,
                      lyapunov_inputs)
+
+
+def _cancel(expr):
+    """One fraction, cancelled, with ``sin² θ = 1 − cos² θ`` (cheap: no factoring)."""
+    expr = sp.sympify(expr)
+    if expr.is_number:
+        return expr
+    num, den = sp.fraction(sp.cancel(sp.together(expr)))
+    if num.has(THETA) or den.has(THETA):
+        from eulersym.model.steady import _trig
+
+        num, den = _trig(sp.expand(num)), _trig(sp.expand(den))
+        return sp.cancel(num / den)
+    return num / den
+
+
+def _factor(expr):
+    expr = sp.sympify(expr)
+    if expr.is_number or expr.has(sp.sqrt):
+        return expr
+    return sp.factor(expr)
+
+
+def _det(M):
+    """A small symbolic determinant through SymPy's domain matrices (no expression simplification on the way)."""
+    if M.shape[0] == 0:
+        return sp.Integer(1)
+    from sympy.polys.matrices import DomainMatrix
+
+    dM = DomainMatrix.from_Matrix(M)
+    return dM.domain.to_sympy(dM.det())
 
 
 def _pretty_poly(coeffs):
@@ -710,7 +810,7 @@ def _lyapunov(fam, integrals, point, positive, axes, back, x):
     kappas = sp.symbols(f"kappa1:{len(free) + 1}", real=True) if free else ()
     rename = dict(zip(free, kappas))
     sol = {m: _tidy(sp.sympify(v).xreplace(rename)) for m, v in zip(mus, values)}
-    Hs = sp.hessian(H.xreplace(sol), x).xreplace(point).applyfunc(_tidy)
+    Hs = sp.hessian(H.xreplace(sol), x).xreplace(point).applyfunc(_cancel)
     rows = [[_tidy(sp.diff(C, s).xreplace(point)) for s in x] for C in Cs]
     if axes:
         orbit = [_tidy(e.xreplace(point)) for e in _generator_on_values(x, x, axes[0])]
@@ -722,9 +822,9 @@ def _lyapunov(fam, integrals, point, positive, axes, back, x):
     if not basis:
         return None
     B = sp.Matrix.hstack(*basis)
-    Rm = (B.T * Hs * B).applyfunc(_tidy)
+    Rm = (B.T * Hs * B).applyfunc(_cancel)
     n = Rm.shape[0]
-    minors = tuple(_tidy(Rm[:k, :k].det(method="berkowitz")) for k in range(1, n + 1))
+    minors = tuple(_factor(_cancel(_det(Rm[:k, :k]))) for k in range(1, n + 1))
     branches = []
     for signs in ([1] * n, [(-1) ** (k + 1) for k in range(n)]):
         branches.append(_definite(minors, signs, kappas, positive))

@@ -160,7 +160,7 @@ class Family:
         Examples
         --------
         >>> from eulersym.model.cli import load
-        >>> [f.stability().conditions for f in steady_motions(load("free-body"))][1]  # about the middle axis
+        >>> [f.stability().conditions for f in steady_motions(load("torque-free"))][1]  # about the middle axis
         Eq(s, 0)
         """
         from eulersym.model.stability import stability
@@ -176,7 +176,7 @@ class Family:
         Examples
         --------
         >>> from eulersym.model.cli import load
-        >>> f = steady_motions(load("free-body"))[0]
+        >>> f = steady_motions(load("torque-free"))[0]
         >>> sorted((str(k), v) for k, v in f.values({"s": 2}).items())
         [('I1', 1), ('I2', 2), ('I3', 3), ('s', 2)]
         """
@@ -193,7 +193,7 @@ class Family:
         Examples
         --------
         >>> from eulersym.model.cli import load
-        >>> steady_motions(load("free-body"))[0].at({"s": 2.0})
+        >>> steady_motions(load("torque-free"))[0].at({"s": 2.0})
         {'omega1': 2.0, 'omega2': 0.0, 'omega3': 0.0}
         """
         members = self.members(values)
@@ -259,7 +259,7 @@ class SteadyMotions(tuple):
         Examples
         --------
         >>> from eulersym.model.cli import load
-        >>> steady_motions(load("free-body")).named("rotation about e2").kind
+        >>> steady_motions(load("torque-free")).named("rotation about e2").kind
         'permanent rotation'
         """
         for f in self:
@@ -525,6 +525,7 @@ class _Branch:
     nonzero: list
     steps: list
     new: list          # unknowns introduced (null-space rates)
+    trial: bool = False  # the trial branch ω × L = 0 has been added
 
 
 @dataclass
@@ -536,6 +537,7 @@ class _Raw:
     free: list
     stuck: list        # remaining equations (numeric family) or []
     unknowns: list     # remaining unknowns of a numeric family
+    trial: bool = False  # a stuck branch whose ω ∥ L part was solved on its own
 
 
 class _Solver:
@@ -593,14 +595,14 @@ class _Solver:
                       [(r, sp.expand(a.xreplace(sub)), sp.expand(b.xreplace(sub)), sp.expand(c.xreplace(sub)), s)
                        for r, a, b, c, s in br.roots],
                       [sp.numer(sp.together(n.xreplace(sub))) for n in br.nonzero],
-                      br.steps + [step], list(br.new))
+                      br.steps + [step], list(br.new), br.trial)
         new.assigned[u] = value
         return new
 
     def with_eq(self, br: _Branch, eqs, step: str, replace=None) -> _Branch:
         base = [e for e in br.eqs if e is not replace] if replace is not None else list(br.eqs)
         return _Branch(base + list(eqs), dict(br.assigned), list(br.roots), list(br.nonzero), br.steps + [step],
-                       list(br.new))
+                       list(br.new), br.trial)
 
     def known_nonzero(self, br: _Branch, f) -> bool:
         live = set(self.live(br))
@@ -704,8 +706,8 @@ class _Solver:
             s = sp.Symbol(f"s_{self.counter}", real=True)
             new_symbols.append(s)
             value += s * v
-        nb = _Branch([e for e in br.eqs if e not in used] + [], dict(br.assigned), list(br.roots), list(br.nonzero),
-                     br.steps, list(br.new) + new_symbols)
+        nb = _Branch([e for e in br.eqs if e not in used], dict(br.assigned), list(br.roots), list(br.nonzero),
+                     br.steps, list(br.new) + new_symbols, br.trial)
         for s in new_symbols:
             self.priority[s] = 7
             self.protected.add(s)
@@ -738,7 +740,7 @@ class _Solver:
         for sign in (-1, 1):
             nb = _Branch([x for x in br.eqs if x is not e], dict(br.assigned), list(br.roots) + [(u, a, b, c, sign)],
                          list(br.nonzero), br.steps + [f"{u} from a quadratic ({'-' if sign < 0 else '+'} root)"],
-                         list(br.new))
+                         list(br.new), br.trial)
             if a.free_symbols & set(live):
                 nb.nonzero.append(a)
             out.append(nb)
@@ -766,9 +768,29 @@ class _Solver:
                     work.extend(reversed([r for r in result if r is not None]))
                     break
             else:
+                trial = self.trial(br)
+                if trial is not None:
+                    work.append(trial)
                 done.append(_Raw(br.assigned, br.roots, br.nonzero, br.steps, self.live(br), list(br.eqs),
-                                 [u for u in self.live(br) if any(e.has(u) for e in br.eqs)]))
+                                 [u for u in self.live(br) if any(e.has(u) for e in br.eqs)], trial is not None))
         return done
+
+    def trial(self, br: _Branch):
+        """A branch the elimination cannot finish, tried once more with ``ω × L = 0`` added (``L = I ω + h``): the
+        permanent rotations of the torque-free body. Its solutions solve the branch (equations were only added);
+        whatever else the branch holds stays a numeric family."""
+        if br.trial or not any(w in self.live(br) for w in OMEGA):
+            return None
+        mech = self.ctx.mech
+        R = sp.Matrix(self.ctx.R)
+        I = R.T * sp.Matrix(_rational(mech.inertia)) * R
+        h = R.T * sp.Matrix(_rational(mech.rotor))
+        w = sp.Matrix(OMEGA)
+        cross = w.cross(I * w + h)
+        eqs = [sp.expand(e) for e in cross if sp.expand(e) != 0]
+        return _Branch(list(br.eqs) + eqs, dict(br.assigned), list(br.roots), list(br.nonzero),
+                       br.steps + ["trial: ω × L = 0 (a permanent rotation of the torque-free body)"], list(br.new),
+                       True)
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -1101,7 +1123,7 @@ def steady_motions(model, *, budget: float = DEFAULT_BUDGET) -> SteadyMotions:
     Example 4.2's body (free, three distinct moments) turns steadily about each principal axis:
 
     >>> from eulersym.model.cli import load
-    >>> [(f.name, f.state) for f in steady_motions(load("free-body"))]  # doctest: +NORMALIZE_WHITESPACE
+    >>> [(f.name, f.state) for f in steady_motions(load("torque-free"))]  # doctest: +NORMALIZE_WHITESPACE
     [('rotation about e1', {'omega1': s, 'omega2': 0, 'omega3': 0}),
      ('rotation about e2', {'omega1': 0, 'omega2': s, 'omega3': 0}),
      ('rotation about e3', {'omega1': 0, 'omega2': 0, 'omega3': s})]
@@ -1306,6 +1328,7 @@ class _NumericSystem:
     unknowns: list
     family: list           # free rates (symbols)
     state: dict            # solving-frame state component → expression in unknowns and family symbols
+    exclude_parallel: bool = False  # members with ω ∥ L belong to the closed-form families
 
     def members(self, point) -> list:
         eqs = [sp.expand(e.xreplace(point)) for e in self.equations]
@@ -1329,6 +1352,8 @@ class _NumericSystem:
             values = {k: sp.re(v) for k, v in values.items()}
             full = {**point, **values}
             st = {s: sp.sympify(v).xreplace(full).evalf(30) for s, v in self.state.items()}
+            if self.exclude_parallel and _parallel(self.ctx, st, point):
+                continue
             member = {}
             for block in _blocks(self.ctx.x):
                 v = R * sp.Matrix([st[s] for s in block])
@@ -1336,6 +1361,17 @@ class _NumericSystem:
             out.append(member)
         out.sort(key=lambda m: tuple(m.values()))
         return out
+
+
+def _parallel(ctx, st, point) -> bool:
+    """Whether ω ∥ L = I ω + h at a numeric state (solving frame)."""
+    R = sp.Matrix(ctx.R)
+    I = (R.T * sp.Matrix(_rational(ctx.mech.inertia)) * R).xreplace(point)
+    h = (R.T * sp.Matrix(_rational(ctx.mech.rotor))).xreplace(point)
+    w = sp.Matrix([st[s] for s in OMEGA])
+    c = w.cross(I * w + h).evalf(30)
+    scale = 1 + sum(abs(x) for x in w) ** 2
+    return all(abs(x) < 1e-20 * scale for x in c)
 
 
 def _numeric_family(ctx: _Context, raw: _Raw, solver: _Solver) -> Family:
@@ -1371,6 +1407,9 @@ def _numeric_family(ctx: _Context, raw: _Raw, solver: _Solver) -> Family:
                                  f"{', '.join(map(str, unknowns))} left, solved numerically at given numbers"])
     kind = "permanent rotation"
     name = "permanent rotations (numeric members)"
+    if raw.trial:
+        name = "other permanent rotations (numeric members, ω not along L)"
+        system.exclude_parallel = True
     model_state = {s.name: v for s, v in state.items()}
     return Family(name, kind, tuple(names.values()), model_state, sp.true, (), {}, None, False, how, ctx, None,
                   system)
