@@ -21,6 +21,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "verify": ("eulersym.verify:cli", "check a hand derivation against a derived quantity"),
     "simulate": ("eulersym.scene:cli", "run a scene (TOML file or bundled name)"),
     "bench": ("eulersym.bench:cli", "time eulersym against a baseline in the same run"),
+    "stability": ("eulersym.model.stability_cli:main", "a model's steady motions and their stability, proven"),
 }
 
 #: Subcommands that take ``--model FILE``: a user's model is handled by :mod:`eulersym.model.cli`.

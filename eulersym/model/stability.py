@@ -385,8 +385,10 @@ class Stability:
     """
 
     def __init__(self, family, polynomial, conditions, dissipative, reduced, coefficients, chart, readable,
-                 lyapunov_inputs):
+                 lyapunov_inputs, jacobian=None, removed: int = 0):
         self.family = family
+        self._jacobian_public = jacobian
+        self._removed = removed
         self.characteristic_polynomial = polynomial
         self.conditions = conditions
         self.dissipative = dissipative
@@ -723,8 +725,9 @@ def _stability(fam: Family) -> Stability:
         (u, value), = back.items()
         chart = (u, value)
         readable = (_pretty_poly(coeffs), cond_chart, f"{u} = {value}")
+    jacobian = J0.xreplace(back) if back else J0
     return Stability(fam, P, conditions, not even, "; ".join(notes), public_coeffs, chart, readable,
-                     lyapunov_inputs)
+                     lyapunov_inputs, jacobian, k)
 
 
 def _cancel(expr):

@@ -120,6 +120,8 @@ class Family:
         False when the members must be found numerically (:meth:`members`).
     how : str
         How the family was found (the solver's steps).
+    root : int
+        −1 or +1: the family is the − or + root of the last quadratic the solver met; 0 when none.
     """
 
     name: str
@@ -132,6 +134,7 @@ class Family:
     precession: object = None
     closed_form: bool = True
     how: str = ""
+    root: int = 0
     _context: object = field(default=None, repr=False)
     _chart: object = field(default=None, repr=False)
     _numeric: object = field(default=None, repr=False)
@@ -1313,8 +1316,8 @@ def _family(ctx: _Context, data) -> Family:
     chart = data["chart"]
     if chart is not None and R != sp.eye(3):
         chart = None  # the chart lives in the solving frame; stability then uses the state itself
-    return Family(name, kind, data["family"], model_state, exists, where, drifts, precession, True, how, ctx,
-                  chart, None)
+    return Family(name, kind, data["family"], model_state, exists, where, drifts, precession, True, how,
+                  signs[-1] if signs else 0, ctx, chart, None)
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -1411,5 +1414,5 @@ def _numeric_family(ctx: _Context, raw: _Raw, solver: _Solver) -> Family:
         name = "other permanent rotations (numeric members, ω not along L)"
         system.exclude_parallel = True
     model_state = {s.name: v for s, v in state.items()}
-    return Family(name, kind, tuple(names.values()), model_state, sp.true, (), {}, None, False, how, ctx, None,
+    return Family(name, kind, tuple(names.values()), model_state, sp.true, (), {}, None, False, how, 0, ctx, None,
                   system)
