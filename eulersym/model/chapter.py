@@ -18,7 +18,7 @@ family's spin ``s`` to the text's ``ω0`` / ``ω3`` and the tilt to ``θ``.
 Examples
 --------
 >>> intermediate_axis_growth_rate()
-omega0*sqrt(-(I1 - I2)*(I2 - I3))/(sqrt(I1)*sqrt(I3))
+omega0*sqrt((I1 - I2)*(I2 - I3))/(sqrt(I1)*sqrt(I3))
 """
 
 from __future__ import annotations
@@ -82,7 +82,7 @@ def intermediate_axis_growth_rate():
             continue
         mapping = _text_symbols(fam, s=S.omega0)
         P = sp.expand(st.characteristic_polynomial.xreplace(mapping))
-        roots = sp.solve(P, LAM)
+        roots = list(sp.roots(sp.Poly(P, LAM)))  # (sp.solve would import sympy.physics.units)
         defaults = {S.I1: 1, S.I2: 2, S.I3: 3, S.omega0: 1}
         defaults.update({mapping[p]: sp.Rational(str(v)) for p, v in fam._context.mech.parameters if p in mapping})
         growing = [r for r in roots if sp.re(r.xreplace(defaults).evalf()) > 0]
@@ -153,9 +153,11 @@ def sleeping_top_threshold():
         u = sp.Symbol("u", positive=True)
         candidates = set()
         for rel in st.conditions.atoms(sp.core.relational.Relational):
-            expr = (rel.lhs - rel.rhs).xreplace({s: sp.sqrt(u)})
-            for root in sp.solve(expr, u):
-                candidates.add(root)
+            p = sp.Poly(sp.numer(sp.together(rel.lhs - rel.rhs)), s)
+            if p.degree() < 2 or any(m[0] % 2 for m in p.monoms()):
+                continue  # a bound on s² is a polynomial in s²
+            q = sp.Poly(sum(c * u ** (m[0] // 2) for m, c in p.terms()), u)
+            candidates.update(r for r in sp.roots(q) if r != 0)
         defaults = {p: sp.Rational(str(v)) for p, v in fam._context.mech.parameters}
         for c in sorted(candidates, key=sp.default_sort_key):
             value = c.xreplace(defaults)

@@ -24,7 +24,7 @@ model torque-free: 1 of 3 families of steady motions
 rotation about e2 — permanent rotation; family symbols: s
   state: omega1 = 0, omega2 = s, omega3 = 0
   exists: always
-  characteristic polynomial (reduced: ...): I1*I3*lam**2 - s**2*(I1 - I2)*(I2 - I3)
+  characteristic polynomial (λ^1 divided out: the level sets of E, L2): I1*I3*lam**2 - s**2*(I1 - I2)*(I2 - I3)
   spectrally stable iff: Eq(s, 0) | (-(I1 - I2)*(I2 - I3) >= 0)
   at I1 = 1, I2 = 2, I3 = 3, s = 1: unstable (eigenvalues -0.57735, 0.57735)
 0

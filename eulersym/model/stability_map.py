@@ -18,7 +18,7 @@ Examples
 >>> top = steady_motions(load("lagrange-top")).named("rotation about e3, e3 up")
 >>> m = condition_map(top.stability(), ("s", np.linspace(0, 150, 4)), ("l", np.linspace(0.01, 0.05, 3)))
 >>> m.classes
-array([[0, 0, 0, 0],
+array([[0, 1, 1, 1],
        [0, 0, 1, 1],
        [0, 0, 1, 1]])
 """
