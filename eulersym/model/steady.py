@@ -72,6 +72,8 @@ THETA = sp.Symbol("theta", real=True)
 PSI = sp.Symbol("psi", real=True)
 #: Seconds the exact solver may spend on one model before it says what it tried.
 DEFAULT_BUDGET = 20.0
+#: Steps one branch may take before what is left is handed to the numeric members.
+_MAX_STEPS = 60
 
 
 class SteadyMotionUndecided(EulersymError):
@@ -554,6 +556,7 @@ class _Solver:
         self.rng = random.Random(20)
         self.params = list(ctx.mech.parameter_symbols)
         self.counter = 0
+        self.rates = set()  # the rates about an axis introduced by null spaces (ω = s Γ)
 
     # -- helpers ------------------------------------------------------------------------------------------
     def live(self, br: _Branch) -> list:
@@ -650,6 +653,8 @@ class _Solver:
                 a, b = p.all_coeffs()
                 a = sp.expand(a)
                 rest = a.free_symbols & set(live)
+                if rest and any(sp.cancel(a / o).is_number for o in br.eqs if o is not e):
+                    continue  # its coefficient is itself an equation of the branch: not a division
                 score = 0 if not rest else (1 if len(sp.Add.make_args(a)) == 1 else 2)
                 if score and self.known_nonzero(br, a):
                     score = 0
@@ -691,8 +696,8 @@ class _Solver:
         point = {s: sp.Rational(self.rng.randint(2, 40), self.rng.randint(2, 9))
                  for s in A.free_symbols}
         rank = A.xreplace(point).rank()
-        if rank >= len(ws) or rank == 0:
-            return None
+        if rank != len(ws) - 1 or len(ws) != 3:
+            return None  # only the kinematic block Γ × ω = 0: a line of rotations about one axis
         from sympy.polys.matrices import DomainMatrix
 
         dM = DomainMatrix.from_Matrix(A).to_field()
@@ -718,6 +723,7 @@ class _Solver:
         for s in new_symbols:
             self.priority[s] = 7
             self.protected.add(s)
+            self.rates.add(s)
         for w, val in zip(ws, value):
             nb = self.assign(nb, w, val, f"{w} from the null space of the kinematic equations")
         # the rows used are satisfied identically by the null space; keep the others
@@ -767,9 +773,16 @@ class _Solver:
                 done.append(_Raw(br.assigned, br.roots, br.nonzero, br.steps, self.live(br), [], []))
                 continue
             drift = [u for u in self.live(br) if u is DRIFT]
-            for step in (lambda b: self.linear(b, direct=True, single=True),
-                         lambda b: self.linear(b, only=drift) if drift else None, lambda b: self.linear(b, direct=True),
-                         self.nullspace, self.split, self.linear, self.quadratic):
+            if len(br.steps) > _MAX_STEPS:
+                done.append(_Raw(br.assigned, br.roots, br.nonzero, br.steps, self.live(br), list(br.eqs),
+                                 [u for u in self.live(br) if any(e.has(u) for e in br.eqs)]))
+                continue
+            # order matters for the form of the families: a drift first (Routh: the cyclic momentum stays the
+            # family's parameter), else the kinematic null space (ω = s Γ: the rate about the vertical)
+            steps = [lambda b: self.linear(b, direct=True, single=True)]
+            steps += [lambda b: self.linear(b, only=drift)] if drift else [self.nullspace]
+            steps += [lambda b: self.linear(b, direct=True), self.split, self.linear, self.quadratic]
+            for step in steps:
                 result = step(br)
                 if result is not None:
                     work.extend(reversed([r for r in result if r is not None]))
@@ -786,15 +799,18 @@ class _Solver:
         """A branch the elimination cannot finish, tried once more with ``ω × L = 0`` added (``L = I ω + h``): the
         permanent rotations of the torque-free body. Its solutions solve the branch (equations were only added);
         whatever else the branch holds stays a numeric family."""
-        if br.trial or not any(w in self.live(br) for w in OMEGA):
+        if br.trial:
             return None
         mech = self.ctx.mech
         R = sp.Matrix(self.ctx.R)
         I = R.T * sp.Matrix(_rational(mech.inertia)) * R
         h = R.T * sp.Matrix(_rational(mech.rotor))
-        w = sp.Matrix(OMEGA)
+        w = sp.Matrix([br.assigned.get(u, u) for u in OMEGA])
         cross = w.cross(I * w + h)
-        eqs = [sp.expand(e) for e in cross if sp.expand(e) != 0]
+        eqs = [sp.numer(sp.together(e)) for e in cross]
+        eqs = [sp.expand(e) for e in eqs if sp.expand(e) != 0]
+        if not eqs:
+            return None
         return _Branch(list(br.eqs) + eqs, dict(br.assigned), list(br.roots), list(br.nonzero),
                        br.steps + ["trial: ω × L = 0 (a permanent rotation of the torque-free body)"], list(br.new),
                        True)
@@ -1342,7 +1358,7 @@ class _NumericSystem:
         eqs = [e for e in eqs if e != 0]
         try:
             with time_budget(10.0):
-                solutions = sp.solve_poly_system(eqs, *self.unknowns) or []
+                solutions = _solve_numeric(eqs, list(self.unknowns))
         except BudgetExceeded:
             raise SteadyMotionUndecided(
                 f"model {self.ctx.mech.name}: the numeric members were not found within 10 s (tried: a Gröbner "
@@ -1353,7 +1369,7 @@ class _NumericSystem:
         R = sp.Matrix(self.ctx.R)
         out = []
         for sol in solutions:
-            values = dict(zip(self.unknowns, [sp.sympify(v).evalf(30) for v in sol]))
+            values = dict(zip(self.unknowns, sol))
             if any(abs(sp.im(v)) > 1e-20 for v in values.values()):
                 continue
             values = {k: sp.re(v) for k, v in values.items()}
@@ -1368,6 +1384,45 @@ class _NumericSystem:
             out.append(member)
         out.sort(key=lambda m: tuple(m.values()))
         return out
+
+
+def _solve_numeric(eqs, unknowns, dps: int = 30) -> list:
+    """Every complex solution of a zero-dimensional polynomial system with exact coefficients, at ``dps`` digits: a
+    lexicographic Gröbner basis (exact), then its triangular structure — the last polynomial is univariate; each of
+    its roots is substituted, the next variable's polynomials solved, and so on — keeping the candidates at which
+    every basis polynomial vanishes (relative residual below 10^(−dps/2))."""
+    if not eqs:
+        return []
+    G = sp.groebner(eqs, *unknowns, order="lex")
+    if list(G.exprs) == [1]:
+        return []
+    basis = list(G.exprs)
+    tol = sp.Float(10, dps) ** (-(dps // 2))
+
+    def solve(level: int, point: dict) -> list:
+        if level < 0:
+            return [dict(point)]
+        v = unknowns[level]
+        later = set(unknowns[:level])
+        polys = [sp.expand(p.xreplace(point)) for p in basis if p.has(v) and not (p.free_symbols & later)]
+        polys = [p for p in polys if p != 0]
+        if not polys:
+            return []  # a free variable: not zero-dimensional here
+        best = min(polys, key=lambda p: sp.Poly(p, v).degree())
+        poly = sp.Poly(best, v)
+        if poly.degree() == 0:
+            return []
+        out = []
+        for r in poly.nroots(n=dps, maxsteps=200):
+            cand = dict(point)
+            cand[v] = r
+            if all(abs(sp.N(p.xreplace(cand), dps)) <= tol * (1 + max(abs(c) for c in sp.Poly(p, v).coeffs()))
+                   for p in polys):
+                out += solve(level - 1, cand)
+        return out
+
+    solutions = solve(len(unknowns) - 1, {})
+    return [[sol[u] for u in unknowns] for sol in solutions]
 
 
 def _parallel(ctx, st, point) -> bool:
@@ -1387,7 +1442,9 @@ def _numeric_family(ctx: _Context, raw: _Raw, solver: _Solver) -> Family:
     free = [u for u in raw.free if u not in unknowns and u is not DRIFT]
     # promote unknowns to family symbols until the system is zero-dimensional at generic numbers
     params = list(ctx.mech.parameter_symbols)
-    order = sorted(unknowns, key=lambda u: -solver.priority.get(u, 9))
+    # promoted first: a rate about the vertical (null space), then what the solver protects, then the rest
+    order = sorted(unknowns, key=lambda u: (u not in solver.rates, u not in solver.protected,
+                                            -solver.priority.get(u, 9), str(u)))
     while unknowns:
         point = {s: sp.Rational(rng.randint(3, 30), rng.randint(2, 7)) for s in (*params, *free)}
         eqs = [sp.expand(e.xreplace(point)) for e in raw.stuck]
