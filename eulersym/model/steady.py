@@ -1322,7 +1322,11 @@ def _family(ctx: _Context, data) -> Family:
         kind = "relative equilibrium"
     signs = [r[4] for r in raw.roots if r[0] in data["roots"]]
     sign = ("-" if signs[-1] < 0 else "+") if signs else ""
-    name = _describe(kind, {s: model_state[s.name] for s in x}, x, ctx.symmetries, sign)
+    if R != sp.eye(3):  # named in the principal axes (R e_k, columns of R in the model frame)
+        name = _describe(kind, dict(st), x, ctx.symmetries, sign).replace("about e", "about R e").replace(
+            "plane", "principal plane").replace(", e", ", R e")
+    else:
+        name = _describe(kind, {s: model_state[s.name] for s in x}, x, ctx.symmetries, sign)
     exists = sp.And(*[sp.GreaterThan(e, 0) for e in data["exists"]]) if data["exists"] else sp.true
     where = tuple(sp.Ne(n, 0) for n in data["nonzero"])
     drifts = {ctx.symmetries[0][0]: drift} if (ctx.symmetries and kind == "relative equilibrium") else {}
