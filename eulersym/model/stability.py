@@ -556,7 +556,7 @@ def _random_family_point(fam, chart_symbols, rng, tries: int = 50):
 class _NumericStability(Stability):
     """The stability of a family without a closed form: decided member by member, at numbers, from the
     eigenvalues of the linearisation at the member (30 digits), the trivial zero modes (the integrals' level sets)
-    removed. ``characteristic_polynomial`` is ``det(λ − J(x))`` in the state names, unreduced; ``conditions`` None."""
+    removed. ``characteristic_polynomial`` and ``conditions`` are None: there is no closed form to state them in."""
 
     def _member(self, values):
         fam = self.family
@@ -606,12 +606,8 @@ class _NumericStability(Stability):
 
 
 def _numeric_stability(fam: Family) -> Stability:
-    ctx = fam._context
-    x = list(ctx.x)
-    J = sp.Matrix(ctx.f).jacobian(x)
-    P = J.charpoly(LAM).as_expr()
-    return _NumericStability(fam, P, None, True, "numeric: the integrals' zero modes removed at each member", (),
-                             None, (P, None, ""), None)
+    return _NumericStability(fam, None, None, True, "numeric: the integrals' zero modes removed at each member",
+                             (), None, (None, None, ""), None)
 
 
 def stability(fam: Family) -> Stability:

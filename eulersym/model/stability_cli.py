@@ -9,6 +9,7 @@
   from the proven conditions, checked against the eigenvalues at every point; the PNG shades the classes, draws
   the proven boundary and marks any point where the eigenvalues disagree;
 - ``--lyapunov`` — also the energy–Casimir function's condition for nonlinear stability;
+- ``--budget SECONDS`` — the exact solver's time budget (default 20 s; beyond it, exit 2 naming what was tried);
 - ``--latex``, ``--json`` — the output's form.
 
 Exit status: 0 (also when the model has no steady motion: said plainly), 1 when the map's eigenvalue check
@@ -150,6 +151,8 @@ def main(argv) -> int:
                         help="the stability map over two symbols (with --plot FILE.png to draw it)")
     parser.add_argument("--plot", default=None, help="PNG file for --map")
     parser.add_argument("--lyapunov", action="store_true", help="also the energy–Casimir condition (slower)")
+    parser.add_argument("--budget", type=float, default=None, metavar="SECONDS",
+                        help="time the exact solver may spend (default 20 s)")
     parser.add_argument("--latex", action="store_true", help="expressions as LaTeX")
     parser.add_argument("--json", action="store_true", help="one JSON object")
     try:
@@ -161,7 +164,7 @@ def main(argv) -> int:
     at = _parse_at(args.at)
     ranges = _parse_map(args.map) if args.map is not None else None
     model = load(args.model)
-    families = steady_motions(model)
+    families = steady_motions(model) if args.budget is None else steady_motions(model, budget=args.budget)
     chosen = list(families)
     if args.family is not None:
         chosen = [families.named(args.family)]
@@ -315,7 +318,12 @@ def _plot(path, fam, st, X, Y, classes, margin, numeric, xname, yname) -> None:
         m = np.where(classes >= 0, margin, np.nan)
         if np.nanmin(m) < 0 < np.nanmax(m):
             ax.contour(X, Y, m, levels=[0.0], colors="black", linewidths=1.6)
-    wrong = (numeric != classes) & (classes >= 0)
+    same = np.ones(classes.shape, dtype=bool)  # off the boundary: the four neighbours share the class
+    same[1:, :] &= classes[1:, :] == classes[:-1, :]
+    same[:-1, :] &= classes[:-1, :] == classes[1:, :]
+    same[:, 1:] &= classes[:, 1:] == classes[:, :-1]
+    same[:, :-1] &= classes[:, :-1] == classes[:, 1:]
+    wrong = (numeric != classes) & (classes >= 0) & same
     if np.any(wrong):
         ax.plot(X[wrong], Y[wrong], "kx", markersize=3, label="eigenvalues disagree")
     labels = ["no member", "unstable", "spectrally stable", "asymptotically stable"]
