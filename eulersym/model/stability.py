@@ -389,7 +389,7 @@ class Stability:
         self.family = family
         self._jacobian_public = jacobian
         self._removed = removed
-        self.characteristic_polynomial = polynomial
+        self._polynomial = polynomial
         self.conditions = conditions
         self.dissipative = dissipative
         self.reduced = reduced
@@ -400,6 +400,13 @@ class Stability:
 
     def __repr__(self) -> str:
         return f"Stability({self.family.name!r}, conditions={self.conditions})"
+
+    @functools.cached_property
+    def characteristic_polynomial(self):
+        """``P(λ)`` (see the class docstring); written out on first use."""
+        if self._polynomial is None and self._coefficients:
+            self._polynomial = _pretty_poly(self._coefficients)
+        return self._polynomial
 
     @functools.cached_property
     def lyapunov(self):
@@ -420,6 +427,8 @@ class Stability:
         >>> conditions, where.split(" = ")[0]
         (True, 'omega2')
         """
+        if self._readable is None:
+            self._readable = (self.characteristic_polynomial, self.conditions, "")
         return self._readable
 
     def _point(self, values) -> dict:
@@ -672,9 +681,41 @@ def _stability(fam: Family) -> Stability:
         point[DRIFT] = drift
         chart_symbols = list(fam.family)
         back = {}
+    key = (id(ctx), tuple(sorted((str(k), sp.srepr(v)) for k, v in point.items())), len(axes))
+    analysis = _ANALYSES.get(key)
+    if analysis is None:
+        analysis = _analyse(fam, J, point, x, axes, chart_symbols, positive)
+        _ANALYSES[key] = analysis
+    coeffs, k, notes, even, cond_chart, integrals, J0 = analysis
+    lyapunov_inputs = (fam, integrals, point, positive, axes, back, x) if (even and "E" in integrals) else None
+    conditions = cond_chart.xreplace(back) if back else cond_chart
+    public_coeffs = tuple(c.xreplace(back) for c in coeffs) if back else tuple(coeffs)
+    chart = None
+    readable = None
+    if back:
+        (u, value), = back.items()
+        chart = (u, value)
+        readable = (_pretty_poly(coeffs), cond_chart, f"{u} = {value}")
+    jacobian = J0.xreplace(back) if back else J0
+    return Stability(fam, None, conditions, not even, "; ".join(notes), public_coeffs, chart, readable,
+                     lyapunov_inputs, jacobian, k)
+
+
+#: Analyses shared by families with the same point (the two roots of one chart): key → results.
+_ANALYSES: dict = {}
+
+
+def _analyse(fam, J, point, x, axes, chart_symbols, positive):
+    """The characteristic polynomial at a point, its trivial zero modes divided out, and the conditions."""
+    ctx = fam._context
     J0 = J.xreplace(point).applyfunc(_cancel)
     N = len(x)
-    full = [_cancel(c) for c in J0.charpoly(LAM).all_coeffs()]  # λ^N ... λ^0 (DomainMatrix: fast)
+    # sin θ and cos θ as plain symbols for the characteristic polynomial (a rational-function domain: fast), then
+    # back, with sin² θ = 1 − cos² θ
+    trig = sorted(J0.atoms(sp.sin, sp.cos), key=str)
+    plain = {f: sp.Dummy(f.func.__name__) for f in trig}
+    back = {d: f for f, d in plain.items()}
+    full = [_cancel(c.xreplace(back)) for c in J0.xreplace(plain).charpoly(LAM).all_coeffs()]
     # the trivial zero modes: integrals' gradients (left) and the orbit (right)
     rng = random.Random(5)
     integrals = _integrals(ctx, axes)
@@ -703,27 +744,13 @@ def _stability(fam: Family) -> Stability:
         notes.append(f"λ^{k} divided out: the level sets of {names}" + (" and the orbit of the symmetry" if g else ""))
     coeffs = [_factor(c) for c in full[:N - k + 1]]
     n = len(coeffs) - 1
-    P_chart = sum(c * LAM ** (n - i) for i, c in enumerate(coeffs))
     odd = [coeffs[i] for i in range(1, n + 1, 2)]
     even = all(_vanishes(c, fam, chart_symbols, rng) for c in odd)
     if even:
-        Qc = [coeffs[i] for i in range(0, n + 1, 2)]
-        cond_chart = real_nonpositive_roots(Qc, positive)
+        cond_chart = real_nonpositive_roots([coeffs[i] for i in range(0, n + 1, 2)], positive)
     else:
         cond_chart = hurwitz_conditions(coeffs, positive)
-    lyapunov_inputs = (fam, integrals, point, positive, axes, back, x) if (even and "E" in integrals) else None
-    conditions = cond_chart.xreplace(back) if back else cond_chart
-    public_coeffs = tuple(c.xreplace(back) for c in coeffs) if back else tuple(coeffs)
-    P = _pretty_poly(public_coeffs)
-    chart = None
-    readable = (P, conditions, "")
-    if back:
-        (u, value), = back.items()
-        chart = (u, value)
-        readable = (_pretty_poly(coeffs), cond_chart, f"{u} = {value}")
-    jacobian = J0.xreplace(back) if back else J0
-    return Stability(fam, P, conditions, not even, "; ".join(notes), public_coeffs, chart, readable,
-                     lyapunov_inputs, jacobian, k)
+    return coeffs, k, notes, even, cond_chart, integrals, J0
 
 
 def _cancel(expr):

@@ -647,24 +647,25 @@ class _Solver:
                     continue
                 if u in self.protected and unprotected:
                     continue
-                p = sp.Poly(e, u)
-                if p.degree() != 1:
+                if sp.degree(e, u) != 1:
                     continue
-                a, b = p.all_coeffs()
-                a = sp.expand(a)
+                a = sp.expand(e.coeff(u, 1))
+                b = sp.expand(e - a * u)
                 rest = a.free_symbols & set(live)
-                if rest and any(sp.cancel(a / o).is_number for o in br.eqs if o is not e):
-                    continue  # its coefficient is itself an equation of the branch: not a division
                 score = 0 if not rest else (1 if len(sp.Add.make_args(a)) == 1 else 2)
-                if score and self.known_nonzero(br, a):
-                    score = 0
+                if direct and score:
+                    continue
                 options.append((score, self.priority.get(u, 9), sp.count_ops(a), sp.count_ops(e), str(u), e, u,
                                 a, b))
-        if not options:
-            return None
         options.sort(key=lambda o: o[:5])
-        score, _, _, _, _, e, u, a, b = options[0]
-        if direct and score:
+        for option in options:
+            score, _, _, _, _, e, u, a, b = option
+            if score and any(sp.cancel(a / o).is_number for o in br.eqs if o is not e):
+                continue  # its coefficient is itself an equation of the branch: not a division
+            if score and self.known_nonzero(br, a):
+                score = 0
+            break
+        else:
             return None
         value = -b / a
         solved = self.assign(br, u, value, f"{u} from a linear equation" + (f" ({a} != 0)" if score else ""))
