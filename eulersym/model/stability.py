@@ -47,13 +47,13 @@ from __future__ import annotations
 import functools
 import itertools
 import random
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import sympy as sp
 
 from eulersym.errors import InvalidInput
+from eulersym.model._exact import DRIFT, PSI, THETA, _generator_on_values, _holds, _is_zero, _tidy, _trig
 from eulersym.model.mechanics import GAMMA, OMEGA, Q, t
-from eulersym.model.steady import DRIFT, PSI, THETA, Family, _generator_on_values, _holds, _is_zero, _tidy
 
 __all__ = ["LAM", "Stability", "Lyapunov", "stability", "hurwitz_conditions", "real_nonpositive_roots",
            "CLASSES"]
@@ -68,9 +68,10 @@ CLASSES = ("unstable", "spectrally stable", "asymptotically stable")
 # Signs: what the body says about its parameters, and conditions simplified with it
 
 
-def positive_parameters(mech) -> frozenset:
+def positive_parameters(mech, R=None) -> frozenset:
     """The parameters a body needs positive: those that alone make a principal moment or the mass (``I1``,
-    ``2*C``, ``M``). Other parameters (a length, gravity, a rotor's momentum) may take either sign.
+    ``2*C``, ``M``). Other parameters (a length, gravity, a rotor's momentum) may take either sign. ``R``: the
+    principal axes (columns, model frame) when the tensor is full.
 
     Examples
     --------
@@ -78,10 +79,7 @@ def positive_parameters(mech) -> frozenset:
     >>> sorted(s.name for s in positive_parameters(load("lagrange-top").mechanics))
     ['I1', 'I3', 'M']
     """
-    from eulersym.model.steady import _context
-
-    ctx = _context(mech)
-    R = sp.Matrix(ctx.R)
+    R = sp.eye(3) if R is None else sp.Matrix(R)
     moments = [(R.T * sp.Matrix(mech.inertia) * R)[k, k] for k in range(3)]
     out = set()
     params = set(mech.parameter_symbols)
@@ -614,12 +612,12 @@ class _NumericStability(Stability):
         return "spectrally stable" if top <= 1e-12 * scale else "unstable"
 
 
-def _numeric_stability(fam: Family) -> Stability:
+def _numeric_stability(fam) -> Stability:
     return _NumericStability(fam, None, None, True, "numeric: the integrals' zero modes removed at each member",
                              (), None, (None, None, ""), None)
 
 
-def stability(fam: Family) -> Stability:
+def stability(fam) -> Stability:
     """The stability of a family (see the module docstring): characteristic polynomial, conditions, Lyapunov.
 
     Parameters
@@ -637,19 +635,19 @@ def stability(fam: Family) -> Stability:
     >>> st.conditions
     Eq(s, 0) | (-(I1 - I2)*(I2 - I3) >= 0)
     """
-    if not isinstance(fam, Family):
+    if not (hasattr(fam, "_context") and hasattr(fam, "closed_form")):
         raise InvalidInput("family", fam, "a Family from eulersym.model.steady.steady_motions")
     return _stability(fam)
 
 
 @functools.lru_cache(maxsize=64)
-def _stability(fam: Family) -> Stability:
+def _stability(fam) -> Stability:
     if not fam.closed_form:
         return _numeric_stability(fam)
     ctx = fam._context
     mech = ctx.mech
     x = list(ctx.x)
-    positive = positive_parameters(mech)
+    positive = positive_parameters(mech, ctx.R)
     axes = [sp.Matrix(axis) for _, axis, _ in ctx.symmetries]
     fixed_point = False
     if axes and not fam.drift:
@@ -760,8 +758,6 @@ def _cancel(expr):
         return expr
     num, den = sp.fraction(sp.cancel(sp.together(expr)))
     if num.has(THETA) or den.has(THETA):
-        from eulersym.model.steady import _trig
-
         num, den = _trig(sp.expand(num)), _trig(sp.expand(den))
         return sp.cancel(num / den)
     return num / den
