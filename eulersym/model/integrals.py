@@ -346,13 +346,14 @@ def prove(mech: Mechanics, expr, *, name: str | None = None, seed: int = 0, on=N
     return Verdict(name, expr, False, _tidy(rate), "; ".join([how, *notes]), None, False, constraints)
 
 
-def _as_mechanics(mech) -> Mechanics:
+def _as_mechanics(mech, argument: str = "mech") -> Mechanics:
+    """A model's :class:`Mechanics` (``mech`` itself, or a ``Model``'s)."""
     if isinstance(mech, Mechanics):
         return mech
     inner = getattr(mech, "mechanics", None)
     if isinstance(inner, Mechanics):
         return inner
-    raise InvalidInput("mech", mech, "an eulersym.model.Model or its Mechanics")
+    raise InvalidInput(argument, mech, "an eulersym.model.Model or its Mechanics")
 
 
 # ----------------------------------------------------------------------------------------------------------------

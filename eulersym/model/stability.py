@@ -245,6 +245,13 @@ def _drop_positive(f, positive):
 # Polynomials: real non-positive roots (conservative) and Hurwitz (asymptotic)
 
 
+def _monic(coefficients) -> list:
+    cs = [sp.sympify(c) for c in coefficients]
+    if not cs or cs[0] != 1:
+        raise InvalidInput("coefficients", cs, "a monic polynomial's coefficients, leading 1 first")
+    return cs
+
+
 def real_nonpositive_roots(coefficients, positive=frozenset()):
     """The condition that a monic polynomial ``μⁿ + c₁ μⁿ⁻¹ + … + cₙ`` has only real roots ≤ 0.
 
@@ -261,9 +268,7 @@ def real_nonpositive_roots(coefficients, positive=frozenset()):
     >>> real_nonpositive_roots([1, b, c])
     (b >= 0) & (c >= 0) & (b**2 - 4*c >= 0)
     """
-    cs = [sp.sympify(c) for c in coefficients]
-    if cs[0] != 1:
-        raise InvalidInput("coefficients", cs, "a monic polynomial's coefficients, leading 1 first")
+    cs = _monic(coefficients)
     n = len(cs) - 1
     if n == 0:
         return sp.true
@@ -308,9 +313,7 @@ def hurwitz_conditions(coefficients, positive=frozenset()):
     >>> hurwitz_conditions([1, a1, a2, a3])
     (a1 > 0) & (a3 > 0) & (a1*a2 - a3 > 0)
     """
-    cs = [sp.sympify(c) for c in coefficients]
-    if cs[0] != 1:
-        raise InvalidInput("coefficients", cs, "a monic polynomial's coefficients, leading 1 first")
+    cs = _monic(coefficients)
     n = len(cs) - 1
     if n == 0:
         return sp.true

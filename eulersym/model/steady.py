@@ -58,6 +58,7 @@ import sympy as sp
 from eulersym._budget import BudgetExceeded, time_budget
 from eulersym.errors import EulersymError, InvalidInput
 from eulersym.model.derive import equations
+from eulersym.model.integrals import _as_mechanics
 from eulersym.model._exact import DRIFT, PSI, THETA, _generator_on_values, _holds, _is_zero, _tidy, _trig
 from eulersym.model.mechanics import GAMMA, OMEGA, Q, Mechanics, t
 
@@ -1036,15 +1037,6 @@ def _describe(kind, state, x, symmetries, sign) -> str:
 # The entry point
 
 
-def _mechanics(model) -> Mechanics:
-    if isinstance(model, Mechanics):
-        return model
-    mech = getattr(model, "mechanics", None)
-    if isinstance(mech, Mechanics):
-        return mech
-    raise InvalidInput("model", model, "an eulersym.model.Model (or its Mechanics)")
-
-
 def steady_motions(model, *, budget: float = DEFAULT_BUDGET) -> SteadyMotions:
     """The families of steady motions of a model, found by solving its equations exactly (see the module docstring).
 
@@ -1080,7 +1072,7 @@ def steady_motions(model, *, budget: float = DEFAULT_BUDGET) -> SteadyMotions:
     """
     if isinstance(budget, bool) or not isinstance(budget, (int, float)) or not budget > 0:
         raise InvalidInput("budget", budget, "a positive number of seconds")
-    mech = _mechanics(model)
+    mech = _as_mechanics(model, argument="model")
     return _steady_motions(mech, float(budget))
 
 
