@@ -17,10 +17,11 @@ __all__ = ["main", "COMMANDS"]
 COMMANDS: dict[str, tuple[str, str]] = {
     "check": ("eulersym.text:cli", "derive every closed form of the text and prove it equal"),
     "derive": ("eulersym.derive_command:cli", "print a derived quantity (--latex for LaTeX)"),
-    "generate": ("eulersym.codegen:cli", "write the NumPy kernels to generated/ (--check: fail if stale)"),
+    "generate": ("eulersym.codegen:cli", "write the NumPy and C kernels to generated/ (--target c|jax; --check: fail if stale)"),
     "verify": ("eulersym.verify:cli", "check a hand derivation against a derived quantity"),
     "simulate": ("eulersym.scene:cli", "run a scene (TOML file or bundled name)"),
     "bench": ("eulersym.bench:cli", "time eulersym against a baseline in the same run"),
+    "animate": ("eulersym.animation.cli:cli", "animate a scene: out.gif, out.mp4 or a self-contained out.html"),
     "stability": ("eulersym.model.stability_cli:main", "a model's steady motions and their stability, proven"),
 }
 
@@ -62,6 +63,8 @@ def main(argv: list[str] | None = None) -> int:
     target = COMMANDS[name][0]
     if name in _MODEL_ROUTES and "--model" in rest:  # a user's model: eulersym.model.cli handles the subcommand
         target = _MODEL_ROUTES[name]
+        if name == "generate" and any(a.split("=")[0] == "--target" for a in rest):  # C or JAX
+            target = "eulersym.model.targets:cli"
     module_name, func_name = target.split(":")
     func = getattr(importlib.import_module(module_name), func_name)
     show = warnings.showwarning
