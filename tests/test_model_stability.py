@@ -165,8 +165,8 @@ def test_intermediate_axis_condition_and_growth_rate():
                    + s ** 2 * (I2 - I1) * (I2 - I3)).exact
     for moments, verdict in (((1, 2, 3), "unstable"), ((2, 1, 3), "spectrally stable"), ((1, 3, 2), "spectrally stable")):
         assert st_.classify({"I1": moments[0], "I2": moments[1], "I3": moments[2], "s": 1.3}) == verdict
-    roots = st_.eigenvalues({"s": 2.0})
-    assert np.allclose(roots, [-2 / np.sqrt(3), 2 / np.sqrt(3)], rtol=1e-14, atol=0)
+    roots = st_.eigenvalues({"s": 2.0})   # the defaults I = (2, 3, 4): ±2 √(1·1/(2·4))
+    assert np.allclose(roots, [-2 / np.sqrt(8), 2 / np.sqrt(8)], rtol=1e-14, atol=0)
 
 
 def test_sleeping_top_conditions_and_lyapunov_give_the_texts_bound():

@@ -449,8 +449,8 @@ class Stability:
         >>> from eulersym.model.cli import load
         >>> from eulersym.model.steady import steady_motions
         >>> st = steady_motions(load("torque-free")).named("rotation about e2").stability()
-        >>> st.eigenvalues({"s": 1.0}).round(6)          # ±ω0 √((I3 − I2)(I2 − I1)/(I1 I3)) = ±1/√3
-        array([-0.57735+0.j,  0.57735+0.j])
+        >>> st.eigenvalues({"s": 1.0}).round(6)          # ±ω0 √((I3 − I2)(I2 − I1)/(I1 I3)) = ±1/√8
+        array([-0.353553+0.j,  0.353553+0.j])
         """
         import mpmath
         import numpy as np

@@ -20,14 +20,14 @@ Examples
 --------
 >>> main(["torque-free", "--family", "rotation about e2", "--at", "s=1"])  # doctest: +ELLIPSIS
 model torque-free: 1 of 3 families of steady motions
-  parameters: I1 = 1, I2 = 2, I3 = 3
+  parameters: I1 = 2, I2 = 3, I3 = 4
 <BLANKLINE>
 rotation about e2 — permanent rotation; family symbols: s
   state: omega1 = 0, omega2 = s, omega3 = 0
   exists: always
   characteristic polynomial (λ^1 divided out: the level sets of E, L2): I1*I3*lam**2 - s**2*(I1 - I2)*(I2 - I3)
   spectrally stable iff: Eq(s, 0) | (-(I1 - I2)*(I2 - I3) >= 0)
-  at I1 = 1, I2 = 2, I3 = 3, s = 1: unstable (eigenvalues -0.57735, 0.57735)
+  at I1 = 2, I2 = 3, I3 = 4, s = 1: unstable (eigenvalues -0.353553, 0.353553)
 0
 """
 

@@ -140,7 +140,7 @@ def compile_condition_map(stab, xname: str, yname: str, values=None):
     >>> from eulersym.model.steady import steady_motions
     >>> st = steady_motions(load("torque-free")).named("rotation about e2").stability()
     >>> f = compile_condition_map(st, "I2", "s")
-    >>> f(np.array([0.5, 1.5, 3.5]), np.array([1.0, 1.0, 1.0]))[0]      # I2 below, between, above I1 = 1, I3 = 3
+    >>> f(np.array([1.0, 3.0, 5.0]), np.array([1.0, 1.0, 1.0]))[0]      # I2 below, between, above I1 = 2, I3 = 4
     array([1, 0, 1])
     """
     if stab.conditions is None:

@@ -178,7 +178,7 @@ class Family:
         >>> from eulersym.model.cli import load
         >>> f = steady_motions(load("torque-free"))[0]
         >>> sorted((str(k), v) for k, v in f.values({"s": 2}).items())
-        [('I1', 1), ('I2', 2), ('I3', 3), ('s', 2)]
+        [('I1', 2), ('I2', 3), ('I3', 4), ('s', 2)]
         """
         return _values(self, values)
 
