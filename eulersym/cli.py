@@ -26,6 +26,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "simulate": ("eulersym.scene:cli", "run a scene (TOML file or bundled name)"),
     "bench": ("eulersym.bench:cli", "time eulersym against a baseline in the same run"),
     "animate": ("eulersym.animation.cli:cli", "animate a scene: out.gif, out.mp4 or a self-contained out.html"),
+    "stability": ("eulersym.model.stability_cli:main", "a model's steady motions and their stability, proven"),
 }
 
 #: Subcommands that take ``--model FILE``: a user's model is handled by :mod:`eulersym.model.cli`.

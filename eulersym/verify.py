@@ -37,7 +37,6 @@ Examples
 from __future__ import annotations
 
 import argparse
-import contextlib
 import difflib
 import functools
 import importlib
@@ -45,9 +44,7 @@ import math
 import json
 import random
 import re
-import signal
 import sys
-import threading
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -57,6 +54,7 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 
 from eulersym import symbols as S
+from eulersym._budget import BudgetExceeded, time_budget
 from eulersym.compare import SIMPLIFY_BUDGET, compare, components, freeze_functions, zero_exact
 from eulersym.errors import EulersymError, InvalidInput
 from eulersym.parsing import parse, parse_latex
@@ -503,31 +501,9 @@ def _short(obj, limit: int = 400) -> str:
 # Time budget
 
 
-class _BudgetExceeded(BaseException):
-    """Raised by the interval timer; a BaseException so that SymPy's ``except Exception`` cannot swallow it."""
-
-
-@contextlib.contextmanager
-def _time_budget(seconds: float | None):
-    """Raise :class:`_BudgetExceeded` inside the block after ``seconds`` (POSIX, main thread, no other timer
-    running); elsewhere the block runs unbounded and the context value is False."""
-    usable = (seconds is not None and seconds > 0 and hasattr(signal, "setitimer")
-              and threading.current_thread() is threading.main_thread()
-              and signal.getitimer(signal.ITIMER_REAL)[0] == 0)  # never disturb a timer someone else set
-    if not usable:
-        yield False
-        return
-
-    def _expired(signum, frame):
-        raise _BudgetExceeded()
-
-    previous = signal.signal(signal.SIGALRM, _expired)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
-        yield True
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
+# the budget lives in eulersym._budget (shared with the steady-motion solver); the old names stay for callers
+_BudgetExceeded = BudgetExceeded
+_time_budget = time_budget
 
 
 # ----------------------------------------------------------------------------------------------------------------
