@@ -21,7 +21,6 @@ exact (trig-polynomial reduction) + numeric (5 points at 30 digits)
 from __future__ import annotations
 
 import argparse
-import importlib
 import sys
 import time
 from dataclasses import dataclass
@@ -76,6 +75,26 @@ class ClosedForm:
         return self._derive()
 
 
+def _derivation_module(name: str):
+    """The module an entry is derived in, imported on first use (so checking one section imports only its own
+    modules); each import written out, so that readers and tools see the package's real dependencies."""
+    if name == "eulersym.rotation":
+        from eulersym import rotation as module
+    elif name == "eulersym.kinematics":
+        from eulersym import kinematics as module
+    elif name == "eulersym.inertia":
+        from eulersym import inertia as module
+    elif name == "eulersym.dynamics":
+        from eulersym import dynamics as module
+    elif name == "eulersym.top":
+        from eulersym import top as module
+    elif name == "eulersym.model.chapter":
+        from eulersym.model import chapter as module
+    else:
+        raise DerivationMissing(f"no module {name}")
+    return module
+
+
 def _call(target: str, *args, **kwargs) -> Callable[[], Any]:
     """A lazy call of ``module:function(*args, **kwargs)``; ``[i]`` after the name picks an item of the result."""
     module_name, _, name = target.partition(":")
@@ -85,12 +104,7 @@ def _call(target: str, *args, **kwargs) -> Callable[[], Any]:
         index = int(rest.rstrip("]"))
 
     def run():
-        try:
-            module = importlib.import_module(module_name)
-        except ModuleNotFoundError as exc:
-            if exc.name != module_name:
-                raise
-            raise DerivationMissing(f"no module {module_name}") from None
+        module = _derivation_module(module_name)
         if not hasattr(module, name):
             raise DerivationMissing(f"{module_name} has no {name}")
         result = getattr(module, name)(*args, **kwargs)
@@ -174,7 +188,7 @@ def _omega_cross_L():
 
 
 def _inertia():
-    return importlib.import_module("eulersym.inertia")
+    return _derivation_module("eulersym.inertia")
 
 
 def _corner_cube():

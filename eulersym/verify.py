@@ -39,7 +39,6 @@ from __future__ import annotations
 import argparse
 import difflib
 import functools
-import importlib
 import math
 import json
 import random
@@ -83,8 +82,26 @@ class Quantity(NamedTuple):
     derive: Callable[[], Any]
 
 
+def _module(name: str):
+    """The derivation module ``eulersym.<name>``, imported on first use (one quantity imports only its own module);
+    each import written out, so that readers and tools see the package's real dependencies."""
+    if name == "rotation":
+        from eulersym import rotation as module
+    elif name == "kinematics":
+        from eulersym import kinematics as module
+    elif name == "inertia":
+        from eulersym import inertia as module
+    elif name == "dynamics":
+        from eulersym import dynamics as module
+    elif name == "top":
+        from eulersym import top as module
+    else:
+        raise ImportError(f"no derivation module eulersym.{name}")
+    return module
+
+
 def _call(module: str, attr: str, *args, **kwargs):
-    return getattr(importlib.import_module(f"eulersym.{module}"), attr)(*args, **kwargs)
+    return getattr(_module(module), attr)(*args, **kwargs)
 
 
 def _item(index):
@@ -161,7 +178,7 @@ def _derived_callable(module, attr, args, kwargs, post):
 
 def _available(module: str, attr: str) -> bool:
     try:
-        mod = importlib.import_module(f"eulersym.{module}")
+        mod = _module(module)
     except ImportError:
         return False
     return callable(getattr(mod, attr, None))
@@ -197,7 +214,9 @@ def _derived_quantity(name: str) -> Quantity | None:
 
 def _closed_forms() -> dict:
     try:
-        return getattr(importlib.import_module("eulersym.text"), "CLOSED_FORMS", {})
+        from eulersym import text
+
+        return text.CLOSED_FORMS
     except ImportError:
         return {}
 
@@ -861,7 +880,7 @@ def _convention_families() -> tuple:
 
 def _conventions() -> tuple:
     try:
-        return tuple(importlib.import_module("eulersym.rotation").CONVENTIONS)
+        return tuple(_module("rotation").CONVENTIONS)
     except (ImportError, AttributeError):
         return ()
 
