@@ -18,7 +18,7 @@ import numpy as np
 from eulersym.scene.frames import Rotation, is_identity, quaternion_to_rotation, rotation_to_quaternion
 from eulersym.scene.plan import Plan
 
-__all__ = ["Result", "outputs", "report", "report_notes"]
+__all__ = ["Result", "outputs", "report", "report_notes", "error_line", "sensitivity_line"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -62,6 +62,22 @@ class Result:
         ``"energy.drift"``, ...; :mod:`eulersym.sweeps.summary`); then the trajectories are not kept (None).
     turning_points : (θ1, θ2) or None
         Heavy top with Euler-angle output: the nutation's turning points (radians), derived by eulersym.top.
+    error : mapping quantity → float, or → ndarray (batch,) for a sweep
+        The estimated global error of an integrated motion at the output times (empty for a closed form: exact to
+        round-off): ``"omega"`` relative to the largest |ω| of the motion, ``"attitude"`` (q) and ``"gamma"``
+        (Γ) absolute, each the largest Euclidean distance from the true motion over the output times — from a
+        second, looser run (:mod:`eulersym.numerics.methods._accuracy`). The control makes each ≤ ``accuracy``;
+        when double precision cannot (the motion amplifies round-off beyond it) the run warns
+        (:class:`eulersym.errors.AccuracyNotReached`) and this says what it reached.
+    accuracy : float or None
+        The accuracy asked (the scene's).
+    sensitivity : ndarray (n,) or (batch, n), or None
+        With ``"sensitivity"`` among the outputs: how much a small change of the start has grown by each output
+        time — the largest singular value of the state-transition matrix ∂y(t)/∂y(0) of the integrated state
+        (ω scaled by its size, Γ, q), from the variational equations (1 at the start).
+    lyapunov : float or ndarray (batch,), or None
+        With ``"sensitivity"``: the finite-time Lyapunov exponent ln(σ_max(t_end)) / t_end (1/s) — positive and
+        steady over long runs for a chaotic motion, tending to 0 for a regular one.
 
     Examples
     --------
@@ -93,6 +109,10 @@ class Result:
     turning_points: tuple | None = None
     summary: Mapping = field(default_factory=dict)
     scene: object = field(default=None, repr=False, compare=False)
+    error: Mapping = field(default_factory=dict)
+    accuracy: float | None = None
+    sensitivity: np.ndarray | None = None
+    lyapunov: object = None
 
     def animate(self, path: str, **options) -> str:
         """Write an animation of this run to ``path`` (``.gif``, ``.mp4`` or a self-contained ``.html``); return it.
@@ -231,6 +251,7 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     notes = report_notes(plan, moments, P, theta_min=theta_min, theta_max=theta_max,
                          w3=omega_pr[:, 0, 2], bound=bound, turning=turning, flips=flips, tensor_given=tensor_given)
     return {
+        "error": _errors(traj),
         "omega": omega_body,
         "attitude": attitude if ("attitude" in outputs or "euler_angles" in outputs) else None,
         "euler_angles": euler_angles,
@@ -243,6 +264,13 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     }
 
 
+
+
+def _errors(traj) -> dict:
+    """The trajectory's estimate per quantity (batch,), or {} for a closed form (exact to round-off)."""
+    if traj is None or traj.error is None:
+        return {}
+    return {name: np.asarray(v, dtype=float) for name, v in traj.error.items()}
 
 
 def _symmetric(moments) -> bool:
@@ -383,6 +411,56 @@ def _fmt_time(seconds: float) -> str:
     return f"{seconds:.2f} s"
 
 
+_QUANTITY_WORDS = {"omega": "ω (relative)", "attitude": "attitude", "gamma": "vertical Γ"}
+
+
+def error_line(result) -> str:
+    """The report's line on the error: the estimate against the accuracy asked, or a closed form's exactness.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> print(error_line(NS(error={"omega": 3.2e-10, "attitude": 1.1e-10}, accuracy=1e-9, plan=NS(batch=1))))
+    estimated error ≤ 3.2e-10 (asked 1e-09): ω (relative) 3.2e-10, attitude 1.1e-10
+    >>> print(error_line(NS(error={}, accuracy=1e-9, plan=NS(batch=1, engine="closed form: elliptic"))))
+    error: exact to round-off (closed form; asked 1e-09)
+    """
+    asked = "" if result.accuracy is None else f"asked {result.accuracy:g}"
+    if not result.error:
+        what = "closed form" if str(getattr(result.plan, "engine", "")).startswith("closed form") else "not estimated"
+        return f"error: exact to round-off ({what}{'; ' + asked if asked else ''})" if what == "closed form" else (
+            f"error: {what}" + (f" ({asked})" if asked else ""))
+    values = {k: np.asarray(v, dtype=float) for k, v in result.error.items()}
+    worst = max(float(np.max(v)) for v in values.values())
+    batch = result.plan.batch
+    head = f"estimated error ≤ {worst:.2g}" + (f" ({asked})" if asked else "")
+    if batch > 1:
+        head += f", the largest over {batch} members"
+    parts = ", ".join(f"{_QUANTITY_WORDS.get(k, k)} {float(np.max(v)):.2g}" for k, v in values.items())
+    line = f"{head}: {parts}"
+    if result.accuracy is not None and worst > result.accuracy:
+        beyond = int(np.sum(np.max(np.stack(list(values.values())), axis=0) > result.accuracy))
+        line += (" — NOT reached" + (f" for {beyond} of {batch} members" if batch > 1 else "")
+                 + " (double precision cannot carry this motion that far: see the note)")
+    return line
+
+
+def sensitivity_line(result) -> str:
+    """The report's line on the conditioning of the motion (``want = ["sensitivity"]``).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> print(sensitivity_line(NS(sensitivity=np.array([1.0, 3.0, 40.0]), lyapunov=0.2, t=np.array([0.0, 1.0, 2.0]))))
+    sensitivity: a change of the start grows up to 40× by t = 2 (largest singular value of ∂y(t)/∂y(0)); finite-time Lyapunov exponent 0.2 /s
+    """
+    s = np.atleast_2d(np.asarray(result.sensitivity, dtype=float))
+    k = int(np.argmax(np.max(s, axis=0)))
+    lam = np.max(np.asarray(result.lyapunov, dtype=float))
+    return (f"sensitivity: a change of the start grows up to {float(np.max(s)):.3g}× by t = {float(result.t[k]):.6g} "
+            f"(largest singular value of ∂y(t)/∂y(0)); finite-time Lyapunov exponent {lam:.3g} /s")
+
+
 def report(result) -> str:
     """The short text report of a Result: plan, what ran, invariants' drift, notes, timings.
 
@@ -400,8 +478,11 @@ def report(result) -> str:
     lines.append(f"ran: {plan.engine}; {len(result.t)} output times" + (f" × {plan.batch} members" if plan.batch > 1 else ""))
     lines.append("derivations: " + (", ".join(result.derivations) if result.derivations else "none (no SymPy needed)"))
     lines.append("propagated: " + ", ".join(result.propagated) + (f"; kernel calls: {result.n_rhs_calls}" if result.n_rhs_calls else ""))
+    lines.append(error_line(result))
     if result.drift:
         lines.append("invariants drift (max relative): " + ", ".join(f"{k} {v:.2e}" for k, v in result.drift.items()))
+    if result.sensitivity is not None:
+        lines.append(sensitivity_line(result))
     lines += result.notes
     lines.append("timings: " + ", ".join(f"{k} {_fmt_time(v)}" for k, v in result.timings.items()))
     return "\n".join(lines)
