@@ -153,16 +153,45 @@ def _drift(values: np.ndarray) -> float:
     return _drifts(np.atleast_2d(values)[None])[0]
 
 
-def _drifts(rows: np.ndarray) -> list:
-    """:func:`_drift` of each of ``rows`` (k, batch, n) in one pass."""
+def _drifts(rows: np.ndarray, scales=None) -> list:
+    """:func:`_drift` of each of ``rows`` (k, batch, n) in one pass; ``scales`` (k, batch): each invariant's natural
+    scale (:func:`_natural_scales`) instead of |I(0)|."""
     ref = rows[:, :, 0]
-    denom = np.abs(ref)
+    denom = np.abs(ref) if scales is None else np.array(scales, dtype=float)
     denom[denom == 0] = 1.0
     # max |x − x0| = max(max x − x0, x0 − min x): the same roundings (x − x0 is monotone in x), no (k, batch, n) temporary;
     # the ufuncs' own reductions (what ndarray.max and .min call)
     dev = np.maximum(np.maximum.reduce(rows, axis=2) - ref, ref - np.minimum.reduce(rows, axis=2))
     dev /= denom
     return np.maximum.reduce(dev, axis=1).tolist()
+
+
+def _natural_scales(invariants, t0, y0, params) -> np.ndarray:
+    """The natural size of each invariant at the start (k, batch): the larger of |I(y0)| and half the sum of its
+    terms' sizes, Σ_j |∂I/∂y_j · y_j| / 2 (central differences) — so an invariant that starts at zero by a
+    cancellation (L·Γ = 0 of a Goryachev–Chaplygin top) drifts relative to |L||Γ|, not to its round-off; a
+    quadratic form of one sign keeps |I(y0)|.
+
+    Examples
+    --------
+    >>> dot = lambda t, y: np.array([y[0] * y[2] + y[1] * y[3]])        # L·Γ with L = (1, 2), Γ = (2, -1): 0
+    >>> _natural_scales(dot, 0.0, np.array([[1.0], [2.0], [2.0], [-1.0]]), []).round(6).tolist()
+    [[4.0]]
+    """
+    y0 = np.asarray(y0, dtype=float)
+    with np.errstate(all="ignore"):
+        base = np.abs(np.atleast_2d(np.asarray(invariants(t0, y0, *params), dtype=float)))
+        total = np.zeros_like(base)
+        for j in range(y0.shape[0]):
+            step = 1e-6 * np.maximum(np.abs(y0[j]), 1.0)
+            up, down = y0.copy(), y0.copy()
+            up[j] += step
+            down[j] -= step
+            grad = (np.asarray(invariants(t0, up, *params), dtype=float)
+                    - np.asarray(invariants(t0, down, *params), dtype=float)) / (2.0 * step)
+            total += np.abs(grad * y0[j])
+    scales = np.maximum(base, 0.5 * total)
+    return np.where(np.isfinite(scales), scales, base)
 
 
 def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False) -> dict:
@@ -198,6 +227,7 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     if "invariants" in outputs:
         if own:
             invariants = _model_invariants(model, t, omega_body, gamma_body, attitude)
+            known = _model_drifts(model, t, invariants, omega_body, gamma_body, attitude)
         elif plan.regime == "torque-free":
             from eulersym.numerics import invariants as inv
 
@@ -235,7 +265,13 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
                 np.multiply(moments[:, 2:3], omega_pr[..., 2], out=rows[4].reshape(batch, n))
             rows = rows.reshape(len(names), batch, n)
             invariants.update(zip(names, rows))
-            known = dict(zip(names, _drifts(rows)))  # all at once
+            start = y.reshape(10, batch, n)[:, :, 0]
+            first = [*moments.T, M, g, l]
+            scales = np.empty((len(names), batch))
+            scales[:4] = _natural_scales(gen.invariants_batched, 0.0, start, first)
+            if len(names) == 5:  # p_ψ = I3 ω3: relative to the size of I3 ω
+                scales[4] = np.maximum(np.abs(rows[4, :, 0]), moments[:, 2] * np.linalg.norm(omega_pr[:, 0], axis=1))
+            known = dict(zip(names, _drifts(rows, scales)))  # all at once
         drift = {name: known[name] if name in known else (_drift(v) if name != "L_space_deviation" else float(np.max(v)))
                  for name, v in invariants.items()}
     else:
@@ -401,6 +437,22 @@ def _model_invariants(model, t, omega, gamma, q) -> dict:
     rows = model.module.invariants_batched(time, y, *params)
     return {name: np.broadcast_to(np.asarray(row, dtype=float), (batch * n,)).reshape(batch, n)
             for name, row in zip(model.invariants, rows)}
+
+
+def _model_drifts(model, t, invariants, omega, gamma, q) -> dict:
+    """Each model invariant's drift relative to its natural scale at the start (:func:`_natural_scales`)."""
+    if not invariants:
+        return {}
+    values = {f"omega{k + 1}": omega[:, 0, k] for k in range(3)}
+    values.update({f"gamma{k + 1}": gamma[:, 0, k] for k in range(3)})
+    values.update({f"q{k}": q[:, 0, k] for k in range(4)})
+    y0 = np.stack([values[name] for name in model.state])
+    params = [np.asarray(p, dtype=float) for p in model.params]
+    scales = _natural_scales(model.module.invariants_batched, float(t[0]) if model.flags.get("time") else 0.0, y0,
+                             params)
+    rows = np.stack([invariants[name] for name in model.invariants])
+    scales = np.broadcast_to(scales, rows.shape[:2])
+    return dict(zip(model.invariants, _drifts(rows, scales)))
 
 
 def _fmt_time(seconds: float) -> str:

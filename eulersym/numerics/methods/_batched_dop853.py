@@ -102,7 +102,9 @@ def dop853_batched(fun, y0, t_eval, *, params=(), rtol, atol, chunk=4096, progre
         except _Stopped as stop:
             bad = lo + stop.members
             who = describe(bad) if describe is not None else _members_text(bad)
-            raise IntegrationFailed("batched_dop853", f"{who}: {stop.reason} at t = {stop.t:.6g}", stop.hint) from None
+            failure = IntegrationFailed("batched_dop853", f"{who}: {stop.reason} at t = {stop.t:.6g}", stop.hint)
+            failure.members, failure.time, failure.cause = bad, stop.t, stop.reason  # for a sweep's own report
+            raise failure from None
         calls += c
     return Y, calls
 
@@ -210,6 +212,7 @@ def _dop853_chunk(fun, y0, t_eval, rtol, atol, Y, progress):
                 e3 = np.einsum("nb,nb->b", err3, err3)
                 denom = e5 + 0.01 * e3
                 norms = np.where(denom > 0, h_use * e5 / np.sqrt(denom * n), 0.0)
+                norms[~np.isfinite(denom) | ~np.all(np.isfinite(y_new), axis=0)] = np.nan  # NaN: never a small error
             err = float(np.max(norms)) if norms.size else 0.0
             if not np.isfinite(err):
                 bad = np.flatnonzero(~np.isfinite(norms))

@@ -28,6 +28,8 @@ MEMBERS_COST = Cost("dop853-members", order=8, stages=12, constant=0.16 * CONTRO
 ATOL_RATIO = 1e-3
 #: Steps a member of the compiled DOP853 may take in one run before it stops (no endless integration).
 MAX_STEPS = 50_000_000
+#: Evaluations a ``solve_ivp`` run may make before it stops (minutes of SciPy's per-call overhead).
+MAX_CALLS = 10_000_000
 
 
 def _torque_kernels(problem: Problem) -> tuple:
@@ -182,11 +184,31 @@ class BatchedDOP853(Integrator):
         from eulersym.numerics.methods._batched_dop853 import dop853_batched
         from eulersym.numerics.methods._systems import system
 
-        s = system(problem)
-        rtol = np.asarray(setting, dtype=float)
-        Y, calls = dop853_batched(s.fun, s.y0, problem.t, params=s.params, rtol=rtol, atol=rtol * ATOL_RATIO,
-                                  takes_out=s.takes_out, describe=lambda b: _where(problem, b))
-        return s.trajectory(problem.t, Y, calls, self.name)
+        rtol = np.broadcast_to(np.asarray(setting, dtype=float), (problem.batch,))
+        failed = []  # (members, time, cause): a sweep names every member that fails, not only the first
+        keep = np.arange(problem.batch)
+        while len(keep):
+            part = problem if len(keep) == problem.batch else problem.select(keep)
+            s = system(part)
+            try:
+                Y, calls = dop853_batched(s.fun, s.y0, part.t, params=s.params, rtol=rtol[keep],
+                                          atol=rtol[keep] * ATOL_RATIO, takes_out=s.takes_out)
+            except IntegrationFailed as exc:
+                bad = getattr(exc, "members", None)
+                if bad is None:
+                    raise
+                failed.append((keep[bad], exc.time, exc.cause))
+                keep = np.delete(keep, bad)
+                continue
+            if not failed:
+                return s.trajectory(problem.t, Y, calls, self.name)
+            break
+        every = np.concatenate([m for m, _, _ in failed])
+        causes = "; ".join(f"{_where(problem, m)}: {cause} at t = {t:.6g}" for m, t, cause in failed[:3])
+        raise IntegrationFailed(self.name, f"{len(every)} of {problem.batch} members stopped — {causes}"
+                                + ("; …" if len(failed) > 3 else ""),
+                                "members whose right-hand side stays in its domain and finite (a shorter t_end, "
+                                "other parameters)")
 
 
 class CompiledDOP853(Integrator):
@@ -308,7 +330,7 @@ class SolveIVP(Integrator):
 
         I = tuple(float(x) for x in problem.moments[0])
         w0, method = problem.omega0[0], problem.ivp_method
-        tol = dict(method=method, rtol=rtol, atol=rtol * ATOL_RATIO)
+        tol = dict(method=method, rtol=rtol, atol=rtol * ATOL_RATIO, max_calls=MAX_CALLS)
         t = problem.t
 
         def one(traj, q=None, gamma=None):
@@ -354,8 +376,11 @@ class SolveIVP(Integrator):
         s = system(problem)
         params = s.params
         t = problem.t
-        sol = solve_ivp(lambda tt, y: s.fun(tt, y[:, None], *params)[:, 0], (t[0], t[-1]), s.y0[:, 0],
-                        method=problem.ivp_method, t_eval=t, rtol=rtol, atol=rtol * ATOL_RATIO)
+        with np.errstate(all="ignore"):
+            sol = solve_ivp(lambda tt, y: s.fun(tt, y[:, None], *params)[:, 0], (t[0], t[-1]), s.y0[:, 0],
+                            method=problem.ivp_method, t_eval=t, rtol=rtol, atol=rtol * ATOL_RATIO)
         if not sol.success or not np.all(np.isfinite(sol.y)):
-            raise IntegrationFailed(self.name, f"{problem.ivp_method}: {sol.message}", "a looser accuracy")
+            reached = float(sol.t[-1]) if len(sol.t) else float(t[0])
+            raise IntegrationFailed(self.name, f"{problem.ivp_method}: {sol.message or 'the state left the finite '}"
+                                    f" (after t = {reached:.6g})", "a looser accuracy, or a shorter t_end")
         return s.trajectory(t, sol.y[None].transpose(2, 1, 0), sol.nfev, self.name)
