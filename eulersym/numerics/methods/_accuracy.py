@@ -67,8 +67,8 @@ SAFETY = 3.0
 #: Tolerances below this are near round-off (see the module docstring): the pair is kept ×10 apart and the estimate
 #: is at least |Δ| / √2.
 ROUNDOFF_RTOL = 1e-13
-#: At most this many runs per member (the pilot pair included).
-MAX_RUNS = 6
+#: At most this many runs per member (the pilot pair included; a partner run does not count).
+MAX_RUNS = 7
 #: The next run aims this far below the accuracy (its tolerance from proportionality).
 AIM = 2.0
 #: Two runs whose tolerances differ by more than this make no pair: the new run gets a partner 10× looser (the
@@ -269,12 +269,13 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
         s_old = setting[idx]
         s_new = _refine(method, s_old, previous, accuracy)
         partner, s_partner, extra = current, s_old, 0
-        far = _ratio(method, s_old, s_new) > (PAIR_SPAN if method.adaptive else PAIR_SPAN ** 1.0)
+        far = _ratio(method, s_old, s_new) > PAIR_SPAN
         if method.adaptive and np.any(far):  # a pair 10× apart: one more run, 10× looser than the new one
             s_partner = np.where(far, 10.0 * s_new, s_old)
-            partner = method.attempt(sub, s_partner)
-            extra = int(partner.n_rhs_calls)
-            runs[idx] += 1
+            where = np.flatnonzero(far)
+            extra_run = method.attempt(sub.select(where), s_partner[where])
+            partner = splice(current, where, extra_run)
+            extra = int(extra_run.n_rhs_calls)
         fresh = method.attempt(sub, s_new)
         runs[idx] += 1
         e_new = estimate(deviation(partner, fresh, vertical=vertical), _ratio(method, s_partner, s_new),
@@ -283,7 +284,8 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
         best = splice(best, idx, fresh)
         setting[idx] = s_new
         w_new = worst(e_new)
-        stalled = (w_new > previous / 3.0) | (runs[idx] >= MAX_RUNS)
+        # stalled: the estimate no longer falls (round-off), or the runs are spent
+        stalled = (w_new > 0.7 * previous) | (runs[idx] >= MAX_RUNS)
         if method.adaptive:
             stalled |= s_new <= method.min_rtol
         still = w_new > accuracy
