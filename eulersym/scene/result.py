@@ -39,7 +39,8 @@ class Result:
         ω in the principal frame: the polhode on the energy ellipsoid ω·Iω = 2E.
     invariants : mapping name → ndarray (n,) or (batch, n)
     drift : mapping name → float
-        max |I(t) − I(0)| / |I(0)| (absolute where I(0) = 0), the maximum over members.
+        max |I(t) − I(0)| / |I(0)|, the maximum over members; an invariant that starts at zero by a cancellation
+        (|I(0)| below 1e-3 of the size of its terms, L·Γ = 0) relative to that size instead.
     plan : Plan
         The plan that ran (resolved: derived moments known).
     derivations : tuple of str
@@ -166,10 +167,30 @@ def _drifts(rows: np.ndarray, scales=None) -> list:
     return np.maximum.reduce(dev, axis=1).tolist()
 
 
+#: An invariant whose start |I(y0)| is below this fraction of the size of its terms started at zero by a
+#: cancellation: its drift is taken relative to that size instead (:func:`_cancelled`).
+CANCELLED = 1e-3
+
+
+def _cancelled(start, size) -> np.ndarray:
+    """The denominator of a drift: ``|I(0)|``, or the invariant's natural ``size`` where ``|I(0)| < CANCELLED · size``
+    (an invariant that starts at zero by a cancellation — L·Γ = 0 of a Goryachev–Chaplygin top — drifts relative to
+    |L||Γ|, not to its round-off). Elsewhere the drift is exactly max |I(t) − I(0)| / |I(0)|, bit for bit what a
+    chunked sweep's summaries compute.
+
+    Examples
+    --------
+    >>> _cancelled(np.array([2.0, 1e-17]), np.array([2.0, 4.0])).tolist()
+    [2.0, 4.0]
+    """
+    start = np.abs(np.asarray(start, dtype=float))
+    size = np.asarray(size, dtype=float)
+    return np.where(start < CANCELLED * size, size, start)
+
+
 def _natural_scales(invariants, t0, y0, params) -> np.ndarray:
-    """The natural size of each invariant at the start (k, batch): the larger of |I(y0)| and half the sum of its
-    terms' sizes, Σ_j |∂I/∂y_j · y_j| / 2 (central differences) — so an invariant that starts at zero by a
-    cancellation (L·Γ = 0 of a Goryachev–Chaplygin top) drifts relative to |L||Γ|, not to its round-off; a
+    """The denominators of each invariant's drift (k, batch): ``|I(y0)|``, unless it is below :data:`CANCELLED`
+    of half the sum of its terms' sizes, Σ_j |∂I/∂y_j · y_j| / 2 (central differences; :func:`_cancelled`) — a
     quadratic form of one sign keeps |I(y0)|.
 
     Examples
@@ -190,7 +211,7 @@ def _natural_scales(invariants, t0, y0, params) -> np.ndarray:
             grad = (np.asarray(invariants(t0, up, *params), dtype=float)
                     - np.asarray(invariants(t0, down, *params), dtype=float)) / (2.0 * step)
             total += np.abs(grad * y0[j])
-    scales = np.maximum(base, 0.5 * total)
+    scales = _cancelled(base, 0.5 * total)
     return np.where(np.isfinite(scales), scales, base)
 
 
@@ -270,7 +291,7 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
             scales = np.empty((len(names), batch))
             scales[:4] = _natural_scales(gen.invariants_batched, 0.0, start, first)
             if len(names) == 5:  # p_ψ = I3 ω3: relative to the size of I3 ω
-                scales[4] = np.maximum(np.abs(rows[4, :, 0]), moments[:, 2] * np.linalg.norm(omega_pr[:, 0], axis=1))
+                scales[4] = _cancelled(rows[4, :, 0], moments[:, 2] * np.linalg.norm(omega_pr[:, 0], axis=1))
             known = dict(zip(names, _drifts(rows, scales)))  # all at once
         drift = {name: known[name] if name in known else (_drift(v) if name != "L_space_deviation" else float(np.max(v)))
                  for name, v in invariants.items()}
