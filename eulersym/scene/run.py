@@ -15,6 +15,7 @@ import warnings
 import numpy as np
 
 from eulersym.errors import AccuracyNotReached, InvalidInput
+from eulersym.numerics.methods._accuracy import FLOOR, MAX_RUNS
 from eulersym.scene import chunked, cost, model_kernel, symbolic
 from eulersym.scene.plan import make_plan
 from eulersym.scene.problem import prepare
@@ -200,6 +201,11 @@ def _not_reached(scene, problem, error, beyond, sigma) -> AccuracyNotReached:
         text += (f"; a change of the start grows up to {amplification:.3g}× over the span (largest singular value of "
                  "the state-transition matrix, from the variational equations), and so does the round-off of every "
                  "step")
+        floor = FLOOR * np.finfo(float).eps * amplification
+        if floor < asked / 10:  # round-off does not explain it: say so rather than blame double precision
+            text = text.replace("is not reachable in double precision", "was not reached within the control's "
+                                f"{MAX_RUNS} runs")
+            text += f" (its round-off floor, {FLOOR:g} ε × that, is only {floor:.2g}: a finer method would reach it)"
         # the error of round-off grows about as σ(t) √(t): the last output time it stays within the accuracy
         growth = s * np.sqrt(np.maximum(t - t[0], 0.0) / max(t[-1] - t[0], 1e-300))
         fits = np.flatnonzero(reached * growth / max(growth[-1], 1e-300) <= asked)
