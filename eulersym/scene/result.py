@@ -514,7 +514,7 @@ def error_line(result) -> str:
     if result.accuracy is not None and worst > result.accuracy:
         beyond = int(np.sum(np.max(np.stack(list(values.values())), axis=0) > result.accuracy))
         line += (" — NOT reached" + (f" for {beyond} of {batch} members" if batch > 1 else "")
-                 + " (double precision cannot carry this motion that far: see the note)")
+                 + " (see the note: why, and what would help)")
     return line
 
 

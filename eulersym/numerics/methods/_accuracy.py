@@ -311,7 +311,7 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
                  "(variational equations)")
     what = "rtol" if method.adaptive else "steps per output interval"
     shown = setting if len(setting) < 4 else np.array([setting.min(), setting.max()])
-    text = " … ".join(f"{s:.3g}" for s in np.unique(shown))
+    text = " … ".join(dict.fromkeys(f"{s:.3g}" for s in shown))
     return dataclasses.replace(best, message=(best.message + "; " if best.message else "")
                                + f"{what} {text} for accuracy {accuracy:g} (global error estimated from a run "
                                + ("10× looser" if method.adaptive else "at twice the step") + ")" + floor)
