@@ -377,7 +377,17 @@ def _compiled(template, module, kind: str, extra: dict):
                                      co_filename=path if path is not None else template.__code__.co_filename)
     fn = types.FunctionType(code, glob, name)
     fn.__qualname__ = name
-    return numba.cfunc(SIGNATURE, cache=path is not None, error_model="numpy")(fn)
+    return numba.cfunc(SIGNATURE, cache=path is not None and not _private(path), error_model="numpy")(fn)
+
+
+def _private(path) -> bool:
+    """True when the kernel's folder is private (no access for group or others: a model's entry in eulersym's cache,
+    which holds only the files the cache wrote and checks). numba's disk cache would add a ``__pycache__`` folder
+    there with the process's umask, so such a kernel's adapter is compiled in memory, once per process."""
+    try:
+        return not (os.stat(os.path.dirname(path)).st_mode & 0o077)
+    except OSError:
+        return True
 
 
 @lru_cache(maxsize=64)
@@ -404,7 +414,8 @@ def rhs_function(module):
     """The numba ``cfunc`` of ``module.rhs_flat`` that the stepping loop calls: ``f(t, y*, p*, out*)``.
 
     Compiled once per kernel and cached on disk beside the kernel's file (``__pycache__``), under a name made of
-    the kernel's bytes: a changed kernel gets a new entry, never a stale one.
+    the kernel's bytes: a changed kernel gets a new entry, never a stale one — except a kernel in a private folder (a
+    model's entry in eulersym's cache: :func:`_private`), compiled once per process.
 
     Examples
     --------
