@@ -55,12 +55,6 @@ ACCURACIES = (1e-6, 1e-9, 1e-12)
 RUNGS = tuple(10.0 ** (-k / 4) for k in range(12, 65))
 
 
-def _vertical(q):
-    """Γ = R(q)ᵀ ẑ of unit quaternions (..., 4), scalar first."""
-    a, b, c, d = np.moveaxis(np.asarray(q, dtype=float), -1, 0)
-    return np.stack([2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d], axis=-1)
-
-
 def true_error(omega, q, gamma, reference) -> dict:
     """The true error per quantity of ω (n, 3), q (n, 4) and Γ (n, 3) (either may be None: Γ then from q) against
     ``reference`` rows (ω, Γ, q) (n, 10): ω relative to the reference's largest |ω|, q (either sign) and Γ absolute,
@@ -73,7 +67,9 @@ def true_error(omega, q, gamma, reference) -> dict:
         q = q / np.linalg.norm(q, axis=1)[:, None]
         out["attitude"] = float(np.max(np.minimum(np.linalg.norm(q - ref[:, 6:], axis=1),
                                                   np.linalg.norm(q + ref[:, 6:], axis=1))))
-        if gamma is None:
+        if gamma is None:  # Γ = R(q)ᵀ ẑ, as the estimate takes it
+            from eulersym.numerics.methods._accuracy import _vertical
+
             gamma = _vertical(q)
     if gamma is not None:
         out["gamma"] = float(np.max(np.linalg.norm(np.asarray(gamma) - ref[:, 3:6], axis=1)))
