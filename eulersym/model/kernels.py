@@ -119,8 +119,10 @@ def _parameter_arguments(mech: Mechanics) -> tuple:
 
 @functools.lru_cache(maxsize=32)
 def _spec(mech: Mechanics, name: str) -> tuple:
-    eqs = equations(mech)
-    verdicts = _invariants(mech)
+    from eulersym.model.quantities import dynamics
+
+    eqs = equations(dynamics(mech))
+    verdicts = _invariants(dynamics(mech))
     conserved = [(n, v.expression) for n, v in verdicts.items() if v.conserved]
     args = (Argument("t", (t,), doc="time"), Argument("y", tuple(eqs.state), vector=True, doc="state"),
             *_parameter_arguments(mech))

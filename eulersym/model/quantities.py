@@ -44,7 +44,7 @@ from eulersym.attitude import SEQUENCES
 from eulersym.errors import InvalidInput
 from eulersym.model import names as N
 
-__all__ = ["validate", "expressions", "euler_angles", "frame_rate", "namespace", "EXTRA_NAMES", "INTEGRAL_NAMES",
+__all__ = ["validate", "expressions", "euler_angles", "frame_rate", "namespace", "dynamics", "EXTRA_NAMES", "INTEGRAL_NAMES",
            "ANGLE_NAMES", "MAX_QUANTITIES", "OUTPUT_COLUMNS"]
 
 #: The Euler angles a quantity may name (of the sequence ``convention``).
@@ -210,6 +210,14 @@ def frame_rate(mech, raw) -> "sp.ImmutableMatrix":
                                else sp.Rational(repr(float(x))) for k, x in enumerate(raw)])
 
 
+def dynamics(mech):
+    """The mechanics without its quantities: what the equations and integrals depend on (so that they are derived,
+    and cached, once for models that differ only in what they output)."""
+    import dataclasses
+
+    return dataclasses.replace(mech, quantities=(), convention="zxz") if mech.quantities else mech
+
+
 def namespace(mech) -> dict:
     """Every name a quantity of ``mech`` may use, with its SymPy meaning (see the module docstring).
 
@@ -226,7 +234,8 @@ def namespace(mech) -> dict:
     from eulersym.model.expressions import mechanics_namespace
     from eulersym.model.integrals import candidates
 
-    ns = {"L": sp.ImmutableMatrix(equations(mech).angular_momentum), **candidates(mech),
+    body = dynamics(mech)
+    ns = {"L": sp.ImmutableMatrix(equations(body).angular_momentum), **candidates(body),
           **dict(zip(ANGLE_NAMES, euler_angles(mech.convention)))}
     ns.update(mechanics_namespace(mech))  # the model's own names (its parameters included) win
     return ns
@@ -265,7 +274,7 @@ def expressions(mech) -> tuple:
     if not mech.quantities:
         return ()
     ns = namespace(mech)
-    have = candidates(mech)
+    have = candidates(dynamics(mech))
     params = {s.name for s in mech.parameter_symbols}
     state = state_symbols(mech)
     vertical = None if GAMMA[0] in state else dict(zip(GAMMA, sp.Matrix(from_quaternion(list(Q))) * sp.Matrix([0, 0, 1])))
