@@ -307,8 +307,9 @@ def _quantity(ax, result, facts, t, omega, k, scene, name):
     v = np.asarray(result.quantities[name], dtype=float)
     ax.plot(t, v[k] if v.ndim == 2 else v, color="C3")
     model = getattr(scene_of(result, scene), "model", None)
-    texts = dict(model.normalised["quantities"]["names"]) if model is not None else {}
-    ax.set_ylabel(name)
+    section = model.normalised["quantities"] if model is not None else {}
+    texts, unit = dict(section.get("names", [])), section.get("units", {}).get(name)
+    ax.set_ylabel(f"{name} ({unit})" if unit else name)
     _readable(ax)
     text = texts.get(name, "")
     _title(ax, f"{name} = {text if len(text) <= 60 else text[:57] + '...'}")

@@ -31,7 +31,7 @@ Examples
 >>> Model(body={"moments": [1, 2, 3]}, quantities={"x": "omega4"})
 Traceback (most recent call last):
 ...
-eulersym.errors.InvalidInput: quantities.x='omega4' is not valid: expected an expression of the model's names ...: 'omega4' is unknown (did you mean 'omega1'?)
+eulersym.errors.InvalidInput: quantities.x='omega4' is not valid: expected an expression of the model's names ...: 'omega4' is unknown (did you mean 'omega'?)
 """
 
 from __future__ import annotations
@@ -72,7 +72,8 @@ def validate(value: Any, parameters) -> dict:
     Parameters
     ----------
     value : mapping
-        ``name → expression string``, and optionally ``convention`` (one of the 12 sequences) for the angles.
+        ``name → expression string`` (or ``{expression = "...", unit = "rad"}``: the unit labels the plot's axis
+        and the report), and optionally ``convention`` (one of the 12 sequences) for the angles.
     parameters : sequence of str
         The model's parameter names.
 
@@ -107,9 +108,24 @@ def validate(value: Any, parameters) -> dict:
         raise InvalidInput("quantities", f"{len(entries)} quantities", f"at most {MAX_QUANTITIES} quantities")
     params = tuple(parameters)
     allowed = {*params, *N.FUNCTION_NAMES, "pi", N.TIME, *N.STATE_NAMES, *N.VECTOR_NAMES, N.INERTIA, *EXTRA_NAMES}
-    out = []
+    out, units = [], {}
     for name, text in entries:
         key = f"quantities.{name}"
+        if isinstance(text, Mapping):  # {expression = "...", unit = "rad"}
+            table = dict(text)
+            for sub in table:
+                if sub not in ("expression", "unit"):
+                    raise InvalidInput(f"{key}.{sub}", table[sub], "a key of a quantity: expression, unit"
+                                       + _hint(str(sub), ("expression", "unit")))
+            unit = table.get("unit")
+            if unit is not None:
+                if not isinstance(unit, str) or not unit.strip() or len(unit) > 32 or not unit.isprintable():
+                    raise InvalidInput(f"{key}.unit", unit, "a short unit for the axis and the report (\"rad\", "
+                                       "\"J\", \"rad/s\"; at most 32 printable characters)")
+                units[name] = unit.strip()
+            if "expression" not in table:
+                raise InvalidInput(f"{key}.expression", None, "the quantity's expression")
+            text = table["expression"]
         if not isinstance(name, str) or not name.isascii() or not name.isidentifier() or name.startswith("_") \
                 or len(name) > 64:
             raise InvalidInput(key, name, "a quantity name of ASCII letters, digits and _ that starts with a letter "
@@ -133,7 +149,7 @@ def validate(value: Any, parameters) -> dict:
                                    f"parameters ({', '.join(params) or 'none'}), pi and the functions): {word!r} is "
                                    "unknown" + _hint(word, allowed))
         out.append([name, stripped])
-    return {"names": out, "convention": convention}
+    return {"names": out, "convention": convention, **({"units": units} if units else {})}
 
 
 @functools.lru_cache(maxsize=16)

@@ -770,8 +770,10 @@ class Model:
             out["frame"] = {"rate": data["frame"]}
         if "quantities" in data:
             q = data["quantities"]
-            out["quantities"] = {**dict(q["names"]), **({"convention": q["convention"]}
-                                                         if q["convention"] != "zxz" else {})}
+            units = q.get("units", {})
+            out["quantities"] = {**{name: {"expression": text, "unit": units[name]} if name in units else text
+                                    for name, text in q["names"]},
+                                 **({"convention": q["convention"]} if q["convention"] != "zxz" else {})}
         return out
 
     @cached_property

@@ -23,7 +23,7 @@ import numpy as np
 
 from eulersym.errors import InvalidInput
 
-__all__ = ["evaluate", "report_lines", "columns", "summary_columns", "names"]
+__all__ = ["evaluate", "report_lines", "columns", "summary_columns", "names", "units"]
 
 
 def names(scene) -> tuple:
@@ -40,6 +40,22 @@ def names(scene) -> tuple:
     data = getattr(model, "normalised", {}) if model is not None else {}
     section = data.get("quantities") if hasattr(data, "get") else None
     return tuple(name for name, _ in section["names"]) if section else ()
+
+
+def units(scene) -> dict:
+    """``{name: unit}`` of the quantities that state one (``{expression = ..., unit = "rad"}``).
+
+    Examples
+    --------
+    >>> from eulersym.model import Model
+    >>> from eulersym.scene import Scene
+    >>> units(Scene(model=Model(body={"moments": [1, 2, 3]}, quantities={"w": {"expression": "norm(omega)",
+    ...                                                                         "unit": "rad/s"}}), omega=(0, 1, 0), t_end=1))
+    {'w': 'rad/s'}
+    """
+    model = getattr(scene, "model", None)
+    section = model.normalised.get("quantities") if model is not None else None
+    return dict(section.get("units", {})) if section else {}
 
 
 def _kernel(scene):
@@ -118,11 +134,13 @@ def report_lines(result) -> list:
     ['quantity spin: min 1, max 1, final 1']
     """
     out = []
+    unit = units(result.scene)
     for name, values in result.quantities.items():
         v = np.atleast_2d(values)
         final = v[:, -1]
         end = f"{final[0]:.6g}" if len(final) == 1 else f"{final.min():.6g} … {final.max():.6g} over the members"
-        out.append(f"quantity {name}: min {np.min(v):.6g}, max {np.max(v):.6g}, final {end}")
+        out.append(f"quantity {name}: min {np.min(v):.6g}, max {np.max(v):.6g}, final {end}"
+                   + (f" ({unit[name]})" if name in unit else ""))
     return out
 
 
