@@ -178,3 +178,15 @@ def test_gyrocompass_settles_on_north_with_the_tilt_that_cancels_the_earths_turn
     beta = np.arctan(H * W * np.sin(lat) / (Mgl + H * W * np.cos(lat)))
     assert abs(heading[0] - np.radians(30)) < 1e-12 and abs(heading[-1]) < 1e-3
     assert abs(tilt[-1] - beta) < 0.02 * beta
+
+
+def test_stability_map_of_the_satellite(tmp_path):
+    """`eulersym stability satellite-orbital-frame --map k1=… k3=… --plot`: exit 0 (the eigenvalues agree with the
+    proven classes at every point off the boundary) and a PNG."""
+    from eulersym.model.stability_cli import main
+
+    _aligned_stability()  # shared with the tests above (cached)
+    png = tmp_path / "map.png"
+    assert main(["satellite-orbital-frame", "--family", ALIGNED, "--map", "k1=-1:1:41", "k3=-1:1:41",
+                 "--plot", str(png)]) == 0
+    assert png.read_bytes()[:4] == b"\x89PNG"
