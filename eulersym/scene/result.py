@@ -8,6 +8,7 @@ vertical and invariants come from that kernel.
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -135,6 +136,14 @@ class Result:
         from eulersym.animation import animate
 
         return animate(self, path, scene=self.scene, **options)
+
+    @functools.cached_property
+    def quantities(self) -> dict:
+        """The scene's own quantities along the run, ``{name: (n,) or (batch, n)}`` (the model's ``[quantities]``,
+        evaluated by its kernel: :func:`eulersym.scene.quantities.evaluate`); empty without any."""
+        from eulersym.scene.quantities import evaluate
+
+        return evaluate(self)
 
     def report(self) -> str:
         """A short text report: the plan, the invariants' drift, the timings and notes.
@@ -557,6 +566,10 @@ def report(result) -> str:
     if result.sensitivity is not None:
         lines.append(sensitivity_line(result))
     lines += result.notes
+    if getattr(result, "quantities", None):  # the model's own quantities (eulersym.scene.quantities)
+        from eulersym.scene.quantities import report_lines
+
+        lines += report_lines(result)
     lines.append("timings: " + ", ".join(f"{k} {_fmt_time(v)}" for k, v in result.timings.items()))
     return "\n".join(lines)
 
