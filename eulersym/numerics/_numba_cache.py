@@ -29,6 +29,7 @@ import hashlib
 import inspect
 import os
 import pickle
+import shutil
 import sys
 import types
 import uuid
@@ -134,8 +135,11 @@ class _CheckedFile(caching.IndexDataCacheFile):
         with contextlib.suppress(OSError):
             for name in os.listdir(self._cache_path):
                 if name == self._index_name or (name.startswith(base + ".") and ".nbc" in name):
+                    path = os.path.join(self._cache_path, name)
+                    if os.path.isdir(path) and not os.path.islink(path):
+                        shutil.rmtree(path, ignore_errors=True)
                     with contextlib.suppress(OSError):
-                        os.unlink(os.path.join(self._cache_path, name))
+                        os.unlink(path)
 
 
 def _ours(fn, root_file: str) -> bool:
@@ -282,6 +286,7 @@ class CheckedCache(caching.FunctionCache):
             return super().load_overload(sig, target_context)
         except Exception as exc:  # noqa: BLE001 — any failure to load a cached function means: compile it again
             reason = str(exc) if isinstance(exc, Damaged) else f"{type(exc).__name__}: {' '.join(str(exc).split())}"
+            reason = reason.replace(self._cache_path + os.sep, "")
             self._cache_file.remove_all()
             warnings.warn(f"numba's cache of {self._py_func.__module__}.{self._py_func.__qualname__} in "
                           f"{self._cache_path} was damaged ({reason}): removed and compiled again", CacheRepaired,
