@@ -92,10 +92,15 @@ def ensure(model, record: list):
                       stacklevel=2)
         cache.remove(digest)
 
-    def write(folder: Path) -> Path:
-        written = Path(model.generate(folder))
+    def write(folder: Path) -> Path:  # the private staging folder: renamed into place whole (cache.store)
+        from eulersym.model import kernels
+
+        mech = model.mechanics
+        text = kernels.source(mech, digest=digest)
         record.append("model.equations")
         record.append("model.kernel")
+        written = folder / (kernels.module_name(mech) + ".py")
+        written.write_bytes(text.encode())  # an OSError (a full disk): cache.store's CacheError
         return written
 
     path = cache.store(digest, write)
