@@ -94,8 +94,10 @@ def ensure(model, record: list):
 
     def write(folder: Path) -> Path:  # the private staging folder: renamed into place whole (cache.store)
         from eulersym.model import kernels
+        from eulersym.model.assemble import refuse_unprovable
 
         mech = model.mechanics
+        refuse_unprovable(model)  # the kernel's invariants are proven: a body they cannot take refused by its key
         text = kernels.source(mech, digest=digest)
         record.append("model.equations")
         record.append("model.kernel")

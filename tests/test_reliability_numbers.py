@@ -1,0 +1,119 @@
+"""One check for numbers, wherever they come from (issue 26 §4): values reached through parameters and sweeps meet
+the same bounds as numbers written in place; a parameter inside a turn derives its numbers or is refused by its TOML
+key before a proof; parametric quaternions; tensors whose eigenvalues overflow.
+
+Every refusal is an :class:`eulersym.errors.InvalidInput` naming the key (exit 2 from the CLI, no traceback).
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+from eulersym.errors import InvalidInput
+from eulersym.model import Model
+from eulersym.model.assemble import refuse_unprovable
+
+
+@pytest.fixture(autouse=True)
+def private_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("EULERSYM_CACHE", str(tmp_path / "cache"))
+
+
+def _eulersym(*args) -> subprocess.CompletedProcess:
+    code = "import sys; from eulersym.cli import main; sys.exit(main(sys.argv[1:]))"
+    return subprocess.run([sys.executable, "-c", code, *map(str, args)], capture_output=True, text=True,
+                          env=dict(os.environ), timeout=120)
+
+
+def _quaternion_matrix(q) -> np.ndarray:
+    """R(q) for a unit q = (w, x, y, z), active (v_model = R v_part): written out here, independently of
+    eulersym.rotation."""
+    w, x, y, z = np.asarray(q, dtype=float) / np.linalg.norm(q)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def _at(matrix, value) -> np.ndarray:
+    """A one-parameter SymPy matrix at ``value`` (30 digits), as floats."""
+    return np.array(matrix.xreplace({x: value for x in matrix.free_symbols}).evalf(30).tolist(), dtype=float)
+
+
+def _cuboid(**turn) -> dict:
+    return {"shape": "cuboid", "mass": 1.0, "a": 1.0, "b": 2.0, "c": 3.0, **turn}
+
+
+def _cuboid_tensor() -> np.ndarray:  # m (b² + c²) / 12, ... about its centre
+    return np.diag([(4 + 9) / 12, (1 + 9) / 12, (1 + 4) / 12])
+
+
+# ---- a parameter inside a turn -----------------------------------------------------------------------------------
+
+def test_a_parameter_inside_an_angle_builds_its_numbers_and_is_refused_before_a_proof():
+    k = 0.3
+    model = Model(parameters={"k": k}, body={"parts": [_cuboid(axis=[1, 0, 0], angle="k")]})
+    R = _quaternion_matrix([np.cos(k / 2), np.sin(k / 2), 0, 0])
+    expected = R @ _cuboid_tensor() @ R.T
+    assert np.allclose(model.facts().tensor[0], expected, rtol=0, atol=1e-14)
+    symbolic = _at(model.mechanics.inertia, k)
+    assert np.allclose(symbolic, expected, rtol=0, atol=1e-14)
+    with pytest.raises(InvalidInput) as info:
+        refuse_unprovable(model)
+    assert info.value.argument == "body.parts[0].orientation.angle" and "cos(k)" in str(info.value)
+
+
+def test_a_turned_body_whose_kernel_needs_proofs_is_refused_by_key_from_the_cli(tmp_path):
+    path = tmp_path / "angle.toml"
+    path.write_text(textwrap.dedent("""\
+        name = "angle"
+        [parameters]
+        k = 0.3
+        [[body.parts]]
+        shape = "cuboid"
+        mass = 1.0
+        dimensions = { a = 1.0, b = 2.0, c = 3.0 }
+        orientation = { axis = [1, 0, 0], angle = "k" }
+        [torque]
+        body = "-0.1*omega"
+        [initial]
+        omega = [0.2, 1.0, 0.3]
+        [time]
+        end = 1.0
+        points = 11
+        """))
+    run = _eulersym("simulate", path)
+    assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr
+    assert "body.parts[0].orientation.angle='k'" in run.stderr and "PolynomialError" not in run.stderr
+
+
+def test_a_turn_rational_in_a_parameter_is_proven():
+    model = Model(parameters={"s": 0.5}, body={"parts": [_cuboid(quaternion=[1, 0, 0, "s"])]})
+    refuse_unprovable(model)  # nothing to refuse
+    R = _quaternion_matrix([1, 0, 0, 0.5])
+    assert np.allclose(model.facts().tensor[0], R @ _cuboid_tensor() @ R.T, rtol=0, atol=1e-14)
+
+
+# ---- parametric quaternions --------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("a", [0.0, 0.4, 2.5])
+def test_a_unit_quaternion_of_a_parameter_is_taken_as_written(a):
+    model = Model(parameters={"a": a}, body={"parts": [_cuboid(quaternion=["cos(a/2)", 0, 0, "sin(a/2)"])]})
+    R = _quaternion_matrix([np.cos(a / 2), 0, 0, np.sin(a / 2)])
+    expected = R @ _cuboid_tensor() @ R.T
+    assert np.allclose(model.facts().tensor[0], expected, rtol=0, atol=1e-14)
+    symbolic = _at(model.mechanics.inertia, a)
+    assert np.allclose(symbolic, expected, rtol=0, atol=1e-14)
+
+
+@pytest.mark.parametrize("quaternion", [[0, 0, 0, "s"], ["s", "s", 0, 0], ["s - 0.5", 0, 0, 0]])
+def test_a_quaternion_zero_at_the_defaults_is_refused_by_key(quaternion):
+    s = 0.5 if "s - 0.5" in quaternion else 0.0
+    with pytest.raises(InvalidInput) as info:
+        Model(parameters={"s": s}, body={"parts": [_cuboid(quaternion=quaternion)]}).mechanics
+    assert info.value.argument == "body.parts[0].orientation.quaternion" and "non-zero" in str(info.value)
