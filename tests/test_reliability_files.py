@@ -136,3 +136,10 @@ def test_a_path_below_a_file_is_refused_in_python(tmp_path):
         model.generate(blocker)
     with pytest.raises(InvalidInput, match=r"errno 20: ENOTDIR"):
         model.generate(blocker / "below")
+
+
+def test_an_upper_case_npz_is_refused_and_leaves_nothing(tmp_path):
+    """NumPy writes 'OUT.NPZ' as 'OUT.NPZ.npz': refused before any work, with no temporary file left behind."""
+    run = _eulersym(["simulate", "torque-free", "-o", tmp_path / "OUT.NPZ"])
+    assert run.returncode == 2 and "Traceback" not in run.stderr and "-o=" in run.stderr, run.stderr
+    assert "lower case" in run.stderr and sorted(p.name for p in tmp_path.iterdir() if p.name != "cache") == []

@@ -117,3 +117,44 @@ def test_a_quaternion_zero_at_the_defaults_is_refused_by_key(quaternion):
     with pytest.raises(InvalidInput) as info:
         Model(parameters={"s": s}, body={"parts": [_cuboid(quaternion=quaternion)]}).mechanics
     assert info.value.argument == "body.parts[0].orientation.quaternion" and "non-zero" in str(info.value)
+
+
+# ---- numbers at the edge of double precision -------------------------------------------------------------------
+
+@pytest.mark.parametrize("tensor", [
+    [[1e308, 0, 0], [0, 1e308, 0], [0, 0, 1e308]],
+    [[1e308, 1e307, 0], [1e307, 1e308, 0], [0, 0, 1e308]],
+    [[1.7e308, 0, 0], [0, 1.7e308, 0], [0, 0, 1e308]],
+])
+def test_a_tensor_near_the_largest_double_is_validated_without_overflow(tensor):
+    from eulersym.validation import inertia_tensor
+
+    assert inertia_tensor("body.tensor", tensor).shape == (3, 3)  # a body; no LinAlgError, no overflow warning
+
+
+def test_a_tensor_near_the_largest_double_that_is_no_body_is_refused_with_its_moments():
+    from eulersym.validation import inertia_tensor
+
+    with pytest.raises(InvalidInput, match=r"positive-definite tensor \(its principal moments are \[0.0, 1e\+308"):
+        inertia_tensor("body.tensor", [[1e308, 1e308, 0], [1e308, 1e308, 0], [0, 0, 1e308]])
+
+
+def test_the_1e308_tensor_is_refused_by_key_from_the_cli(tmp_path):
+    path = tmp_path / "t308.toml"
+    path.write_text('[body]\ntensor = [[1e308, 0, 0], [0, 1e308, 0], [0, 0, 1e308]]\n'
+                    '[initial]\nomega = [0.2, 1.0, 0.3]\n[time]\nend = 1.0\npoints = 11\n')
+    run = _eulersym("simulate", path)
+    assert run.returncode == 2 and "Traceback" not in run.stderr and "LinAlgError" not in run.stderr, run.stderr
+    assert "body.tensor=" in run.stderr
+
+
+@pytest.mark.parametrize("where", ["parameters", "sweep"])
+def test_numbers_through_parameters_meet_the_bounds_of_numbers_in_place(tmp_path, where):
+    value = "1e300" if where == "parameters" else "[1.0, 1e300]"
+    path = tmp_path / "big.toml"
+    path.write_text(f'[parameters]\nI = {value}\n[body]\nmoments = ["I", "I", "I"]\n[torque]\nbody = "-0.1*omega"\n'
+                    '[initial]\nomega = [0.2, 1.0, 0.3]\n[time]\nend = 1.0\npoints = 11\n')
+    run = _eulersym("simulate", path, "-o", tmp_path / "out.npz")
+    assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr
+    assert "body.moments=" in run.stderr and "below 1e+75" in run.stderr
+    assert not (tmp_path / "out.npz").exists()

@@ -301,6 +301,18 @@ def refuse_unprovable(model) -> None:
         raise problem
 
 
+def _refuse_switches(key: str, raw, expr, parameters: set) -> None:
+    """Refuse, by the TOML key, what the kernel cannot emit: ``sign``, ``min``, ``max`` anywhere, and ``abs`` of
+    the state (its Jacobian holds sign(x), which has no derivative where it switches)."""
+    switch = next(iter(sorted(expr.atoms(sp.sign, sp.Min, sp.Max, sp.Heaviside), key=str)), None)
+    if switch is None:
+        switch = next((a for a in sorted(expr.atoms(sp.Abs), key=str) if a.free_symbols - parameters), None)
+    if switch is not None:
+        raise InvalidInput(key, raw, f"a smooth formula: the kernel's Jacobian differentiates it, and {switch} has no "
+                                     "derivative where it switches (no sign, min or max, and no abs of the state; a "
+                                     "smooth form such as sqrt(x^2 + e^2) for |x| can be used)")
+
+
 def _rational_rotation(R: sp.Matrix) -> sp.Matrix:
     """An exactly orthogonal rational matrix within round-off of the numeric rotation ``R``.
 
@@ -426,16 +438,23 @@ def assemble(data: dict) -> Assembly:
                 raise InvalidInput("pivot.g", pivot["g"], f"g >= 0 (at the parameters' defaults it is {_show(v)})")
     full = namespace(values.symbols, inertia=I)
     torque = sp.ImmutableMatrix(_ZERO)
+    given = {}  # TOML key → (what was written, what it reads as)
     if data["torque"]["body"] is not None:
-        torque = torque + values.vector("torque.body", data["torque"]["body"], full)
+        given["torque.body"] = (data["torque"]["body"], values.vector("torque.body", data["torque"]["body"], full))
+        torque = torque + given["torque.body"][1]
     if data["torque"]["space"] is not None:
-        torque = torque + to_body(values.vector("torque.space", data["torque"]["space"], full))
+        given["torque.space"] = (data["torque"]["space"],
+                                 values.vector("torque.space", data["torque"]["space"], full))
+        torque = torque + to_body(given["torque.space"][1])
     potential = sp.Integer(0)
     if data["torque"]["potential"] is not None:
         raw = data["torque"]["potential"]
         potential = parse(raw, namespace(values.symbols, inertia=I, omega=False), argument="torque.potential",
                           shape="scalar") if isinstance(raw, str) else _exact(raw)
     rotor = _ZERO if data["rotor"] is None else values.vector("rotor.h", data["rotor"])
+    given.update({"torque.potential": (data["torque"]["potential"], potential), "rotor.h": (data["rotor"], rotor)})
+    for key, (raw, expr) in given.items():
+        _refuse_switches(key, raw, expr, set(values.symbols.values()))
     mech = Mechanics(
         name=data["name"],
         inertia=sp.ImmutableMatrix(I),

@@ -52,7 +52,13 @@ from typing import Callable
 from eulersym._private_cache import Damaged, check_private, make_private, read_private, root
 from eulersym.errors import CacheError
 
-__all__ = ["root", "folder", "lookup", "load", "store", "remove", "Damaged", "STAGING_MAX_AGE", "MANIFEST"]
+__all__ = ["root", "folder", "lookup", "load", "store", "remove", "Damaged", "Stale", "STAGING_MAX_AGE",
+           "MANIFEST"]
+
+
+class Stale(Damaged):
+    """An entry that is whole but was emitted by other code than the running eulersym's (see :func:`lookup`)."""
+
 
 #: The entry's manifest file.
 MANIFEST = "entry.json"
@@ -82,11 +88,12 @@ def folder(*, create: bool = False) -> Path:
     return models
 
 
-def lookup(digest: str) -> Path | None:
+def lookup(digest: str, *, stamp: str | None = None) -> Path | None:
     """The module path of the entry for ``digest`` as its manifest names it, or None when there is no entry.
 
     Raises :class:`Damaged` for an entry that exists but is not whole (no manifest, a manifest that does not
-    parse or names no plain ``.py`` file beside it).
+    parse or names no plain ``.py`` file beside it), and :class:`Stale` for one whose manifest does not record
+    ``stamp`` (when given: the hash of the code that emitted it, see :func:`store`).
     """
     entry = folder() / digest
     if not os.path.lexists(entry):
@@ -95,8 +102,9 @@ def lookup(digest: str) -> Path | None:
         raise Damaged(f"{entry} is not a folder")
     check_private(entry)
     manifest = _manifest(entry)
-    path = entry / manifest["module"]
-    return path
+    if stamp is not None and manifest.get("stamp") != stamp:
+        raise Stale(f"{entry} was emitted by other code (stamp {str(manifest.get('stamp'))[:12]}, not {stamp[:12]})")
+    return entry / manifest["module"]
 
 
 def _manifest(entry: Path) -> dict:
@@ -201,9 +209,10 @@ def _sweep_staging(models: Path) -> None:
             continue
 
 
-def store(digest: str, write: Callable[[Path], Path]) -> Path:
+def store(digest: str, write: Callable[[Path], Path], *, stamp: str | None = None) -> Path:
     """Write the entry of ``digest``: ``write(staging_folder)`` writes the module and returns its path; the
-    manifest is added, the files made ``0600``, and the folder renamed into place. Returns the module's final path.
+    manifest is added (recording ``stamp``, the hash of the code that emitted it, when given), the files made
+    ``0600``, and the folder renamed into place. Returns the module's final path.
 
     If another process stored the same digest first, its entry is kept (and returned).
 
@@ -230,7 +239,7 @@ def store(digest: str, write: Callable[[Path], Path]) -> Path:
             written = Path(write(staging))
             data = written.read_bytes()
             manifest = {"format": _FORMAT, "digest": digest, "module": written.name,
-                        "sha256": hashlib.sha256(data).hexdigest()}
+                        "sha256": hashlib.sha256(data).hexdigest(), **({"stamp": stamp} if stamp else {})}
             (staging / MANIFEST).write_text(json.dumps(manifest, sort_keys=True) + "\n", encoding="ascii")
             for p in staging.iterdir():
                 os.chmod(p, 0o600)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import os
 import sys
 
 from eulersym.errors import InvalidInput
@@ -161,6 +162,10 @@ def cli(argv: list) -> int:
                   "--explain to write them)")
         return 0
     if args.output:
+        if os.path.splitext(args.output)[1].lower() == ".npz" and not args.output.endswith(".npz"):
+            # NumPy writes 'x.NPZ' as 'x.NPZ.npz': refused before anything is written
+            raise InvalidInput("-o", args.output, "a file ending in .npz or .csv (.npz in lower case: NumPy appends "
+                                                  "'.npz' to any other spelling)")
         check_target("-o", args.output, OUTPUT_SUFFIXES)
     if args.plot:
         check_target("--plot", args.plot, PLOT_SUFFIXES)
