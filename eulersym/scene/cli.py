@@ -103,7 +103,23 @@ def _parser() -> argparse.ArgumentParser:
     where = p.add_mutually_exclusive_group()
     where.add_argument("--workers", metavar="N", type=_count, help="run a sweep's chunks on a local Dask cluster of N processes (the dask extra)")
     where.add_argument("--scheduler", metavar="ADDRESS", help="run a sweep's chunks on the Dask cluster at ADDRESS (tcp://host:8786)")
+    p.add_argument("--scheduler-timeout", metavar="SECONDS", type=_seconds, default=CONNECT_SECONDS,
+                   help=f"give up on a --scheduler that does not answer within SECONDS (default {CONNECT_SECONDS:g})")
     return p
+
+
+#: Seconds a --scheduler has to answer (Dask's own connect timeout does not bound a listener that never replies).
+CONNECT_SECONDS = 10.0
+
+
+def _seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0 < value <= 3600:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds in (0, 3600]")
+    return value
 
 
 #: The figures drawn from the attitude: --figure with one of them makes the run keep it.
@@ -198,11 +214,26 @@ def _simulate(scene, args, memory, work):
         return simulate(scene, progress=sys.stderr.isatty(), memory=memory, work=work)
     from eulersym.sweeps import distributed
 
-    client = distributed.local_client(args.workers) if args.workers else distributed.connect(args.scheduler)
+    client = distributed.local_client(args.workers) if args.workers else _connect(args.scheduler,
+                                                                                   args.scheduler_timeout)
     try:
         return simulate(scene, progress=sys.stderr.isatty(), client=client, memory=memory, work=work)
     finally:
         distributed.close(client)
+
+
+def _connect(address: str, seconds: float):
+    """The client of the Dask scheduler at ``address``, refused naming it when it does not answer in ``seconds``
+    (a listener that accepts and never replies held ``distributed.Client`` for minutes)."""
+    from eulersym._budget import BudgetExceeded, time_budget
+    from eulersym.sweeps import distributed
+
+    try:
+        with time_budget(seconds):
+            return distributed.connect(address, timeout=seconds)
+    except BudgetExceeded:
+        raise InvalidInput("--scheduler", address, f"a Dask scheduler that answers within {seconds:g} s (see "
+                                                   "--scheduler-timeout); nothing answered at this address") from None
 
 
 def work_estimate(scene, plan=None):
