@@ -143,3 +143,14 @@ def test_an_upper_case_npz_is_refused_and_leaves_nothing(tmp_path):
     run = _eulersym(["simulate", "torque-free", "-o", tmp_path / "OUT.NPZ"])
     assert run.returncode == 2 and "Traceback" not in run.stderr and "-o=" in run.stderr, run.stderr
     assert "lower case" in run.stderr and sorted(p.name for p in tmp_path.iterdir() if p.name != "cache") == []
+
+
+def test_a_sweep_csv_whose_summary_is_a_folder_is_refused_before_anything_is_replaced(tmp_path):
+    scene = tmp_path / "sweep.toml"
+    scene.write_text('[body]\nmoments = [1.0, 2.0, {start = 3.0, stop = 2.9, num = 3}]\n'
+                     '[initial]\nomega = [0.2, 1.0, 0.3]\n[time]\nend = 1.0\npoints = 11\n')
+    (tmp_path / "x.summary.csv").mkdir()
+    (tmp_path / "x.csv").write_text("keep\n")
+    run = _eulersym(["simulate", scene, "-o", tmp_path / "x.csv"])
+    assert run.returncode == 2 and "Traceback" not in run.stderr and "x.summary.csv" in run.stderr, run.stderr
+    assert (tmp_path / "x.csv").read_text() == "keep\n"

@@ -11,7 +11,8 @@ import sys
 from eulersym.errors import InvalidInput
 from eulersym.scene import cost
 from eulersym.scene.catalog import bundled
-from eulersym.scene.io import OUTPUT_SUFFIXES, PLOT_SUFFIXES, check_target, plot, report, require_matplotlib, save
+from eulersym.scene.io import (OUTPUT_SUFFIXES, PLOT_SUFFIXES, check_target, plot, report, require_matplotlib, save,
+                               summary_path)
 from eulersym.scene.run import simulate
 from eulersym.scene.spec import Scene, load
 
@@ -183,6 +184,9 @@ def cli(argv: list) -> int:
             raise InvalidInput("-o", args.output, "a file ending in .npz or .csv (.npz in lower case: NumPy appends "
                                                   "'.npz' to any other spelling)")
         check_target("-o", args.output, OUTPUT_SUFFIXES)
+        companion = summary_path(args.output)  # a sweep's CSV writes its summary beside it
+        if args.output.lower().endswith(".csv") and os.path.lexists(companion):
+            check_target("-o", companion, OUTPUT_SUFFIXES)  # (a folder there: refused before x.csv is replaced)
     if args.plot:
         check_target("--plot", args.plot, PLOT_SUFFIXES)
         require_matplotlib(args.plot)
