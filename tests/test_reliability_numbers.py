@@ -158,3 +158,59 @@ def test_numbers_through_parameters_meet_the_bounds_of_numbers_in_place(tmp_path
     assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr
     assert "body.moments=" in run.stderr and "below 1e+75" in run.stderr
     assert not (tmp_path / "out.npz").exists()
+
+
+# ---- refusals name the TOML key ---------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("value", ["sqrt(-1)", "2*sqrt(-1)*k", "k + sqrt(-4)"])
+def test_an_imaginary_number_is_refused_by_its_key(value):
+    with pytest.raises(InvalidInput) as info:
+        Model(parameters={"k": 1.0}, body={"moments": [1, value, 3]}).facts()
+    assert info.value.argument == "body.moments[1]" and "imaginary unit" in str(info.value)
+
+
+@pytest.mark.filterwarnings("ignore::RuntimeWarning")
+def test_refusals_of_mutated_models_name_a_toml_key():
+    """A seeded mutation of valid models, key by key, with hostile values: every refusal names a key of the model
+    file (the audit found `expression=`, `function='sign'`, `name='np'`), and nothing else escapes."""
+    import copy
+    import random
+    import re
+
+    from eulersym.errors import EulersymError
+
+    rng = random.Random(26)
+    sections = {"name", "description", "parameters", "body", "pivot", "torque", "rotor"}
+    values = [0, -1, 1e300, 1e-300, float("nan"), "k", "omega", "omega1", "gamma", "abs(omega1)", "sign(k)",
+              "max(k, 1)", "inertia", "t", "q0", "k^70", "[1, 2, 3]", "cos(k)", [1, 2], [1, 2, 3],
+              [[1, 0, 0], [0, 1, 0], [0, 0, 1]], {}, {"a": 1}, True, None, "", "x", "1/0", "np", "sqrt(-1)", "log(k)"]
+    bases = [
+        dict(parameters={"k": 0.5}, body={"moments": [1, 2, 3]}, torque={"body": "-k*omega"}),
+        dict(parameters={"k": 0.5}, body={"moments": [1, 1, 2], "mass": 1}, pivot={"l": 0.1}),
+        dict(parameters={"k": 0.5}, body={"shape": "cuboid", "mass": 1, "a": 1, "b": 2, "c": 3}),
+        dict(parameters={"k": 0.5}, body={"parts": [{"shape": "sphere", "mass": 1, "R": 0.1, "position": [0, 0, 0.1]},
+                                                    {"shape": "point", "mass": "k", "position": [0.1, 0, 0]}]}),
+        dict(parameters={"k": 0.5}, body={"tensor": [[2, 0.1, 0], [0.1, 2, 0], [0, 0, 3]]}, rotor={"h": [0, 0, "k"]}),
+    ]
+
+    def paths(d, prefix=()):
+        items = d.items() if isinstance(d, dict) else enumerate(d) if isinstance(d, list) else ()
+        for k, v in items:
+            yield prefix + (k,)
+            yield from paths(v, prefix + (k,))
+
+    for _ in range(120):
+        data = copy.deepcopy(rng.choice(bases))
+        path = rng.choice(list(paths(data)))
+        target = data
+        for k in path[:-1]:
+            target = target[k]
+        target[path[-1]] = rng.choice(values)
+        try:
+            model = Model(**data)
+            model.facts()
+            model.mechanics
+        except InvalidInput as exc:
+            assert re.split(r"[.\[]", exc.argument)[0] in sections, (path, str(exc))
+        except EulersymError:
+            pass
