@@ -214,3 +214,20 @@ def test_refusals_of_mutated_models_name_a_toml_key():
             assert re.split(r"[.\[]", exc.argument)[0] in sections, (path, str(exc))
         except EulersymError:
             pass
+
+
+@pytest.mark.parametrize("where", ["initial.omega[0]", "parameters.k", "body.moments[2]"])
+def test_a_sweep_of_a_billion_values_is_refused_before_any_array(where):
+    from eulersym.scene import Scene
+
+    data = {"parameters": {"k": 0.5}, "body": {"moments": [1, 2, 3]}, "torque": {"body": "-k*omega"},
+            "initial": {"omega": [0.2, 1.0, 0.3]}, "time": {"end": 1.0, "points": 11}}
+    big = {"start": 1.0, "stop": 2.0, "num": 10**9}  # 7.45 GiB as an array: a MemoryError, or the OOM killer
+    if where == "initial.omega[0]":
+        data["initial"]["omega"][0] = big
+    elif where == "parameters.k":
+        data["parameters"]["k"] = big
+    else:
+        data["body"]["moments"][2] = big
+    with pytest.raises(InvalidInput, match=r"\.num=1000000000 is not valid: expected at most 1,000,000 values"):
+        Scene.from_dict(data)
