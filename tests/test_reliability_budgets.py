@@ -32,14 +32,18 @@ def private_cache(tmp_path, monkeypatch):
 
 
 def _eulersym(*args) -> tuple[subprocess.CompletedProcess, float]:
-    """Run the CLI in a fresh process; also its peak resident memory in MiB."""
-    code = "import sys; from eulersym.cli import main; sys.exit(main(sys.argv[1:]))"
-    p = subprocess.Popen([sys.executable, "-c", code, *map(str, args)], stdout=subprocess.DEVNULL,
-                         stderr=subprocess.PIPE, text=True, env=dict(os.environ))
-    err = p.stderr.read()
-    _, status, usage = os.wait4(p.pid, 0)
-    p.returncode = os.waitstatus_to_exitcode(status)
-    return subprocess.CompletedProcess(p.args, p.returncode, "", err), usage.ru_maxrss / 1024
+    """Run the CLI in a fresh process; also its peak resident memory in MiB (its own VmHWM, read at exit: the
+    rusage of a child forked from a large test process counts the parent's pages)."""
+    code = ("import atexit, sys\n"
+            "def peak():\n"
+            "    with open('/proc/self/status') as f:\n"
+            "        sys.stderr.write('peak ' + f.read().split('VmHWM:')[1].split()[0] + ' kB\\n')\n"
+            "atexit.register(peak)\n"
+            "from eulersym.cli import main; sys.exit(main(sys.argv[1:]))")
+    run = subprocess.run([sys.executable, "-c", code, *map(str, args)], capture_output=True, text=True,
+                         env=dict(os.environ), timeout=120)
+    peak = float(run.stderr.rsplit("peak ", 1)[1].split()[0]) / 1024
+    return run, peak
 
 
 # ---- the budget itself --------------------------------------------------------------------------------------------
