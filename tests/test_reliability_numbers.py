@@ -231,3 +231,26 @@ def test_a_sweep_of_a_billion_values_is_refused_before_any_array(where):
         data["body"]["moments"][2] = big
     with pytest.raises(InvalidInput, match=r"\.num=1000000000 is not valid: expected at most 1,000,000 values"):
         Scene.from_dict(data)
+
+
+# ---- a right-hand side that leaves its domain -------------------------------------------------------------------
+
+@pytest.mark.parametrize("torque, error", [("c*log(omega1 - 1)", "ValueError: math domain error"),
+                                           ("c*exp(1000*omega2)", "OverflowError: math range error")])
+def test_a_single_run_whose_kernel_leaves_its_domain_ends_in_a_named_error(tmp_path, torque, error):
+    path = tmp_path / "domain.toml"
+    path.write_text(f'[parameters]\nc = 0.1\n[body]\nmoments = [1.0, 2.0, 3.0]\n[torque]\nbody = ["{torque}", 0, 0]\n'
+                    '[initial]\nomega = [0.2, 1.0, 0.3]\n[time]\nend = 1.0\npoints = 11\n')
+    run = _eulersym("simulate", path, "-o", tmp_path / "out.npz")
+    assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr
+    assert "could not get the motion: the model's right-hand side left its domain" in run.stderr and error in run.stderr
+    assert not (tmp_path / "out.npz").exists()
+
+
+def test_an_error_outside_the_kernel_is_not_disguised():
+    from eulersym.scene.cli import _left_its_domain
+
+    try:
+        raise ValueError("a bug elsewhere")
+    except ValueError as exc:
+        assert _left_its_domain(exc, "auto") is exc

@@ -215,7 +215,10 @@ def _explain(scene, memory: int, work: float) -> None:
 def _simulate(scene, args, memory, work):
     """Run in-process, or on a local Dask cluster of ``--workers N`` processes / the one at ``--scheduler``."""
     if not (args.workers or args.scheduler):
-        return simulate(scene, progress=sys.stderr.isatty(), memory=memory, work=work)
+        try:
+            return simulate(scene, progress=sys.stderr.isatty(), memory=memory, work=work)
+        except (ArithmeticError, ValueError) as exc:
+            raise _left_its_domain(exc, scene.method) from None
     from eulersym.sweeps import distributed
 
     client = distributed.local_client(args.workers) if args.workers else _connect(args.scheduler,
@@ -224,6 +227,31 @@ def _simulate(scene, args, memory, work):
         return simulate(scene, progress=sys.stderr.isatty(), client=client, memory=memory, work=work)
     finally:
         distributed.close(client)
+
+
+def _left_its_domain(exc: BaseException, method: str) -> BaseException:
+    """A math error raised inside a model's generated kernel (``math.log`` of a negative number, ``math.exp``
+    overflowing) as :class:`~eulersym.errors.IntegrationFailed` naming the kernel's line; any other error as it is."""
+    import traceback
+    from pathlib import Path
+
+    from eulersym.errors import EulersymError, IntegrationFailed
+    from eulersym.scene.model_kernel import cache_root
+
+    if isinstance(exc, EulersymError):
+        return exc
+    where = traceback.extract_tb(exc.__traceback__)[-1]
+    try:
+        inside = Path(where.filename).resolve().is_relative_to(cache_root().resolve())
+    except (OSError, ValueError):
+        inside = False
+    if not inside:
+        return exc
+    line = " ".join((where.line or "").split())
+    line = line if len(line) <= 80 else line[:77] + "..."
+    return IntegrationFailed(method, f"the model's right-hand side left its domain or the finite numbers "
+                                     f"({type(exc).__name__}: {exc}; its kernel's line {where.lineno}: {line})",
+                             "a start and parameters that keep the right-hand side in its domain, or a shorter t_end")
 
 
 def _connect(address: str, seconds: float):
