@@ -254,3 +254,14 @@ def test_an_error_outside_the_kernel_is_not_disguised():
         raise ValueError("a bug elsewhere")
     except ValueError as exc:
         assert _left_its_domain(exc, "auto") is exc
+
+
+def test_a_sweep_whose_members_leave_their_domain_writes_no_nan(tmp_path):
+    path = tmp_path / "sweep.toml"
+    path.write_text('[parameters]\nc = [0.1, 0.2, 0.3]\n[body]\nmoments = [1.0, 2.0, 3.0]\n[torque]\n'
+                    'body = ["c*log(omega1)", 0, 0]\n[initial]\nomega = [-0.2, 1.0, 0.3]\n[time]\nend = 1.0\n'
+                    'points = 11\n')
+    run = _eulersym("simulate", path, "-o", tmp_path / "out.csv")
+    assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr
+    assert "3 of 3 members (0, 1, 2) left the finite numbers" in run.stderr
+    assert not (tmp_path / "out.csv").exists() and not (tmp_path / "out.summary.csv").exists()

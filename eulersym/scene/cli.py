@@ -195,6 +195,7 @@ def cli(argv: list) -> int:
     except MemoryError:
         raise InvalidInput("SCENE", args.scene, f"a scene that fits in memory: {scene.batch} member(s) × "
                                                 f"{scene.points} output times did not (fewer points or members)") from None
+    _refuse_not_finite(result, scene)  # no NaN is reported or written as a result
     print(f"scene {scene.name!r}" + (f" — {scene.description}" if scene.description else ""))
     print(report(result))
     if args.output:
@@ -227,6 +228,34 @@ def _simulate(scene, args, memory, work):
         return simulate(scene, progress=sys.stderr.isatty(), client=client, memory=memory, work=work)
     finally:
         distributed.close(client)
+
+
+def _refuse_not_finite(result, scene) -> None:
+    """Refuse a run whose angular velocity or attitude is not finite (a right-hand side that left its domain in a
+    member: log of a negative number is NaN in NumPy), naming the members, before anything is written."""
+    import numpy as np
+
+    from eulersym.errors import IntegrationFailed
+
+    bad = None
+    for values in (result.omega, result.attitude):
+        if values is None or not np.issubdtype(np.asarray(values).dtype, np.floating):
+            continue
+        values = np.asarray(values)
+        rows = ~np.isfinite(values).reshape(values.shape[0], -1).all(axis=1) if result.sweep and values.ndim >= 3 \
+            else np.array([not np.isfinite(values).all()])
+        bad = rows if bad is None else bad | rows
+    if bad is None or not bad.any():
+        return
+    members = np.flatnonzero(bad)
+    if result.sweep and len(bad) > 1:
+        shown = ", ".join(map(str, members[:10])) + (", ..." if len(members) > 10 else "")
+        what = f"{len(members)} of {len(bad)} members ({shown}) left the finite numbers"
+    else:
+        what = "the motion left the finite numbers"
+    raise IntegrationFailed(scene.method, f"{what}: their right-hand side left its domain or overflowed; nothing was "
+                                          "written", "a start and parameters that keep the right-hand side in its "
+                                                     "domain, or a shorter t_end")
 
 
 def _left_its_domain(exc: BaseException, method: str) -> BaseException:
