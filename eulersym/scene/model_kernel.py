@@ -6,8 +6,10 @@ The cache (:mod:`eulersym.model.cache`): ``<root>/models/<digest>/`` holds the o
 ``$XDG_CACHE_HOME/eulersym``, else ``~/.cache/eulersym``. The digest covers the model's normalised data and the
 eulersym and SymPy versions, so a changed model or a new release gets a new folder, and an unchanged model is never
 regenerated; the entry also records the hash of the code that derives and prints kernels (:func:`emitter_stamp`),
-and an entry emitted by other code (an edited emitter, a branch) is stale: built again. A module is imported only from bytes that match their recorded hash, from folders only you can write;
-a damaged entry is rebuilt with a :class:`eulersym.errors.CacheRepaired` warning.
+and an entry emitted by other code (an edited emitter, a branch) is stale: built again. A module is imported only
+from bytes that match their recorded hash, from folders only you can write; a damaged entry is rebuilt with a
+:class:`eulersym.errors.CacheRepaired` warning. A derivation runs under a budget (:data:`DERIVE_SECONDS`,
+:data:`DERIVE_MEMORY`): past it, :class:`eulersym.errors.OverBudget` names the model and nothing is cached.
 
 Imports nothing of :mod:`eulersym.scene`.
 """
