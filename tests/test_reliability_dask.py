@@ -12,8 +12,6 @@ import time
 
 import pytest
 
-pytest.importorskip("distributed")
-
 
 @pytest.fixture
 def silent_listener():
