@@ -19,6 +19,7 @@ __all__ = [
     "CheckFailed",
     "IntegrationFailed",
     "CacheError",
+    "OverBudget",
     "EulersymWarning",
     "CacheRepaired",
     "AccuracyNotReached",
@@ -174,6 +175,36 @@ class CacheError(EulersymError, OSError):
 
     def __reduce__(self):
         return (type(self), (self.path, self.reason, self.errno))
+
+
+class OverBudget(EulersymError, RuntimeError):
+    """A piece of symbolic work (a derivation, a proof, a comparison) did not finish within its time or memory
+    budget: it was stopped, and nothing it would have produced was kept.
+
+    Parameters
+    ----------
+    what : str
+        What was being computed (the model, the expression, the step).
+    budget : str
+        The budget that was spent ("60 s", "2048 MiB of memory").
+    detail : str, optional
+        How far it got.
+
+    Examples
+    --------
+    >>> raise OverBudget("the kernel of model 'spin'", "60 s", "it was stopped after 60 s")
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.OverBudget: the kernel of model 'spin' did not finish within its budget of 60 s (it was stopped after 60 s)
+    """
+
+    def __init__(self, what: str, budget: str, detail: str = ""):
+        self.what, self.budget, self.detail = what, budget, detail
+        Exception.__init__(self, f"{what} did not finish within its budget of {budget}" + (f" ({detail})" if detail
+                                                                                            else ""))
+
+    def __reduce__(self):
+        return (type(self), (self.what, self.budget, self.detail))
 
 
 class EulersymWarning(UserWarning):

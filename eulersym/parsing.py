@@ -87,6 +87,9 @@ __all__ = [
     "MAX_EXPONENT",
     "MAX_RESULT_DIGITS",
     "MAX_ROOT",
+    "MAX_EXPANDED_TERMS",
+    "expanded_terms",
+    "check_expansion",
     "ARGUMENT_KINDS",
     "canonical_names",
 ]
@@ -104,6 +107,11 @@ MAX_RESULT_DIGITS = 400
 #: Largest denominator of a fractional power of a number (``2^(1/3)``): SymPy looks for perfect roots of the
 #: base, which costs more than the size of the input once the root's order is huge (``640^(-640^-64)``).
 MAX_ROOT = 10**6
+
+#: Most terms a model's formula may have once multiplied out (``(a + b + c)^8`` has 45; ``(x1 + ... + x7)^64``
+#: would have 1.3e8, gigabytes of SymPy terms): :func:`check_expansion` refuses more before the exact proofs start
+#: (a plain comparison, :func:`eulersym.verify.verify`, decides such input under its time budget instead).
+MAX_EXPANDED_TERMS = 20_000
 
 _PLAIN = "plain math: numbers, names, + - * / ^ ( ) [ ] , ; = ' and the functions " \
          "sin cos tan sqrt exp log asin acos atan sinh cosh tanh abs (...)"
@@ -868,6 +876,89 @@ def parse(text: str, *, known: dict | None = None, argument: str = "candidate", 
         extra_functions[str(name)] = (func, tuple(kinds))
     parser = _Parser(normalized, tokens, argument, known_names, dict(names or {}), extra_functions, bool(strict))
     return parser.document()
+
+
+def expanded_terms(expr, limit: int = MAX_EXPANDED_TERMS) -> int:
+    """An upper bound on the number of terms of ``expr`` multiplied out (``sympy.expand``), counted without
+    expanding: a sum adds its terms' counts, a product multiplies them, an integer power ``b^n`` has at most
+    ``C(t + n - 1, n)`` terms for a base of ``t``; a function's value is one term. Counting stops (returning a
+    number above ``limit``) as soon as a part of ``expr`` — a function's argument included — exceeds ``limit``.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> a, b, c = sp.symbols("a b c")
+    >>> expanded_terms((a + b + c)**8), len(sp.expand((a + b + c)**8).args)
+    (45, 45)
+    >>> expanded_terms(sp.sin((a + b)**2) * (a - c))
+    2
+    >>> expanded_terms(sum(sp.symbols("x1:8"))**64) > MAX_EXPANDED_TERMS
+    True
+    """
+    memo: dict = {}
+
+    def count(e) -> int:
+        if e in memo:
+            return memo[e]
+        if e.is_Atom:
+            n = 1
+        elif e.is_Add:
+            n = 0
+            for a in e.args:
+                n += count(a)
+                if n > limit:
+                    break
+        elif e.is_Mul:
+            n = 1
+            for a in e.args:
+                n *= count(a)
+                if n > limit:
+                    break
+        elif e.is_Pow and e.exp.is_Integer:
+            t = count(e.base)
+            k = abs(int(e.exp))
+            n = t if t > limit or k <= 1 else min(math.comb(t + k - 1, k), limit + 1)
+        else:  # a function, a fractional power: one term; its arguments are counted on their own
+            n = 1
+            for a in e.args:
+                if count(a) > limit:
+                    n = limit + 1
+                    break
+        memo[e] = n
+        if n > limit:
+            raise _TooLarge(n)
+        return n
+
+    try:
+        return count(sp.sympify(expr))
+    except _TooLarge as exc:
+        return exc.args[0]
+
+
+class _TooLarge(Exception):
+    """Counting stopped: a part of the expression is beyond the limit."""
+
+
+def check_expansion(value, argument: str, text: str) -> None:
+    """Refuse (:class:`UnsafeExpression`, naming ``argument``) a parsed formula whose expansion would exceed
+    :data:`MAX_EXPANDED_TERMS` terms (:func:`expanded_terms`)."""
+    if isinstance(value, list):
+        parts = [side for eq in value for side in eq.args]
+    elif isinstance(value, sp.MatrixBase):
+        parts = list(value)
+    elif isinstance(value, sp.Equality):
+        parts = list(value.args)
+    else:
+        parts = [value]
+    for part in parts:
+        if not isinstance(part, sp.Basic):
+            continue
+        n = expanded_terms(part)
+        if n > MAX_EXPANDED_TERMS:
+            shown = text if len(text) <= 60 else text[:57] + "..."
+            raise UnsafeExpression(argument, shown, f"a formula of at most {MAX_EXPANDED_TERMS} terms once multiplied "
+                                                    "out (this one has more: the symbolic work on it would not end in "
+                                                    "bounded time and memory)")
 
 
 # LaTeX: command → plain text (a whitelist; anything else is refused)

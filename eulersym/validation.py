@@ -248,18 +248,25 @@ def inertia_tensor(argument: str, tensors: Any, *, shown: Any = None) -> np.ndar
         i, j = (int(x) for x in np.unravel_index(np.argmax(np.abs(flat[member] - flat[member].T)), (3, 3)))
         raise InvalidInput(argument, shown, f"a symmetric tensor: {argument}[{i}][{j}] = {flat[member, i, j]:g} but "
                                             f"{argument}[{j}][{i}] = {flat[member, j, i]:g}")
-    eig = np.linalg.eigvalsh((flat + flat.transpose(0, 2, 1)) / 2)
+    # in units of each tensor's largest entry: 1e308 entries neither overflow nor stall LAPACK (LinAlgError)
+    unit = np.where(scale > 0, scale, 1.0)[:, None, None]
+    scaled = flat / unit
+    eig = np.linalg.eigvalsh((scaled + scaled.transpose(0, 2, 1)) / 2)
     where = lambda member: f" (member {member})" if len(flat) > 1 else ""  # noqa: E731
-    low = eig[:, 0] <= 1e-14 * np.where(scale > 0, scale, 1.0)
+
+    def shown_moments(member: int) -> list:
+        with np.errstate(over="ignore"):  # a moment beyond the largest double is shown as inf
+            return [float(f"{e:.6g}") for e in eig[member] * unit[member, 0, 0]]
+    low = eig[:, 0] <= 1e-14
     if low.any():
         member = int(np.argmax(low))
         raise InvalidInput(argument, shown, f"a positive-definite tensor (its principal moments are "
-                                            f"{[float(f'{e:.6g}') for e in eig[member]]}{where(member)})")
+                                            f"{shown_moments(member)}{where(member)})")
     broken = eig[:, 0] + eig[:, 1] < eig[:, 2] * (1 - TRIANGLE_SLACK)
     if broken.any():
         member = int(np.argmax(broken))
         raise InvalidInput(argument, shown, f"the tensor of a body: its principal moments "
-                                            f"{[float(f'{e:.6g}') for e in eig[member]]} must satisfy I1 + I2 >= I3 "
+                                            f"{shown_moments(member)} must satisfy I1 + I2 >= I3 "
                                             f"(the triangle inequality){where(member)}")
     return T
 

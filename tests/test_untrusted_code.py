@@ -361,3 +361,29 @@ def test_the_default_cache_follows_xdg(monkeypatch, tmp_path):
     assert cache.root() == tmp_path / "xdg" / "eulersym"
     monkeypatch.setenv("XDG_CACHE_HOME", "relative/ignored")
     assert cache.root() == Path(os.path.expanduser("~")) / ".cache" / "eulersym"
+
+
+def test_an_entry_emitted_by_other_code_is_rebuilt(private_cache, monkeypatch):
+    """The entry records the hash of the code that emitted it: another emitter's kernel (an edited emitter, a
+    branch sharing the cache) is never handed back, and rebuilding it is no damage (no warning)."""
+    scene = _scene()
+    simulate(scene)
+    entry = _entry(private_cache, scene)
+    manifest = json.loads((entry / cache.MANIFEST).read_text())
+    assert manifest["stamp"] == model_kernel.emitter_stamp()
+    monkeypatch.setattr(model_kernel, "emitter_stamp", lambda: "f" * 64)
+    assert model_kernel.cached(scene.model.digest) is None
+    cache._LOADED.clear()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        _, _, emitted = model_kernel.ensure(scene.model, [])
+    assert emitted and json.loads((entry / cache.MANIFEST).read_text())["stamp"] == "f" * 64
+
+
+def test_the_stamp_reads_the_emitting_code():
+    from eulersym.scene.model_kernel import EMITTING_SOURCES
+
+    package = Path(model_kernel.__file__).resolve().parent.parent
+    for source in EMITTING_SOURCES:
+        assert (package / source).is_file(), source
+    assert "codegen/emitter.py" in EMITTING_SOURCES and "model/kernels.py" in EMITTING_SOURCES

@@ -14,8 +14,12 @@ expressions as strings) and builds the :class:`~eulersym.model.mechanics.Mechani
   the centre of mass).
 
 Physical checks that need the expressions (a tensor that is not symmetric, a mass or a tensor that is not
-positive at the parameters' defaults, a pivot whose given centre of mass contradicts the shape's) are refused
-here, naming the TOML key, before any derivation.
+positive at the parameters' defaults, a pivot whose given centre of mass contradicts the shape's, a quaternion that
+is zero at the defaults) are refused here, naming the TOML key, before any derivation. A full tensor that depends
+on a parameter other than rationally — a parameter inside a turn's angle (``angle = "k"``: cos(k) in the tensor) —
+builds its mechanics and its numbers, but the exact proofs of the integrals cannot yet take it:
+:func:`refuse_unprovable` refuses it by its key before a proof (a turn rational in a parameter, a quaternion
+``[1, 0, 0, "s"]``, is the way to sweep a part's attitude).
 
 Examples
 --------
@@ -42,7 +46,7 @@ from eulersym.model.expressions import namespace, parse, to_body
 from eulersym.model.mechanics import Mechanics
 from eulersym.rotation import euler_matrix, from_axis_angle, from_quaternion, to_quaternion
 
-__all__ = ["Assembly", "assemble", "shape_centre", "shape_tensor"]
+__all__ = ["Assembly", "assemble", "refuse_unprovable", "shape_centre", "shape_tensor"]
 
 _ZERO = sp.ImmutableMatrix([0, 0, 0])
 
@@ -59,11 +63,15 @@ class Assembly:
         plays no part in a free body's rotation).
     centre_of_mass : 3×1 ImmutableMatrix
         From the pivot; for a free body, in the model frame (where the shape or the parts put it).
+    unprovable : InvalidInput or None
+        Why the exact proofs of the integrals cannot take this body (a tensor that depends on a parameter other
+        than rationally), naming the TOML key; raised by :func:`refuse_unprovable`.
     """
 
     mechanics: Mechanics
     mass: object
     centre_of_mass: sp.ImmutableMatrix
+    unprovable: InvalidInput | None = None
 
 
 def _exact(x: float) -> sp.Rational:
@@ -78,6 +86,7 @@ class _Values:
         self.symbols = {name: sp.Symbol(name, real=True) for name, _ in parameters}
         self.defaults = {self.symbols[name]: _exact(value) for name, value in parameters}
         self.constants = namespace(self.symbols, state=False, time=False)
+        self.unprovable: list[InvalidInput] = []  # tensors the exact proofs cannot take (see refuse_unprovable)
 
     def scalar(self, key: str, value):
         if isinstance(value, str):
@@ -210,17 +219,28 @@ def shape_tensor(shape: str, origin: str, mass, dims) -> sp.ImmutableMatrix:
 
 
 def _rotation(values: _Values, key: str, orientation) -> sp.Matrix | None:
-    """R with ``v_model = R v_part`` (the active turn of the part), or None for an unturned part."""
+    """R with ``v_model = R v_part`` (the active turn of the part), or None for an unturned part.
+
+    A quaternion is used as ``R = (q ⊗ v ⊗ q*) / |q|²`` — exact for any non-zero q, rational in q (no square root
+    of |q|², which made every later derivation slow: minutes for ``[0.5, 0.5, 0.5, "a"]``); ``|q|²`` simplified
+    first, so a unit quaternion such as ``[cos(a/2), 0, 0, sin(a/2)]`` or a rational one is used as it is. A
+    quaternion that is zero at the parameters' defaults is refused.
+    """
     if orientation is None:
         return None
     if "quaternion" in orientation:
-        q = [values.scalar(f"{key}.quaternion[{i}]", c) for i, c in enumerate(orientation["quaternion"])]
-        norm2 = sp.expand(sum(c**2 for c in q))
-        if norm2 == 0:
-            raise InvalidInput(f"{key}.quaternion", orientation["quaternion"], "a non-zero quaternion")
-        if norm2 != 1:
-            q = [c / sp.sqrt(norm2) for c in q]
-        return from_quaternion(q).T
+        raw = orientation["quaternion"]
+        q = [values.scalar(f"{key}.quaternion[{i}]", c) for i, c in enumerate(raw)]
+        norm2 = sp.cancel(sp.expand(sum(c**2 for c in q)))
+        if norm2.has(sp.sin, sp.cos):
+            norm2 = sp.cancel(sp.trigsimp(norm2))
+        at = values.at_defaults(norm2)
+        if norm2 == 0 or not (np.isfinite(at.real) and at.real > 0 and abs(at.imag) <= 1e-12 * abs(at.real)):
+            shown = [_show(values.at_defaults(c)) for c in q]
+            raise InvalidInput(f"{key}.quaternion", raw, "a non-zero quaternion (at the parameters' defaults it is "
+                                                         f"[{', '.join(shown)}])")
+        R = from_quaternion(q).T
+        return R if norm2 == 1 else R / norm2
     if "euler" in orientation:
         angles = values.vector(f"{key}.euler", orientation["euler"])
         return euler_matrix(*angles, convention=orientation["convention"]).T
@@ -228,6 +248,69 @@ def _rotation(values: _Values, key: str, orientation) -> sp.Matrix | None:
     if all(c == 0 for c in axis):
         raise InvalidInput(f"{key}.axis", orientation["axis"], "a non-zero axis")
     return from_axis_angle(list(axis), values.scalar(f"{key}.angle", orientation["angle"])).T
+
+
+def _not_rational(matrix) -> object:
+    """The first entry of ``matrix`` that is not a ratio of polynomials in its parameters (``cos(k)``,
+    ``sqrt(1 - a**2)``), or None."""
+    for x in matrix:
+        free = sorted(x.free_symbols, key=str)
+        if free and not x.is_rational_function(*free):
+            return x
+    return None
+
+
+def _transcendental(key: str, raw, matrix, what: str) -> InvalidInput | None:
+    """The refusal of a tensor that depends on a parameter other than rationally (see :func:`refuse_unprovable`),
+    or None."""
+    entry = _not_rational(matrix)
+    if entry is None:
+        return None
+    term = next((a for a in sp.preorder_traversal(entry) if isinstance(a, (sp.Function, sp.Pow))
+                 and a.free_symbols and not a.is_rational_function(*a.free_symbols)), entry)
+    return InvalidInput(key, raw, f"{what} rational in the parameters: here the inertia tensor depends on them through "
+                                  f"{term}, and the exact proofs of the model's integrals need its entries to be ratios "
+                                  "of polynomials in the parameters; use a numeric angle, or a turn rational in a "
+                                  "parameter s, e.g. quaternion = [1, 0, 0, \"s\"] (about z by 2·atan(s))")
+
+
+def refuse_unprovable(model) -> None:
+    """Refuse, naming the TOML key, a model whose integrals the exact proofs cannot take: one whose inertia tensor
+    depends on a parameter other than rationally (``angle = "k"`` puts cos(k) in it). Called before a proof.
+
+    Raises
+    ------
+    eulersym.errors.InvalidInput
+
+    Examples
+    --------
+    >>> from eulersym.model import Model
+    >>> refuse_unprovable(Model(parameters={"s": 0.2}, body={"parts": [{"shape": "cuboid", "mass": 1, "a": 1,
+    ...                         "b": 2, "c": 3, "quaternion": [1, 0, 0, "s"]}]}))
+    >>> turned = Model(parameters={"k": 0.2}, body={"parts": [{"shape": "cuboid", "mass": 1, "a": 1, "b": 2,
+    ...                "c": 3, "axis": [1, 0, 0], "angle": "k"}]})
+    >>> turned.mechanics.inertia[1, 2] != 0     # its mechanics and numbers are built ...
+    True
+    >>> refuse_unprovable(turned)               # ... its integrals are not proven
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: body.parts[0].orientation.angle='k' is not valid: expected a turn rational in the parameters: here the inertia tensor depends on them through cos(k), ...
+    """
+    problem = model._assembly.unprovable
+    if problem is not None:
+        raise problem
+
+
+def _refuse_switches(key: str, raw, expr, parameters: set) -> None:
+    """Refuse, by the TOML key, what the kernel cannot emit: ``sign``, ``min``, ``max`` anywhere, and ``abs`` of
+    the state (its Jacobian holds sign(x), which has no derivative where it switches)."""
+    switch = next(iter(sorted(expr.atoms(sp.sign, sp.Min, sp.Max, sp.Heaviside), key=str)), None)
+    if switch is None:
+        switch = next((a for a in sorted(expr.atoms(sp.Abs), key=str) if a.free_symbols - parameters), None)
+    if switch is not None:
+        raise InvalidInput(key, raw, f"a smooth formula: the kernel's Jacobian differentiates it, and {switch} has no "
+                                     "derivative where it switches (no sign, min or max, and no abs of the state; a "
+                                     "smooth form such as sqrt(x^2 + e^2) for |x| can be used)")
 
 
 def _rational_rotation(R: sp.Matrix) -> sp.Matrix:
@@ -263,13 +346,18 @@ def _part(values: _Values, key: str, part: dict):
                                    enumerate(part["tensor"])])
         values.body_tensor(f"{key}.tensor", part["tensor"], I_cm)
         offset = _ZERO
-    R = _rotation(values, f"{key}.orientation", part.get("orientation"))
+    orientation = part.get("orientation")
+    R = _rotation(values, f"{key}.orientation", orientation)
     position = values.vector(f"{key}.position", part.get("position", [0.0, 0.0, 0.0]))
     if R is None:
         return m, I_cm, sp.ImmutableMatrix(position + offset)
     R = sp.Matrix(R)
     if not R.free_symbols and not all(x.is_Rational for x in R):
         R = _rational_rotation(R)
+    kind = next(k for k in ("quaternion", "euler", "angle") if k in orientation)
+    problem = _transcendental(f"{key}.orientation.{kind}", orientation[kind], R, "a turn")
+    if problem is not None:
+        values.unprovable.append(problem)
     turned = (R * I_cm * R.T).applyfunc(sp.expand)
     return m, sp.ImmutableMatrix(turned), sp.ImmutableMatrix((position + R * offset).applyfunc(sp.expand))
 
@@ -324,6 +412,11 @@ def assemble(data: dict) -> Assembly:
         derived_centre = False
     if derived_centre:
         values.body_tensor("body", None, I)
+    if not sp.Matrix(I).is_diagonal():  # (a diagonal tensor is read entry by entry; a full one by its polynomials)
+        key = ("body.parts" if "parts" in body else f"body.{kind}" if not derived_centre else "body")
+        problem = _transcendental(key, body.get(key[5:]) if key != "body" else None, I, "a full inertia tensor")
+        if problem is not None:
+            values.unprovable.append(problem)
     gravity = sp.Integer(0)
     if pivoted:
         key = "pivot.l" if pivot.get("l") else "pivot.centre_of_mass"
@@ -345,16 +438,23 @@ def assemble(data: dict) -> Assembly:
                 raise InvalidInput("pivot.g", pivot["g"], f"g >= 0 (at the parameters' defaults it is {_show(v)})")
     full = namespace(values.symbols, inertia=I)
     torque = sp.ImmutableMatrix(_ZERO)
+    given = {}  # TOML key → (what was written, what it reads as)
     if data["torque"]["body"] is not None:
-        torque = torque + values.vector("torque.body", data["torque"]["body"], full)
+        given["torque.body"] = (data["torque"]["body"], values.vector("torque.body", data["torque"]["body"], full))
+        torque = torque + given["torque.body"][1]
     if data["torque"]["space"] is not None:
-        torque = torque + to_body(values.vector("torque.space", data["torque"]["space"], full))
+        given["torque.space"] = (data["torque"]["space"],
+                                 values.vector("torque.space", data["torque"]["space"], full))
+        torque = torque + to_body(given["torque.space"][1])
     potential = sp.Integer(0)
     if data["torque"]["potential"] is not None:
         raw = data["torque"]["potential"]
         potential = parse(raw, namespace(values.symbols, inertia=I, omega=False), argument="torque.potential",
                           shape="scalar") if isinstance(raw, str) else _exact(raw)
     rotor = _ZERO if data["rotor"] is None else values.vector("rotor.h", data["rotor"])
+    given.update({"torque.potential": (data["torque"]["potential"], potential), "rotor.h": (data["rotor"], rotor)})
+    for key, (raw, expr) in given.items():
+        _refuse_switches(key, raw, expr, set(values.symbols.values()))
     mech = Mechanics(
         name=data["name"],
         inertia=sp.ImmutableMatrix(I),
@@ -367,4 +467,5 @@ def assemble(data: dict) -> Assembly:
         potential=potential,
         parameters=tuple((values.symbols[name], float(value)) for name, value in data["parameters"]),
     )
-    return Assembly(mechanics=mech, mass=mass, centre_of_mass=sp.ImmutableMatrix(centre))
+    return Assembly(mechanics=mech, mass=mass, centre_of_mass=sp.ImmutableMatrix(centre),
+                    unprovable=values.unprovable[0] if values.unprovable else None)

@@ -43,16 +43,22 @@ import json
 import os
 import shutil
 import signal
-import stat
 import tempfile
 import time
 import types
 from pathlib import Path
 from typing import Callable
 
+from eulersym._private_cache import Damaged, check_private, make_private, read_private, root
 from eulersym.errors import CacheError
 
-__all__ = ["root", "folder", "lookup", "load", "store", "remove", "Damaged", "STAGING_MAX_AGE", "MANIFEST"]
+__all__ = ["root", "folder", "lookup", "load", "store", "remove", "Damaged", "Stale", "STAGING_MAX_AGE",
+           "MANIFEST"]
+
+
+class Stale(Damaged):
+    """An entry that is whole but was emitted by other code than the running eulersym's (see :func:`lookup`)."""
+
 
 #: The entry's manifest file.
 MANIFEST = "entry.json"
@@ -60,62 +66,6 @@ MANIFEST = "entry.json"
 STAGING_MAX_AGE = 600.0
 _FORMAT = 1
 _LOADED: dict = {}
-
-
-class Damaged(Exception):
-    """A cache entry that cannot be used as it is (its reason in ``str``); the caller rebuilds it."""
-
-
-def root() -> Path:
-    """The cache's root: ``$EULERSYM_CACHE``, else ``$XDG_CACHE_HOME/eulersym``, else ``~/.cache/eulersym``.
-
-    Examples
-    --------
-    >>> import os
-    >>> os.environ.get("EULERSYM_CACHE") is not None or root().name == "eulersym"
-    True
-    """
-    explicit = os.environ.get("EULERSYM_CACHE")
-    if explicit:
-        return Path(explicit)
-    base = os.environ.get("XDG_CACHE_HOME")
-    if not base or not os.path.isabs(base):  # the XDG spec: a relative value is ignored
-        base = os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "eulersym"
-
-
-def _check_private(path: Path) -> None:
-    """Refuse a cache folder that is not a folder, is owned by someone else or is writable by group or others."""
-    try:
-        info = os.stat(path)
-    except OSError as exc:
-        raise CacheError(path, f"it cannot be read ({exc.strerror})", exc.errno) from None
-    if not stat.S_ISDIR(info.st_mode):
-        raise CacheError(path, "it is not a folder")
-    if hasattr(os, "geteuid") and info.st_uid != os.geteuid():
-        raise CacheError(path, f"it is owned by uid {info.st_uid}, not by you (uid {os.geteuid()}): another user "
-                               "could plant code there")
-    if info.st_mode & (stat.S_IWGRP | stat.S_IWOTH):
-        raise CacheError(path, f"it is writable by {'group and others' if info.st_mode & stat.S_IWOTH and info.st_mode & stat.S_IWGRP else 'others' if info.st_mode & stat.S_IWOTH else 'group'} "
-                               f"(mode {stat.S_IMODE(info.st_mode):04o}): another user could plant code there "
-                               f"(chmod go-w {path})")
-
-
-def _make_private(path: Path) -> None:
-    """Create ``path`` (and missing parents below the root) as ``0700``, whatever the umask; check it."""
-    try:
-        os.mkdir(path, 0o700)
-    except FileExistsError:
-        pass
-    except FileNotFoundError:
-        _make_private(path.parent)
-        _make_private(path)
-        return
-    except OSError as exc:
-        raise CacheError(path, f"it cannot be created ({exc.strerror})", exc.errno) from None
-    else:
-        os.chmod(path, 0o700)
-    _check_private(path)
 
 
 def folder(*, create: bool = False) -> Path:
@@ -129,30 +79,32 @@ def folder(*, create: bool = False) -> Path:
     base = root()
     models = base / "models"
     if create:
-        _make_private(base)
-        _make_private(models)
+        make_private(base)
+        make_private(models)
     else:
         for p in (base, models):
             if p.exists():
-                _check_private(p)
+                check_private(p)
     return models
 
 
-def lookup(digest: str) -> Path | None:
+def lookup(digest: str, *, stamp: str | None = None) -> Path | None:
     """The module path of the entry for ``digest`` as its manifest names it, or None when there is no entry.
 
     Raises :class:`Damaged` for an entry that exists but is not whole (no manifest, a manifest that does not
-    parse or names no plain ``.py`` file beside it).
+    parse or names no plain ``.py`` file beside it), and :class:`Stale` for one whose manifest does not record
+    ``stamp`` (when given: the hash of the code that emitted it, see :func:`store`).
     """
     entry = folder() / digest
     if not os.path.lexists(entry):
         return None
     if not entry.is_dir() or entry.is_symlink():
         raise Damaged(f"{entry} is not a folder")
-    _check_private(entry)
+    check_private(entry)
     manifest = _manifest(entry)
-    path = entry / manifest["module"]
-    return path
+    if stamp is not None and manifest.get("stamp") != stamp:
+        raise Stale(f"{entry} was emitted by other code (stamp {str(manifest.get('stamp'))[:12]}, not {stamp[:12]})")
+    return entry / manifest["module"]
 
 
 def _manifest(entry: Path) -> dict:
@@ -169,33 +121,6 @@ def _manifest(entry: Path) -> dict:
     if not name.endswith(".py") or not name[:-3].isidentifier() or data["digest"] != entry.name:
         raise Damaged(f"{entry / MANIFEST} names {name!r} for digest {data['digest'][:12]}")
     return data
-
-
-def _read_regular(path: Path) -> bytes:
-    """The bytes of a plain file (not a folder, a link, a FIFO), read once."""
-    try:
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0))
-    except OSError as exc:
-        raise Damaged(f"{path} cannot be opened ({exc.strerror})") from None
-    try:
-        info = os.fstat(fd)
-        if not stat.S_ISREG(info.st_mode):
-            raise Damaged(f"{path} is not a plain file")
-        if hasattr(os, "geteuid") and info.st_uid != os.geteuid():
-            raise Damaged(f"{path} is owned by uid {info.st_uid}, not by you")
-        if info.st_mode & (stat.S_IWGRP | stat.S_IWOTH):
-            raise Damaged(f"{path} is writable by group or others")
-        chunks = []
-        while True:
-            chunk = os.read(fd, 1 << 20)
-            if not chunk:
-                break
-            chunks.append(chunk)
-        return b"".join(chunks)
-    except OSError as exc:
-        raise Damaged(f"{path} cannot be read ({exc.strerror})") from None
-    finally:
-        os.close(fd)
 
 
 def load(path, digest: str, *, required: tuple = ()) -> types.ModuleType:
@@ -224,7 +149,7 @@ def load(path, digest: str, *, required: tuple = ()) -> types.ModuleType:
     manifest = _manifest(entry)
     if manifest["module"] != path.name:
         raise Damaged(f"{entry / MANIFEST} names {manifest['module']!r}, not {path.name!r}")
-    data = _read_regular(path)
+    data = read_private(path)
     sha = hashlib.sha256(data).hexdigest()
     key = (str(path), sha)
     if key in _LOADED:
@@ -284,9 +209,10 @@ def _sweep_staging(models: Path) -> None:
             continue
 
 
-def store(digest: str, write: Callable[[Path], Path]) -> Path:
+def store(digest: str, write: Callable[[Path], Path], *, stamp: str | None = None) -> Path:
     """Write the entry of ``digest``: ``write(staging_folder)`` writes the module and returns its path; the
-    manifest is added, the files made ``0600``, and the folder renamed into place. Returns the module's final path.
+    manifest is added (recording ``stamp``, the hash of the code that emitted it, when given), the files made
+    ``0600``, and the folder renamed into place. Returns the module's final path.
 
     If another process stored the same digest first, its entry is kept (and returned).
 
@@ -313,7 +239,7 @@ def store(digest: str, write: Callable[[Path], Path]) -> Path:
             written = Path(write(staging))
             data = written.read_bytes()
             manifest = {"format": _FORMAT, "digest": digest, "module": written.name,
-                        "sha256": hashlib.sha256(data).hexdigest()}
+                        "sha256": hashlib.sha256(data).hexdigest(), **({"stamp": stamp} if stamp else {})}
             (staging / MANIFEST).write_text(json.dumps(manifest, sort_keys=True) + "\n", encoding="ascii")
             for p in staging.iterdir():
                 os.chmod(p, 0o600)

@@ -36,7 +36,7 @@ import sympy as sp
 from eulersym.errors import InvalidInput
 from eulersym.model import names as N
 from eulersym.model.mechanics import GAMMA, OMEGA, Q, Mechanics, t
-from eulersym.parsing import parse as _parse
+from eulersym.parsing import check_expansion, parse as _parse
 from eulersym.rotation import from_quaternion
 
 __all__ = ["parse", "namespace", "to_body", "to_space", "VECTOR_FUNCTIONS", "SHAPES"]
@@ -183,7 +183,8 @@ def parse(text, mech_or_namespace, *, argument: str, shape: str = "scalar"):
     ------
     InvalidInput
         An unknown name (with a did-you-mean), a vector where a scalar belongs or the reverse, an equation, a
-        malformed formula; :class:`~eulersym.errors.UnsafeExpression` for anything beyond plain math.
+        malformed formula; :class:`~eulersym.errors.UnsafeExpression` for anything beyond plain math, or beyond
+        :data:`eulersym.parsing.MAX_EXPANDED_TERMS` terms once multiplied out (the exact proofs expand it).
 
     Examples
     --------
@@ -203,6 +204,7 @@ def parse(text, mech_or_namespace, *, argument: str, shape: str = "scalar"):
     ns = mechanics_namespace(mech_or_namespace) if isinstance(mech_or_namespace, Mechanics) \
         else dict(mech_or_namespace)
     value = _parse(text, argument=argument, names=ns, functions=VECTOR_FUNCTIONS, strict=True)
+    check_expansion(value, argument, text)  # the exact proofs expand it: refuse what would not end
     if isinstance(value, (list, sp.Equality)):
         raise InvalidInput(argument, text, f"an expression (a {shape}), not an equation")
     if isinstance(value, sp.MatrixBase):

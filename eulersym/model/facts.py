@@ -202,9 +202,13 @@ class _Reader:
         expr = parse(text, namespace(self._sympy, state=False, time=False), argument=key,
                      shape="vector" if vector else "scalar")
         values = {self._sympy[name]: self.values[name] for name in self.parameters}
-        if vector:
-            return [_numeric(e, values) for e in expr]
-        return _numeric(expr, values)
+        try:
+            if vector:
+                return [_numeric(e, values) for e in expr]
+            return _numeric(expr, values)
+        except _NotNumeric as exc:  # named by the TOML key, as the user wrote it
+            raise InvalidInput(key, text, f"a real formula of +, -, *, /, powers and the parser's functions (here "
+                                          f"{exc.args[0]})") from None
 
 
 _FUNCTIONS = {
@@ -244,7 +248,11 @@ def _numeric(expr, values: Mapping):
         for a in args[1:]:
             out = (np.minimum if name == "Min" else np.maximum)(out, a)
         return out
-    raise InvalidInput("expression", str(expr), "a formula of +, -, *, /, powers and the parser's functions")
+    raise _NotNumeric("the imaginary unit" if name == "ImaginaryUnit" else str(expr))
+
+
+class _NotNumeric(Exception):
+    """A part of a formula that has no real value on floats (the caller names the key)."""
 
 
 def _column(x, batch: int) -> np.ndarray:

@@ -33,7 +33,9 @@ Examples
 from __future__ import annotations
 
 import builtins
+import contextlib
 import functools
+import os
 import re
 import types
 from pathlib import Path
@@ -46,7 +48,8 @@ from eulersym.model.derive import equations
 from eulersym.model.integrals import invariants as _invariants
 from eulersym.model.mechanics import Mechanics, t
 
-__all__ = ["module_name", "module_spec", "source", "files", "generate", "check", "compile", "flags", "body_values"]
+__all__ = ["module_name", "module_spec", "source", "files", "generate", "write_files", "unwritable", "check", "compile",
+           "flags", "body_values"]
 
 _RESERVED_ARGUMENTS = {"t", "y", "params", "body"}
 _SYMPY_LINE = "# SymPy version: "
@@ -326,8 +329,15 @@ def files(mech: Mechanics, target: str = "numpy", *, digest: str | None = None, 
     return {spec.name + ".py": emit_jax(spec, header=header)}
 
 
-def generate(mech: Mechanics, directory, *, digest: str | None = None, name: str | None = None) -> Path:
-    """Write the kernel module to ``directory/<name>.py`` (unchanged bytes are not rewritten); return the path.
+def generate(mech: Mechanics, directory, *, digest: str | None = None, name: str | None = None,
+             argument: str = "directory") -> Path:
+    """Write the kernel module to ``directory/<name>.py`` whole or not at all (unchanged bytes are not rewritten);
+    return the path.
+
+    The module is written under a temporary name beside its place and renamed over it
+    (:func:`eulersym.files.atomic_write`): a full disk, a file-size limit or a folder without permission leaves the
+    file as it was and raises :class:`~eulersym.errors.InvalidInput` naming ``argument`` (``--dir`` on the command
+    line), the folder and the errno.
 
     Examples
     --------
@@ -338,14 +348,101 @@ def generate(mech: Mechanics, directory, *, digest: str | None = None, name: str
     'free.py'
     """
     text = source(mech, digest=digest, name=name)
+    path = Path(directory) / (module_name(mech, name) + ".py")
+    write_files({path.name: text}, directory, argument=argument)
+    return path
+
+
+def unwritable(argument: str, folder, exc: OSError) -> InvalidInput:
+    """The refusal of a folder eulersym could not write: ``argument`` (the flag or key), the folder, what the system
+    said and its errno.
+
+    Examples
+    --------
+    >>> import errno
+    >>> print(unwritable("--dir", "/full", OSError(errno.ENOSPC, "No space left on device")))
+    --dir='/full' is not valid: expected a folder eulersym can write (No space left on device [errno 28: ENOSPC]); nothing was written
+    """
+    import errno as _errno
+
+    code = getattr(exc, "errno", None)
+    tag = f" [errno {code}: {_errno.errorcode.get(code, '?')}]" if code is not None else ""
+    return InvalidInput(argument, str(folder), f"a folder eulersym can write ({exc.strerror or exc}{tag}); nothing "
+                                               "was written")
+
+
+def write_files(texts: dict, directory, *, argument: str = "directory") -> list:
+    """Write each ``{file name: text}`` into ``directory`` (created if missing), all whole or none: each file under
+    a temporary name renamed over its place (:func:`eulersym.files.atomic_write`), and when one fails the files
+    this call already replaced are put back as they were (a header and its C file never disagree). A file whose
+    bytes are unchanged is not rewritten. Returns the paths.
+
+    Raises
+    ------
+    eulersym.errors.InvalidInput
+        ``directory`` is a file, or cannot be created or written (no permission, a full disk, a file-size limit):
+        naming ``argument``, the folder and the errno (:func:`unwritable`).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     [p.name for p in write_files({"a.h": "int a;\\n", "a.c": "int a = 1;\\n"}, d)]
+    ['a.h', 'a.c']
+    """
+    from eulersym.files import atomic_write
+
     directory = Path(directory)
     if directory.exists() and not directory.is_dir():
-        raise InvalidInput("directory", str(directory), "a folder (or a path where one can be created)")
-    directory.mkdir(parents=True, exist_ok=True)
-    path = directory / (module_name(mech, name) + ".py")
-    if not path.is_file() or path.read_bytes() != text.encode():
-        path.write_bytes(text.encode())
-    return path
+        raise InvalidInput(argument, str(directory), "a folder (or a path where one can be created); this is a file")
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise unwritable(argument, directory, exc) from None
+
+    def writer_of(data: bytes):
+        def writer(tmp):
+            try:
+                with open(tmp, "wb") as handle:
+                    handle.write(data)
+            except OSError as exc:  # the errno and the folder named here; atomic_write removes the temporary
+                raise unwritable(argument, directory, exc) from None
+
+        return writer
+
+    replaced = []  # (path, a hard link to its previous bytes or None): put back if a later file fails
+    try:
+        for file, text in texts.items():
+            path = directory / file
+            data = text.encode()
+            try:
+                if path.is_file() and path.read_bytes() == data:
+                    continue
+            except OSError:
+                pass
+            previous = None
+            if os.path.lexists(path):
+                previous = directory / f".{file}.eulersym-tmp-{os.getpid()}.old"  # files.clean_leftovers' pattern
+                try:
+                    os.link(path, previous)  # no data copied: nothing a full disk could stop
+                except OSError:
+                    previous = None
+            replaced.append((path, previous))
+            atomic_write(str(path), writer_of(data), argument)
+    except BaseException:
+        for path, previous in reversed(replaced):
+            with contextlib.suppress(OSError):
+                if previous is not None:
+                    os.replace(previous, path)
+                elif path.exists():
+                    path.unlink()
+        raise
+    finally:
+        for _, previous in replaced:
+            if previous is not None:
+                with contextlib.suppress(OSError):
+                    previous.unlink()
+    return [directory / file for file in texts]
 
 
 def _header(text: str) -> list:

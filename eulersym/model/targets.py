@@ -78,15 +78,6 @@ def cli(argv) -> int:
             raise CheckFailed("; ".join(report.problems))
         print(f"check passed: {', '.join(str(directory / f) for f in written)} match a fresh generation")
         return 0
-    if directory.exists() and not directory.is_dir():
-        raise InvalidInput("--dir", str(directory), "a folder (or a path where one can be created); this is a file")
-    try:
-        directory.mkdir(parents=True, exist_ok=True)
-        for file, text in written.items():
-            path = directory / file
-            if not path.is_file() or path.read_bytes() != text.encode():
-                path.write_bytes(text.encode())
-            print(f"wrote {path}")
-    except OSError as exc:
-        raise InvalidInput("--dir", str(directory), f"a folder that can be written ({exc.strerror or exc})") from None
+    for path in kernels.write_files(written, directory, argument="--dir"):  # each file whole or not at all
+        print(f"wrote {path}")
     return 0

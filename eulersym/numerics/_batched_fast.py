@@ -2,7 +2,7 @@
 
 The loop body is the plain-Python sub-flows of :mod:`eulersym.numerics.pivoted` (registered with
 ``numba.extending.register_jitable``), so the compiled and NumPy paths run the same arithmetic. Every function is
-compiled with ``cache=True``; ``parallel=True`` spreads members over the cores (``eulersym bench stress`` measures
+compiled with ``cache=True`` (eulersym's checked cache: :func:`eulersym.numerics._fast.njit`); ``parallel=True`` spreads members over the cores (``eulersym bench stress`` measures
 when that pays). Nothing here is imported unless numba is installed and asked for.
 """
 
@@ -12,6 +12,8 @@ import math
 from functools import lru_cache
 
 import numpy as np
+
+from eulersym.numerics._fast import njit
 
 __all__ = ["member_runner"]
 
@@ -59,7 +61,7 @@ def _compiled(substep, renormalise, jitable, parallel: bool):
     name = "_members_parallel" if parallel else "_members_serial"
     fn = types.FunctionType(_members.__code__, glob, name)
     fn.__qualname__ = name  # distinct cache entries for the two variants
-    return numba.njit(cache=True, parallel=parallel)(fn)
+    return njit(fn, cache=True, parallel=parallel)
 
 
 def member_runner(substep, renormalise, jitable, parallel: bool = False):

@@ -2,8 +2,14 @@
 
 The compiled loops are the very functions of :mod:`eulersym.numerics.splitting` and
 :mod:`eulersym.numerics.heavy_top` (written in the subset numba compiles), registered with
-``numba.extending.register_jitable`` and compiled with ``cache=True`` so the machine code is reused across
-processes. Without numba nothing here is imported and the same functions run as plain Python.
+``numba.extending.register_jitable`` and compiled by :func:`njit` with ``cache=True`` so the machine code is reused
+across processes. Without numba nothing here is imported and the same functions run as plain Python.
+
+:func:`njit` is ``numba.njit`` whose on-disk cache is eulersym's (:mod:`eulersym.numerics._numba_cache`): in a
+private folder under eulersym's cache root, every file checked by its hash before it is unpickled, a damaged entry
+removed and compiled again with a one-line :class:`~eulersym.errors.CacheRepaired` warning, and no cache (instead
+of numba's "no locator available") where no folder can be written. Every ``cache=True`` function of eulersym is
+compiled through it.
 
 :func:`batched` compiles the ``<name>_loop`` flavour of a generated kernel module (plain loops over the columns
 calling ``<name>_flat``) the same way: the generated module never imports numba, and the machine code is cached on
@@ -16,7 +22,7 @@ from functools import lru_cache
 
 import numpy as np
 
-__all__ = ["available", "select", "batched"]
+__all__ = ["available", "select", "batched", "njit"]
 
 
 def available() -> bool:
@@ -32,6 +38,32 @@ def available() -> bool:
     except ImportError:
         return False
     return True
+
+
+def njit(function=None, /, *, cache: bool = False, **options):
+    """``numba.njit(**options)``, with eulersym's checked, private, self-repairing on-disk cache when ``cache=True``
+    (see the module docstring). Used as numba's: ``@njit(cache=True, parallel=True)`` or ``njit(f, cache=True)``.
+
+    numba is imported when a function is decorated (call this only where numba is to be used).
+
+    Examples
+    --------
+    >>> def twice(x):
+    ...     return 2.0 * x
+    >>> njit(twice, cache=True)(1.5) if available() else 3.0
+    3.0
+    """
+    import numba
+
+    def decorate(py_func):
+        dispatcher = numba.njit(**options)(py_func)
+        if cache:
+            from eulersym.numerics._numba_cache import CheckedCache
+
+            dispatcher._cache = CheckedCache(py_func)  # what Dispatcher.enable_caching does, with eulersym's cache
+        return dispatcher
+
+    return decorate if function is None else decorate(function)
 
 
 def select(fast, runner):
@@ -59,11 +91,10 @@ def select(fast, runner):
 
 @lru_cache(maxsize=None)
 def _compiled_loop(module, name):
-    import numba
     from numba.extending import register_jitable
 
     register_jitable(error_model="numpy")(getattr(module, name + "_flat"))
-    return numba.njit(cache=True, error_model="numpy")(getattr(module, name + "_loop"))
+    return njit(getattr(module, name + "_loop"), cache=True, error_model="numpy")
 
 
 def batched(module, name="rhs"):

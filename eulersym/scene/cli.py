@@ -5,12 +5,14 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import os
 import sys
 
 from eulersym.errors import InvalidInput
 from eulersym.scene import cost
 from eulersym.scene.catalog import bundled
-from eulersym.scene.io import OUTPUT_SUFFIXES, PLOT_SUFFIXES, check_target, plot, report, require_matplotlib, save
+from eulersym.scene.io import (OUTPUT_SUFFIXES, PLOT_SUFFIXES, check_target, plot, report, require_matplotlib, save,
+                               summary_path)
 from eulersym.scene.run import simulate
 from eulersym.scene.spec import Scene, load
 
@@ -102,7 +104,23 @@ def _parser() -> argparse.ArgumentParser:
     where = p.add_mutually_exclusive_group()
     where.add_argument("--workers", metavar="N", type=_count, help="run a sweep's chunks on a local Dask cluster of N processes (the dask extra)")
     where.add_argument("--scheduler", metavar="ADDRESS", help="run a sweep's chunks on the Dask cluster at ADDRESS (tcp://host:8786)")
+    p.add_argument("--scheduler-timeout", metavar="SECONDS", type=_seconds, default=CONNECT_SECONDS,
+                   help=f"give up on a --scheduler that does not answer within SECONDS (default {CONNECT_SECONDS:g})")
     return p
+
+
+#: Seconds a --scheduler has to answer (Dask's own connect timeout does not bound a listener that never replies).
+CONNECT_SECONDS = 10.0
+
+
+def _seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0 < value <= 3600:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds in (0, 3600]")
+    return value
 
 
 #: The figures drawn from the attitude: --figure with one of them makes the run keep it.
@@ -161,7 +179,14 @@ def cli(argv: list) -> int:
                   "--explain to write them)")
         return 0
     if args.output:
+        if os.path.splitext(args.output)[1].lower() == ".npz" and not args.output.endswith(".npz"):
+            # NumPy writes 'x.NPZ' as 'x.NPZ.npz': refused before anything is written
+            raise InvalidInput("-o", args.output, "a file ending in .npz or .csv (.npz in lower case: NumPy appends "
+                                                  "'.npz' to any other spelling)")
         check_target("-o", args.output, OUTPUT_SUFFIXES)
+        companion = summary_path(args.output)  # a sweep's CSV writes its summary beside it
+        if args.output.lower().endswith(".csv") and os.path.lexists(companion):
+            check_target("-o", companion, OUTPUT_SUFFIXES)  # (a folder there: refused before x.csv is replaced)
     if args.plot:
         check_target("--plot", args.plot, PLOT_SUFFIXES)
         require_matplotlib(args.plot)
@@ -170,6 +195,7 @@ def cli(argv: list) -> int:
     except MemoryError:
         raise InvalidInput("SCENE", args.scene, f"a scene that fits in memory: {scene.batch} member(s) × "
                                                 f"{scene.points} output times did not (fewer points or members)") from None
+    _refuse_not_finite(result, scene)  # no NaN is reported or written as a result
     print(f"scene {scene.name!r}" + (f" — {scene.description}" if scene.description else ""))
     print(report(result))
     if args.output:
@@ -190,14 +216,85 @@ def _explain(scene, memory: int, work: float) -> None:
 def _simulate(scene, args, memory, work):
     """Run in-process, or on a local Dask cluster of ``--workers N`` processes / the one at ``--scheduler``."""
     if not (args.workers or args.scheduler):
-        return simulate(scene, progress=sys.stderr.isatty(), memory=memory, work=work)
+        try:
+            return simulate(scene, progress=sys.stderr.isatty(), memory=memory, work=work)
+        except (ArithmeticError, ValueError) as exc:
+            raise _left_its_domain(exc, scene.method) from None
     from eulersym.sweeps import distributed
 
-    client = distributed.local_client(args.workers) if args.workers else distributed.connect(args.scheduler)
+    client = distributed.local_client(args.workers) if args.workers else _connect(args.scheduler,
+                                                                                   args.scheduler_timeout)
     try:
         return simulate(scene, progress=sys.stderr.isatty(), client=client, memory=memory, work=work)
     finally:
         distributed.close(client)
+
+
+def _refuse_not_finite(result, scene) -> None:
+    """Refuse a run whose angular velocity or attitude is not finite (a right-hand side that left its domain in a
+    member: log of a negative number is NaN in NumPy), naming the members, before anything is written."""
+    import numpy as np
+
+    from eulersym.errors import IntegrationFailed
+
+    bad = None
+    for values in (result.omega, result.attitude):
+        if values is None or not np.issubdtype(np.asarray(values).dtype, np.floating):
+            continue
+        values = np.asarray(values)
+        rows = ~np.isfinite(values).reshape(values.shape[0], -1).all(axis=1) if result.sweep and values.ndim >= 3 \
+            else np.array([not np.isfinite(values).all()])
+        bad = rows if bad is None else bad | rows
+    if bad is None or not bad.any():
+        return
+    members = np.flatnonzero(bad)
+    if result.sweep and len(bad) > 1:
+        shown = ", ".join(map(str, members[:10])) + (", ..." if len(members) > 10 else "")
+        what = f"{len(members)} of {len(bad)} members ({shown}) left the finite numbers"
+    else:
+        what = "the motion left the finite numbers"
+    raise IntegrationFailed(scene.method, f"{what}: their right-hand side left its domain or overflowed; nothing was "
+                                          "written", "a start and parameters that keep the right-hand side in its "
+                                                     "domain, or a shorter t_end")
+
+
+def _left_its_domain(exc: BaseException, method: str) -> BaseException:
+    """A math error raised inside a model's generated kernel (``math.log`` of a negative number, ``math.exp``
+    overflowing) as :class:`~eulersym.errors.IntegrationFailed` naming the kernel's line; any other error as it is."""
+    import traceback
+    from pathlib import Path
+
+    from eulersym.errors import EulersymError, IntegrationFailed
+    from eulersym.scene.model_kernel import cache_root
+
+    if isinstance(exc, EulersymError):
+        return exc
+    where = traceback.extract_tb(exc.__traceback__)[-1]
+    try:
+        inside = Path(where.filename).resolve().is_relative_to(cache_root().resolve())
+    except (OSError, ValueError):
+        inside = False
+    if not inside:
+        return exc
+    line = " ".join((where.line or "").split())
+    line = line if len(line) <= 80 else line[:77] + "..."
+    return IntegrationFailed(method, f"the model's right-hand side left its domain or the finite numbers "
+                                     f"({type(exc).__name__}: {exc}; its kernel's line {where.lineno}: {line})",
+                             "a start and parameters that keep the right-hand side in its domain, or a shorter t_end")
+
+
+def _connect(address: str, seconds: float):
+    """The client of the Dask scheduler at ``address``, refused naming it when it does not answer in ``seconds``
+    (a listener that accepts and never replies held ``distributed.Client`` for minutes)."""
+    from eulersym._budget import BudgetExceeded, time_budget
+    from eulersym.sweeps import distributed
+
+    try:
+        with time_budget(seconds):
+            return distributed.connect(address, timeout=seconds)
+    except BudgetExceeded:
+        raise InvalidInput("--scheduler", address, f"a Dask scheduler that answers within {seconds:g} s (see "
+                                                   "--scheduler-timeout); nothing answered at this address") from None
 
 
 def work_estimate(scene, plan=None):

@@ -5,8 +5,11 @@ The cache (:mod:`eulersym.model.cache`): ``<root>/models/<digest>/`` holds the o
 :meth:`eulersym.model.Model.generate` wrote and the hash of its bytes; the root is ``$EULERSYM_CACHE``, else
 ``$XDG_CACHE_HOME/eulersym``, else ``~/.cache/eulersym``. The digest covers the model's normalised data and the
 eulersym and SymPy versions, so a changed model or a new release gets a new folder, and an unchanged model is never
-regenerated. A module is imported only from bytes that match their recorded hash, from folders only you can write;
-a damaged entry is rebuilt with a :class:`eulersym.errors.CacheRepaired` warning.
+regenerated; the entry also records the hash of the code that derives and prints kernels (:func:`emitter_stamp`),
+and an entry emitted by other code (an edited emitter, a branch) is stale: built again. A module is imported only
+from bytes that match their recorded hash, from folders only you can write; a damaged entry is rebuilt with a
+:class:`eulersym.errors.CacheRepaired` warning. A derivation runs under a budget (:data:`DERIVE_SECONDS`,
+:data:`DERIVE_MEMORY`): past it, :class:`eulersym.errors.OverBudget` names the model and nothing is cached.
 
 Imports nothing of :mod:`eulersym.scene`.
 """
@@ -14,6 +17,8 @@ Imports nothing of :mod:`eulersym.scene`.
 from __future__ import annotations
 
 import dataclasses
+import functools
+import hashlib
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -21,10 +26,16 @@ from typing import Mapping
 
 import numpy as np
 
+from eulersym._budget import symbolic_budget
 from eulersym.errors import CacheRepaired, InvalidInput
 from eulersym.model import cache
 
-__all__ = ["cache_root", "cached_path", "load", "cached", "ensure", "ModelKernel", "kernel"]
+__all__ = ["cache_root", "cached_path", "emitter_stamp", "load", "cached", "ensure", "ModelKernel", "kernel"]
+
+#: The budget of one model's derivation (equations, proofs of its integrals, emission): seconds, and bytes of
+#: resident memory beyond what the process held (the bundled models take 0.5–4 s and ~100 MiB cold).
+DERIVE_SECONDS = 60.0
+DERIVE_MEMORY = 2 << 30
 
 #: What a model's kernel module must define to be used.
 REQUIRED = ("STATE", "PARAMETERS", "DEFAULTS", "INVARIANTS", "FLAGS", "body", "rhs", "rhs_batched", "jac",
@@ -42,6 +53,32 @@ def cache_root() -> Path:
     return cache.root() / "models"
 
 
+#: The sources whose bytes decide a model kernel's text (its derivation, its proofs, its printing), relative to the
+#: package: their hash is recorded with every cache entry, so a change in generated code — an edited emitter, a
+#: branch — never hands back a kernel emitted by other code (the digest covers releases).
+EMITTING_SOURCES = ("codegen/emitter.py", "codegen/runtime.py", "model/kernels.py", "model/derive.py",
+                    "model/integrals.py", "model/mechanics.py", "model/assemble.py", "model/expressions.py",
+                    "model/names.py", "parsing.py", "rotation.py", "kinematics.py", "symbols.py", "inertia.py",
+                    "_shape_tensors.py", "validation.py")
+
+
+@functools.lru_cache(maxsize=None)
+def emitter_stamp() -> str:
+    """SHA-256 of the sources in :data:`EMITTING_SOURCES` (names and bytes, sorted; read once per process).
+
+    Examples
+    --------
+    >>> len(emitter_stamp())
+    64
+    """
+    package = Path(__file__).resolve().parent.parent
+    h = hashlib.sha256()
+    for pattern in EMITTING_SOURCES:
+        for path in sorted(package.glob(pattern)):
+            h.update(path.relative_to(package).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    return h.hexdigest()
+
+
 def cached_path(digest: str) -> Path | None:
     """The cached kernel module of the model with this digest, or None when there is none yet (or it is damaged:
     :func:`ensure` rebuilds it).
@@ -52,21 +89,22 @@ def cached_path(digest: str) -> Path | None:
     True
     """
     try:
-        return cache.lookup(digest)
-    except cache.Damaged:
+        return cache.lookup(digest, stamp=emitter_stamp())
+    except cache.Damaged:  # (a stale entry too)
         return None
 
 
 def load(path: Path, digest: str):
-    """Import a cached kernel module from ``path`` after checking its bytes (once per process; plain NumPy, no
-    SymPy). Raises :class:`eulersym.model.cache.Damaged` when the entry is not whole."""
+    """Import the cached kernel module of the model with this digest from ``path`` after checking its bytes (once
+    per process; plain NumPy, no SymPy). Raises :class:`eulersym.model.cache.Damaged` when the entry is not whole."""
     return cache.load(path, digest, required=REQUIRED)
 
 
 def cached(digest: str):
-    """``(module, path)`` of a whole cached entry, or None (no entry, or a damaged one)."""
+    """``(module, path)`` of a whole cached entry of the model with this digest, or None (no entry, or a damaged
+    one)."""
     try:
-        path = cache.lookup(digest)
+        path = cache.lookup(digest, stamp=emitter_stamp())
         return None if path is None else (load(path, digest), path)
     except cache.Damaged:
         return None
@@ -81,24 +119,37 @@ def ensure(model, record: list):
     ------
     eulersym.errors.CacheError
         The cache cannot be used (not private, not writable, a full disk).
+    eulersym.errors.OverBudget
+        The derivation did not finish within ``DERIVE_SECONDS`` and ``DERIVE_MEMORY`` (nothing is cached).
     """
-    digest = model.digest
+    digest, stamp = model.digest, emitter_stamp()
     try:
-        path = cache.lookup(digest)
+        path = cache.lookup(digest, stamp=stamp)
         if path is not None:
             return load(path, digest), path, False
+    except cache.Stale:  # emitted by other code (an edited emitter, another release): built again, silently
+        cache.remove(digest)
     except cache.Damaged as exc:
         warnings.warn(f"the cached kernel of model {model.name!r} was damaged ({exc}): rebuilt", CacheRepaired,
                       stacklevel=2)
         cache.remove(digest)
 
-    def write(folder: Path) -> Path:
-        written = Path(model.generate(folder))
+    def write(folder: Path) -> Path:  # the private staging folder: renamed into place whole (cache.store)
+        from eulersym.model import kernels
+        from eulersym.model.assemble import refuse_unprovable
+
+        mech = model.mechanics
+        refuse_unprovable(model)  # the kernel's invariants are proven: a body they cannot take refused by its key
+        with symbolic_budget(f"deriving the kernel of model {model.name!r} (its equations of motion and the proofs "
+                             "of its integrals)", seconds=DERIVE_SECONDS, memory=DERIVE_MEMORY):
+            text = kernels.source(mech, digest=digest)
         record.append("model.equations")
         record.append("model.kernel")
+        written = folder / (kernels.module_name(mech) + ".py")
+        written.write_bytes(text.encode())  # an OSError (a full disk): cache.store's CacheError
         return written
 
-    path = cache.store(digest, write)
+    path = cache.store(digest, write, stamp=stamp)
     return load(path, digest), path, True
 
 

@@ -32,6 +32,10 @@ def did_you_mean(key: str, valid) -> str:
     return "one of " + ", ".join(repr(v) for v in valid) + hint
 
 
+#: Most values one swept number may take (a grid of several reaches further; the run's budgets bound it).
+MAX_SWEEP_VALUES = 10**6
+
+
 @dataclass(frozen=True)
 class Sweep:
     """A swept number: the scene runs once per value (all sweeps of a scene form an outer-product grid).
@@ -73,8 +77,14 @@ class Sweep:
             num = value["num"]
             if isinstance(num, bool) or not isinstance(num, numbers.Integral) or num < 1:
                 raise InvalidInput(f"{argument}.num", num, "a positive integer number of values")
+            if num > MAX_SWEEP_VALUES:  # before any array: 1e9 values were 7.45 GiB, a MemoryError or the OOM killer
+                raise InvalidInput(f"{argument}.num", num, f"at most {MAX_SWEEP_VALUES:,} values of one swept number "
+                                                           "(the scene's members are its sweeps' product)")
             values = np.linspace(start, stop, int(num))
         else:
+            if len(value) > MAX_SWEEP_VALUES:
+                raise InvalidInput(argument, f"a list of {len(value):,} numbers", f"at most {MAX_SWEEP_VALUES:,} values "
+                                                                                "of one swept number")
             values = [number(f"{argument}[{k}]", v) for k, v in enumerate(value)]
             if not values:
                 raise InvalidInput(argument, value, "a non-empty list of numbers to sweep over")
