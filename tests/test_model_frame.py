@@ -190,3 +190,14 @@ def test_stability_map_of_the_satellite(tmp_path):
     assert main(["satellite-orbital-frame", "--family", ALIGNED, "--map", "k1=-1:1:41", "k3=-1:1:41",
                  "--plot", str(png)]) == 0
     assert png.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_a_turning_frame_is_its_own_regime_reason():
+    """A model whose frame turns is integrated through its own kernel, and the plan says why (not 'a torque')."""
+    from eulersym.model import Model
+    from eulersym.scene.regime import classify
+
+    facts = Model(body={"moments": [1, 2, 3]}, frame={"rate": [0, 0, 0.5]}).facts()
+    assert facts.turning and facts.torque == "none" and facts.regime_hint == "other"
+    regime = classify(facts)
+    assert regime.regime == "model" and "turning reference frame" in regime.reason

@@ -186,3 +186,37 @@ def test_model_round_trip_and_digest():
     assert Model.from_dict(m.to_dict()) == m
     plain = Model(parameters={"c": 0.05}, body={"moments": [1, 2, 3]})
     assert "quantities" not in plain.to_dict() and "frame" not in plain.normalised
+
+
+# ---- the scene's own quantities: Scene(quantities=...) and [output] quantities ----------------------------------------
+def test_a_scene_adds_its_own_quantities_to_its_model(tmp_path):
+    """``[output] quantities`` in a scene file (and ``Scene(quantities=...)``) reach the model's kernel: the report,
+    the CSV columns, and the values themselves (the kinetic energy against ½ ωᵀIω computed here)."""
+    import numpy as np
+
+    from eulersym.scene import Scene, simulate
+
+    path = tmp_path / "spin-down.toml"
+    path.write_text('name = "spin-down"\n[body]\nmoments = [1.0, 2.0, 3.0]\n[torque]\nbody = "-0.2*omega"\n'
+                    '[initial]\nomega = [0.1, 1.0, 0.1]\n[time]\nend = 2.0\npoints = 11\n'
+                    '[output]\nquantities = { energy = { expression = "E", unit = "J" }, spin = "norm(omega)" }\n')
+    scene = Scene.from_toml(path)
+    result = simulate(scene)
+    omega = result.omega
+    assert np.allclose(result.quantities["energy"], 0.5 * (omega ** 2 * [1.0, 2.0, 3.0]).sum(axis=1), rtol=1e-13)
+    assert np.allclose(result.quantities["spin"], np.linalg.norm(omega, axis=1), rtol=1e-13)
+    assert "quantity energy:" in result.report() and "(J)" in result.report()
+    keyword = Scene(model=scene.model, omega=(0.1, 1.0, 0.1), t_end=2.0, points=11, quantities={"tilt": "theta"},
+                    outputs=("omega", "attitude"))
+    assert "energy" in dict(keyword.model.to_dict()["quantities"]) and "tilt" in keyword.model.to_dict()["quantities"]
+
+
+@pytest.mark.parametrize("quantities, key", [({"spin": "omega"}, "quantities.spin"),
+                                             ({"x": "omegaa1"}, "quantities.x"),
+                                             (3, "quantities")])
+def test_a_scene_quantity_that_is_not_one_is_refused_by_key(quantities, key):
+    from eulersym.scene import Scene, simulate
+
+    with pytest.raises(InvalidInput) as info:  # names at construction; a vector where a scalar belongs at derivation
+        simulate(Scene(moments=(1, 2, 3), omega=(0.1, 1.0, 0.1), t_end=1, points=3, quantities=quantities)).quantities
+    assert info.value.argument == key, info.value

@@ -87,9 +87,20 @@ def test_a_turned_body_whose_kernel_needs_proofs_is_refused_by_key_from_the_cli(
         end = 1.0
         points = 11
         """))
-    run = _eulersym("simulate", path)
-    assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr
-    assert "body.parts[0].orientation.angle='k'" in run.stderr and "PolynomialError" not in run.stderr
+    for args in (("simulate", path), ("derive", "--model", path), ("verify", "--model", path, "--integral", "omega1")):
+        run = _eulersym(*args)
+        assert run.returncode == 2 and "Traceback" not in run.stderr, (args, run.stderr)
+        assert "body.parts[0].orientation.angle='k'" in run.stderr and "PolynomialError" not in run.stderr
+
+
+def test_a_proof_that_grows_past_its_budget_is_refused_naming_it(monkeypatch):
+    from eulersym.model import cli
+
+    monkeypatch.setattr(cli, "BUDGET_SECONDS", 0.5)
+    with pytest.raises(Exception) as info:
+        cli.verify(["--model", "damped", "--integral", "(gamma1+gamma2+gamma3+q0+q1+q2+q3)^5*(omega1+omega2)^5"])
+    assert type(info.value).__name__ in ("OverBudget", "InvalidInput"), info.value
+    assert "damped" in str(info.value) or "--integral" in str(info.value)
 
 
 def test_a_turn_rational_in_a_parameter_is_proven():

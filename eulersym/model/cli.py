@@ -29,7 +29,13 @@ import json
 import sys
 from pathlib import Path
 
+from eulersym._budget import symbolic_budget
 from eulersym.errors import CheckFailed, InvalidInput
+from eulersym.model.assemble import refuse_unprovable
+
+#: Seconds a derivation or a proof may take before it is refused naming what was being computed (a model kernel's
+#: derivation has the same budget: ``eulersym.scene.model_kernel.DERIVE_SECONDS``).
+BUDGET_SECONDS = 60.0
 
 __all__ = ["derive", "generate", "verify", "load"]
 
@@ -124,15 +130,17 @@ def derive(argv) -> int:
     if args is None:
         return status
     model = load(args.model)
-    mech = model.mechanics
-    eqs = D.equations(mech)
-    verdicts = integrals.invariants(mech)
-    report = None
-    if args.check:
-        conventions = args.convention or None
-        if conventions == ["all"]:
-            conventions = "all"
-        report = D.check(mech, conventions)
+    refuse_unprovable(model)  # a body the exact proofs cannot take, refused by its TOML key
+    with symbolic_budget(f"deriving and proving model {model.name!r}", seconds=BUDGET_SECONDS):
+        mech = model.mechanics
+        eqs = D.equations(mech)
+        verdicts = integrals.invariants(mech)
+        report = None
+        if args.check:
+            conventions = args.convention or None
+            if conventions == ["all"]:
+                conventions = "all"
+            report = D.check(mech, conventions)
     show = _latex if args.latex else str
     from eulersym.model.quantities import expressions as quantity_expressions
 
@@ -254,13 +262,15 @@ def verify(argv) -> int:
     if args is None:
         return status
     model = load(args.model)
-    mech = model.mechanics
-    candidate = parse(args.integral, mech, argument="--integral", shape="scalar")
-    on = None
-    if args.on is not None:
-        on = integrals.level_set(mech, args.on)
-        on = {key: value for key, _, value in on}
-    verdict = integrals.prove(mech, candidate, name=args.integral, on=on)
+    refuse_unprovable(model)
+    with symbolic_budget(f"proving {args.integral!r} for model {model.name!r}", seconds=BUDGET_SECONDS):
+        mech = model.mechanics
+        candidate = parse(args.integral, mech, argument="--integral", shape="scalar")
+        on = None
+        if args.on is not None:
+            on = integrals.level_set(mech, args.on)
+            on = {key: value for key, _, value in on}
+        verdict = integrals.prove(mech, candidate, name=args.integral, on=on)
     if args.json:
         print(json.dumps({"model": model.name, **_verdict_dict(verdict)}, indent=2, ensure_ascii=False))
     else:

@@ -75,6 +75,8 @@ class Facts:
         A potential energy besides gravity's.
     given : str
         How the body is described: ``"moments"``, ``"tensor"``, ``"shape"`` or ``"parts"``.
+    turning : bool
+        The reference frame turns (``[frame] rate``): its kinematics live only in the model's own equations.
 
     Examples
     --------
@@ -95,6 +97,7 @@ class Facts:
     torque: str
     potential: bool
     given: str
+    turning: bool = False
 
     @property
     def batch(self) -> int:
@@ -123,7 +126,7 @@ class Facts:
         >>> Model(body={"moments": [1, 2, 3]}, torque={"body": [0, 0, 0.5]}).facts().regime_hint
         'constant torque'
         """
-        if self.torque == "varying" or self.potential or self.has_rotor:
+        if self.torque == "varying" or self.potential or self.has_rotor or self.turning:
             return "other"
         heavy = self.pivoted and bool(np.any(self.weight != 0))
         given = [v for v in (self.torque_body, self.torque_space) if v is not None and bool(np.any(v != 0))]

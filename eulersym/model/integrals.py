@@ -530,7 +530,10 @@ def _counterexample_on(mech, rate, ideal, gens, level, seed: int) -> dict | None
 def _rational_coefficients(x, symbols) -> bool:
     """Whether ``x`` is a ratio of polynomials in ``symbols`` with rational coefficients (no cos(3/10), no √2)."""
     for part in sp.fraction(sp.together(x)):
-        coeffs = sp.Poly(part, *symbols).coeffs() if symbols else [part]
+        try:
+            coeffs = sp.Poly(part, *symbols).coeffs() if symbols else [part]
+        except sp.PolynomialError:  # sin(k) of a parameter k: not a polynomial in it
+            return False
         if not all(c.is_Rational for c in coeffs):
             return False
     return True

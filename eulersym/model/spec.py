@@ -840,7 +840,7 @@ class Model:
         if "frame" in self._data:  # a turning frame's kinematics live only in the model's own equations
             import dataclasses
 
-            out = dataclasses.replace(out, torque="varying")
+            out = dataclasses.replace(out, turning=True)
         return out
 
     def _check_centre(self) -> None:

@@ -174,6 +174,9 @@ def classify(facts) -> Regime:
     """
     T = np.asarray(facts.tensor, dtype=float)
     hint = facts.regime_hint
+    if facts.turning:
+        return _model("a turning reference frame (its rate enters the kinematics): the model's own kernel is "
+                      "integrated", T)
     if facts.torque == "varying" or facts.potential:
         return _model("a torque or a potential beyond gravity: no closed form, the model's own kernel is integrated", T)
     if facts.has_rotor:

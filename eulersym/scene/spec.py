@@ -106,6 +106,7 @@ _DEFAULTS = {
     "parameters": None,
     "memory": None,
     "work": None,
+    "quantities": None,
 }
 
 # TOML layout of the scene's own sections: section → key → Scene keyword (a tuple names a keyword and a frame).
@@ -122,7 +123,8 @@ _TOML_LAYOUT: dict[str, dict[str, Any]] = {
         "angle": "angle",
     },
     "time": {"end": "t_end", "points": "points"},
-    "output": {"want": "outputs", "accuracy": "accuracy", "method": "method", "memory": "memory", "work": "work"},
+    "output": {"want": "outputs", "accuracy": "accuracy", "method": "method", "memory": "memory", "work": "work",
+               "quantities": "quantities"},
 }
 #: Scene keyword → where it lives in a TOML file (for messages about keys a file lacks).
 _TOML_PATHS = {target: (f"{section}.{key}" if section else key) for section, keys in _TOML_LAYOUT.items()
@@ -252,6 +254,11 @@ class Scene:
             values["parameters"] = tuple(swept)
             kind = next((k for k in ("moments", "tensor", "shape") if values[k] is not None), None)
             rename = functools.partial(_keyword_name, body_kind=kind)
+        if values["quantities"] is not None:
+            try:
+                model = _with_quantities(model, values["quantities"], values["convention"])
+            except InvalidInput as exc:
+                raise _renamed(exc, rename) from None
         object.__setattr__(self, "model", model)
         object.__setattr__(self, "name", values["name"])
         object.__setattr__(self, "description", values["description"])
@@ -617,6 +624,24 @@ class Scene:
 
 
 #: The fields of a scene's start that may be swept, in order (what :attr:`Scene.sweeps` reads after the body's).
+def _with_quantities(model: Model, quantities, convention) -> Model:
+    """The scene's model with the scene's own quantities (``Scene(quantities=...)``, ``[output] quantities``) added to
+    any the model defines: they are emitted into the model's kernel, so they belong to the model (its digest keys the
+    cached kernel). ``phi``, ``theta``, ``psi`` in them follow the scene's ``convention`` unless the table names one."""
+    if not isinstance(quantities, Mapping):
+        raise InvalidInput("quantities", quantities, 'a table of name = "expression" (or {expression, unit})')
+    data = model.to_dict()
+    own = dict(data.get("quantities", {}))
+    taken = sorted(set(own) & set(quantities) - {"convention"})
+    if taken:
+        raise InvalidInput(f"quantities.{taken[0]}", quantities[taken[0]], "a name the model's [quantities] does not "
+                                                                           "already define")
+    own.update(quantities)
+    if "convention" not in quantities and isinstance(convention, str):
+        own["convention"] = convention
+    return Model.from_dict({**data, "quantities": own})
+
+
 _START_FIELDS = ("euler", "convention", "quaternion", "axis", "angle", "omega", "omega_frame", "euler_rates",
                  "t_end", "points")
 
