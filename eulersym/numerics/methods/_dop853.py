@@ -377,13 +377,25 @@ def _compiled(template, module, kind: str, extra: dict):
                                      co_filename=path if path is not None else template.__code__.co_filename)
     fn = types.FunctionType(code, glob, name)
     fn.__qualname__ = name
-    return numba.cfunc(SIGNATURE, cache=path is not None and not _private(path), error_model="numpy")(fn)
+    if path is None or not _private(path):
+        return numba.cfunc(SIGNATURE, cache=path is not None, error_model="numpy")(fn)
+    # A kernel in a private folder (a model's entry in eulersym's cache): numba's own disk cache would add a
+    # __pycache__ there with the process's umask, so the adapter goes to eulersym's checked, private numba cache.
+    from numba.core import sigutils
+    from numba.core.ccallback import CFunc
+
+    from eulersym.numerics._numba_cache import CheckedCache
+
+    compiled = CFunc(fn, sigutils.normalize_signature(SIGNATURE), locals={}, options={"error_model": "numpy"})
+    compiled._cache = CheckedCache(fn)  # what CFunc.enable_caching does, with eulersym's cache
+    compiled.compile()
+    return compiled
 
 
 def _private(path) -> bool:
     """True when the kernel's folder is private (no access for group or others: a model's entry in eulersym's cache,
-    which holds only the files the cache wrote and checks). numba's disk cache would add a ``__pycache__`` folder
-    there with the process's umask, so such a kernel's adapter is compiled in memory, once per process."""
+    which holds only the files the cache wrote and checks): its compiled adapter is cached in eulersym's private
+    numba cache (:class:`eulersym.numerics._numba_cache.CheckedCache`), not beside it."""
     try:
         return not (os.stat(os.path.dirname(path)).st_mode & 0o077)
     except OSError:
@@ -414,8 +426,8 @@ def rhs_function(module):
     """The numba ``cfunc`` of ``module.rhs_flat`` that the stepping loop calls: ``f(t, y*, p*, out*)``.
 
     Compiled once per kernel and cached on disk beside the kernel's file (``__pycache__``), under a name made of
-    the kernel's bytes: a changed kernel gets a new entry, never a stale one — except a kernel in a private folder (a
-    model's entry in eulersym's cache: :func:`_private`), compiled once per process.
+    the kernel's bytes: a changed kernel gets a new entry, never a stale one; a kernel in a private folder (a model's
+    entry in eulersym's cache: :func:`_private`) has its adapter in eulersym's checked, private numba cache instead.
 
     Examples
     --------
