@@ -14,7 +14,7 @@ import os
 import numpy as np
 
 from eulersym.errors import InvalidInput
-from eulersym.files import atomic_write as _atomic, check_target, clean_leftovers
+from eulersym.files import atomic_write as _atomic, check_target as _check_target, clean_leftovers, write_all
 from eulersym.labels import quantity_label
 from eulersym.scene.result import report
 from eulersym.sweeps.summary import largest_tilt
@@ -48,6 +48,24 @@ def _columns(result):
         names.append(key)
         blocks.append(lift(values)[..., None])
     return names, np.concatenate(blocks, axis=-1)
+
+
+def check_target(flag: str, path: str, suffixes, *, sweep: bool = False) -> None:
+    """Refuse, before any work, an output path eulersym could not write (:func:`eulersym.files.check_target`); for a
+    sweep's ``.csv`` its per-member summary beside it (:func:`summary_path`) too, and a ``.zarr`` store is a folder.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> folder = tempfile.mkdtemp()
+    >>> os.mkdir(os.path.join(folder, "x.summary.csv"))
+    >>> check_target("-o", os.path.join(folder, "x.csv"), OUTPUT_SUFFIXES, sweep=True)
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: -o='...x.csv' is not valid: expected an output whose companion file ...x.summary.csv can be written (it is a folder)
+    """
+    beside = (summary_path(path),) if sweep and os.path.splitext(path)[1].lower() == ".csv" else ()
+    _check_target(flag, path, suffixes, beside=beside, folders=(".zarr",))
 
 
 def summary_path(path: str) -> str:
@@ -160,14 +178,15 @@ def save(result, path: str) -> list:
         cols = [np.repeat(np.arange(batch), n)[:, None]] + [np.repeat(result.sweep[k], n)[:, None] for k in sweep] + cols
         head = ["member", *sweep, *head]
     table = np.concatenate(cols, axis=1)
-    _atomic(path, lambda tmp: np.savetxt(tmp, table, delimiter=",", header=",".join(head), comments="", fmt="%.17g"))
-    if not sweep:
-        return [path]
-    names, rows = summary(result)
-    side = summary_path(path)
-    _atomic(side, lambda tmp: np.savetxt(tmp, rows, delimiter=",", header=",".join(names), comments="",
-                                         fmt="%.17g"))
-    return [path, side]
+    writes = [(path, lambda tmp: np.savetxt(tmp, table, delimiter=",", header=",".join(head), comments="",
+                                            fmt="%.17g"))]
+    if sweep:  # the long table and the per-member summary: both written, or neither (a folder in the way refused first)
+        side_names, rows = summary(result)
+        writes.append((summary_path(path), lambda tmp: np.savetxt(tmp, rows, delimiter=",",
+                                                                  header=",".join(side_names), comments="",
+                                                                  fmt="%.17g")))
+    write_all(writes)
+    return [p for p, _ in writes]
 
 
 def plot(result, path: str, *, figure: str | None = None) -> list:
