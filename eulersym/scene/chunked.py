@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from eulersym.errors import SingularConfiguration
 from eulersym.numerics import methods
 from eulersym.scene.result import outputs, report_notes
 from eulersym.sweeps import chunks
@@ -76,7 +77,49 @@ def motion(problem, plan, *, progress=None) -> tuple:
     >>> singular, bool(np.all(np.isfinite(traj.omega)))
     ((1,), True)
     """
-    return methods.solve(problem, plan.options["engine"], progress=progress)
+    name = plan.options["engine"]
+    grain = methods.get(name).cost.grain
+    if problem.batch <= grain:
+        return methods.solve(problem, name, progress=progress)
+    try:
+        return methods.get(name).run(problem, progress=progress), ()
+    except SingularConfiguration:  # block by block (the method's grain, counted from the first member), so that a
+        pass  # member's bits do not depend on how the sweep was chunked; within a block methods.solve halves
+    pieces, singular = [], []
+    for lo in range(0, problem.batch, grain):
+        traj, found = methods.solve(problem.take(lo, min(lo + grain, problem.batch)), name)
+        pieces.append(traj)
+        singular.extend(lo + int(k) for k in found)
+    if progress is not None:
+        progress(1.0)
+    return _join(pieces), tuple(singular)
+
+
+def _join(pieces):
+    """One trajectory of the members of ``pieces`` in order (:func:`eulersym.numerics.methods.solve` joins the same
+    way): arrays concatenated, calls summed, a field only some pieces give dropped."""
+    import dataclasses
+
+    from eulersym.numerics.trajectory import Trajectory
+
+    joined = {}
+    for f in dataclasses.fields(Trajectory):
+        values = [getattr(traj, f.name) for traj in pieces]
+        if f.name == "t":
+            joined[f.name] = values[0]
+        elif f.name == "n_rhs_calls":
+            joined[f.name] = sum(int(v) for v in values)
+        elif f.name == "q_unit":
+            joined[f.name] = all(values)
+        elif f.name in ("method", "message"):
+            joined[f.name] = " + ".join(dict.fromkeys(values))
+        elif f.name == "status":
+            joined[f.name] = max(values)
+        elif all(isinstance(v, np.ndarray) for v in values):
+            joined[f.name] = np.concatenate(values, axis=0)
+        else:
+            joined[f.name] = None
+    return Trajectory(**joined)
 
 
 def singular_note(singular, batch: int, rtol: float) -> str:
