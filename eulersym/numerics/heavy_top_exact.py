@@ -956,22 +956,26 @@ def _members(I, M, g, l, omega0, q0):
     w = np.broadcast_to(w, (nb, 3))
     qq = np.broadcast_to(qq, (nb, 4))
     Mv, gv, lv = (np.broadcast_to(x, (nb,)) for x in scal)
-    for k in range(nb):
-        moments("I", tuple(Iarr[k]))
-        if Iarr[k, 0] != Iarr[k, 1]:
-            raise InvalidInput("I", tuple(Iarr[k]), "a symmetric top (I1, I1, I3): I1 == I2 exactly "
-                               "(for I1 != I2 integrate: there is no closed form)")
-        if not Mv[k] > 0:
-            raise InvalidInput("M", float(Mv[k]), "a positive mass")
-        if gv[k] == 0:
-            raise InvalidInput("g", float(gv[k]), "a non-zero gravitational acceleration (g = 0 is torque-free: "
-                               "use free_rigid_body_attitude_exact)")
-        if lv[k] == 0:
-            raise InvalidInput("l", float(lv[k]), "a non-zero distance from the pivot to the centre of mass "
-                               "(l = 0 is torque-free: use free_rigid_body_attitude_exact)")
-        norm = math.sqrt(float(np.sum(qq[k] * qq[k])))
-        if abs(norm - 1.0) > 1e-6:
-            raise InvalidInput("q0", tuple(qq[k]), "a unit quaternion (q0, q1, q2, q3), scalar first, |q| = 1")
+    moments("I", Iarr)  # every member at once (the one check of a body's moments: positive, the triangle)
+    first = lambda bad: int(np.argmax(bad))  # noqa: E731  (the first member that fails, for the message)
+    bad = Iarr[:, 0] != Iarr[:, 1]
+    if bad.any():
+        raise InvalidInput("I", tuple(Iarr[first(bad)]), "a symmetric top (I1, I1, I3): I1 == I2 exactly "
+                           "(for I1 != I2 integrate: there is no closed form)")
+    bad = ~(Mv > 0)
+    if bad.any():
+        raise InvalidInput("M", float(Mv[first(bad)]), "a positive mass")
+    bad = gv == 0
+    if bad.any():
+        raise InvalidInput("g", float(gv[first(bad)]), "a non-zero gravitational acceleration (g = 0 is torque-free: "
+                           "use free_rigid_body_attitude_exact)")
+    bad = lv == 0
+    if bad.any():
+        raise InvalidInput("l", float(lv[first(bad)]), "a non-zero distance from the pivot to the centre of mass "
+                           "(l = 0 is torque-free: use free_rigid_body_attitude_exact)")
+    bad = np.abs(np.sqrt(np.sum(qq * qq, axis=1)) - 1.0) > 1e-6
+    if bad.any():
+        raise InvalidInput("q0", tuple(qq[first(bad)]), "a unit quaternion (q0, q1, q2, q3), scalar first, |q| = 1")
     return batched, nb, Iarr, Mv, gv, lv, w, qq
 
 
@@ -979,6 +983,24 @@ def _gamma_of(q):
     """Γ = R(q)ᵀ ẑ of a unit quaternion."""
     a, b, c, d = q
     return np.array([2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d])
+
+
+def _gammas(q):
+    """Γ = R(q)ᵀ ẑ of unit quaternions (rows)."""
+    a, b, c, d = q.T
+    return np.stack([2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d], axis=1)
+
+
+def _snap_rows(q):
+    """:func:`_snap_to_poles` of quaternions as rows, all at once (the same comparisons, elementwise)."""
+    q = np.array(q, dtype=np.float64)
+    n2 = np.sum(q * q, axis=1)
+    up = q[:, 1] ** 2 + q[:, 2] ** 2 < 1e-34 * n2
+    down = ~up & (q[:, 0] ** 2 + q[:, 3] ** 2 < 1e-34 * n2)
+    q[up, 1:3] = 0.0
+    q[down, 0] = 0.0
+    q[down, 3] = 0.0
+    return q
 
 
 def _snap_to_poles(q):
@@ -1001,7 +1023,7 @@ def _batch(batched, nb, Iarr, Mv, gv, lv, w, qq, tt):
     """All members at once in double precision; the members that path leaves out, one by one, precisely."""
     from eulersym.numerics._heavy_top_batch import batch_motion
 
-    snapped = np.array([_snap_to_poles(x) for x in qq])
+    snapped = _snap_rows(qq)
     ok, omega, gamma, q, euler, period, turning = batch_motion(Iarr[:, 0], Iarr[:, 2], Mv * gv * lv, w, snapped, tt)
     for k in np.flatnonzero(~ok):
         one = heavy_top_exact(Iarr[k], Mv[k], gv[k], lv[k], w[k], qq[k], tt, precise=True)
@@ -1012,7 +1034,7 @@ def _batch(batched, nb, Iarr, Mv, gv, lv, w, qq, tt):
         omega[:, start] = w[:, None, :]
         unit = snapped / np.sqrt(np.sum(snapped * snapped, axis=1, keepdims=True))
         q[:, start] = unit[:, None, :]
-        gamma[:, start] = np.array([_gamma_of(x) for x in unit])[:, None, :]
+        gamma[:, start] = _gammas(unit)[:, None, :]
     if not batched:
         return HeavyTopMotion(t=tt, omega=omega[0], gamma=gamma[0], q=q[0], euler=euler[0], period=float(period[0]),
                               turning_points=turning[0])
