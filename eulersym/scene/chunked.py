@@ -4,7 +4,8 @@ The prepared :class:`~eulersym.numerics.methods.Problem` is cut into chunks of m
 (:meth:`~eulersym.numerics.methods.Problem.take`); each chunk runs the plan's method and turns its trajectory into
 the scene's outputs (:func:`run_chunk`) — trajectories, or per-member summaries when the scene asks for
 ``"summary"`` — and :mod:`eulersym.sweeps.chunks` writes them into preallocated outputs in member order. Peak
-memory: the outputs plus one chunk's working set, which :mod:`eulersym.scene.cost` sized to the budget. With a
+memory: the outputs plus the working set of the chunks in flight, which :mod:`eulersym.scene.cost` sizes to the
+cache (a few thousand members of a closed form), within the budget. With a
 ``dask.distributed.Client`` the same chunks run on its workers (:mod:`eulersym.sweeps.distributed`): a chunk is a
 problem of a few arrays per member, the task imports the method and the generated kernels (no SymPy), and the
 result is the same bits.
