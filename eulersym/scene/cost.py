@@ -30,7 +30,7 @@ import numpy as np
 from eulersym.errors import InvalidInput
 from eulersym.numerics import methods
 from eulersym.scene.values import values_of
-from eulersym.sweeps import cost as model
+from eulersym.sweeps import cost as model, zarr_store
 from eulersym.sweeps.summary import summary_names
 
 __all__ = ["ONE_MEMBER_WORK_BUDGET", "PHASE_LIMIT", "rate_bound", "largest", "refuse_phase", "estimate", "check",
@@ -292,8 +292,11 @@ def _one(scene, plan, *, memory, chunk, kernel, rate=None) -> model.Estimate:
     low, high = _spread(scene)
     rate = model.body_rate(rate_bound(scene) if rate is None else rate, max(low, 1e-300), high)
     cost = method_cost(plan)
+    values = _output_values(scene, regime)
+    if zarr_store.target() is not None and scene.batch > 1:  # streamed to a store: trajectories leave with each chunk
+        values = 0
     return model.estimate(members=scene.batch, points=scene.points, state=_state(plan.propagate),
-                          output_values=_output_values(scene, regime), engine=cost.name, rate=rate,
+                          output_values=values, engine=cost.name, rate=rate,
                           t_end=float(scene.t_end), accuracy=float(scene.accuracy), summary_values=n_summary,
                           summary=summary, inputs=inputs, memory=memory, chunk=chunk,
                           threads=threads(plan) if scene.batch > 1 else 1, baseline=baseline_bytes(plan))
