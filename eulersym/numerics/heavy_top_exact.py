@@ -60,7 +60,8 @@ from __future__ import annotations
 
 import decimal
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
+from typing import NamedTuple
 from decimal import Decimal
 
 import numpy as np
@@ -135,8 +136,7 @@ def _dd(x) -> tuple[float, float]:
 # ----------------------------------------------------------------------------------------------------------------
 # The constants of one motion, in decimal arithmetic
 # ----------------------------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class _Pole:
+class _Pole(NamedTuple):  # (a NamedTuple: made at import ~20× faster than a frozen dataclass of as many fields)
     """One pole's half of the attitude: amplitude² = base + Δ·(cn² or sn²); angle χ = χ0 + rate t + coef·W(x)."""
 
     base: float  # y2 (near) or z1 (far)
@@ -154,8 +154,7 @@ class _Pole:
     chi0: float
 
 
-@dataclass(frozen=True)
-class _Motion:
+class _Motion(NamedTuple):
     steady: bool
     sigma: float
     w1: float
@@ -619,7 +618,7 @@ def _resolved(mo):
     poles = [(p.B, p.n, p.one_minus_n, p.WK) for p in (mo.near, mo.far)]
     W0n, j0n, W0f, j0f = _start_W(mo.K, mo.period, mo.mc, mo.rootmc, r0, j0, _agm_landen(mo.rootmc), poles,
                                   {"near": (None, 0.0), "far": (None, 0.0)})
-    return replace(mo, near=replace(mo.near, W0=W0n, j0=j0n), far=replace(mo.far, W0=W0f, j0=j0f))
+    return mo._replace(near=mo.near._replace(W0=W0n, j0=j0n), far=mo.far._replace(W0=W0f, j0=j0f))
 
 
 #: From this many output times on, W comes from its Chebyshev series (fitted per call at 32 nodes, both poles at once:
