@@ -16,19 +16,22 @@ import math
 
 import numpy as np
 
-from eulersym.numerics.elliptic import _rf, _rj, _sncndn, _third_kind
+from eulersym.numerics.elliptic import _agm_landen, _rf, _rj, _sncndn, _third_kind
 
 __all__ = ["batch_motion"]
 
 
 def _jacobi(u, mc):
     """sn, cn, dn of u (B, n) for complementary parameters mc (B, 1), 1e-12 ≤ mc ≤ 1: the algorithm of
-    :func:`eulersym.numerics.elliptic.jacobi_sncndn` (descending Landen from √m_c, quarter-period reflection), with a
-    fixed number of AGM levels so that every member runs the same array operations."""
+    :func:`eulersym.numerics.elliptic.jacobi_sncndn` (descending Landen from √m_c, quarter-period reflection), every
+    member with the number of AGM levels the call's smallest m_c needs (|a − b| ≤ 1e-9 a, as
+    :func:`eulersym.numerics.elliptic._agm_landen`; a sweep calls this a block of 1024 members at a time)."""
     rootmc = np.sqrt(mc)
+    finite = rootmc[np.isfinite(rootmc)]
+    levels = len(_agm_landen(float(np.clip(finite.min(), 1e-6, 1.0)))[0]) if finite.size else 12
     a, b = np.ones_like(rootmc), rootmc
     avals, bvals = [], []
-    for _ in range(12):  # from √m_c ≥ 1e-6 the AGM has converged to the last bit after ≤ 9 levels
+    for _ in range(levels):
         avals.append(a)
         bvals.append(b)
         a, b = 0.5 * (a + b), np.sqrt(a * b)
