@@ -934,9 +934,9 @@ class Model:
 
         return integrals.invariants(self.mechanics)
 
-    def prove(self, candidate: str):
-        """Whether ``candidate`` (a string in the model's names) is conserved
-        (:func:`eulersym.model.integrals.prove`).
+    def prove(self, candidate: str, on=None):
+        """Whether ``candidate`` (a string in the model's names) is conserved — everywhere, or on the level set
+        ``on`` of the model's integrals (``"L_dot_Gamma = 0"``) — (:func:`eulersym.model.integrals.prove`).
 
         Examples
         --------
@@ -952,7 +952,19 @@ class Model:
         from eulersym.model.expressions import parse
 
         mech = self.mechanics
-        return integrals.prove(mech, parse(candidate, mech, argument="candidate", shape="scalar"))
+        return integrals.prove(mech, parse(candidate, mech, argument="candidate", shape="scalar"), on=on)
+
+    def steady_motions(self, **options):
+        """Its steady motions, each family with its stability (:func:`eulersym.model.steady.steady_motions`).
+
+        Examples
+        --------
+        >>> [f.name for f in Model(body={"moments": [1, 2, 3]}).steady_motions()]
+        ['rotation about e1', 'rotation about e2', 'rotation about e3']
+        """
+        from eulersym.model.steady import steady_motions
+
+        return steady_motions(self, **options)
 
     def generate(self, directory):
         """Write the model's kernel module into ``directory`` (:func:`eulersym.model.kernels.generate`).
