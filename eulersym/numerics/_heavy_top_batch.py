@@ -180,12 +180,12 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
     nu_near, nu_far = np.where(sigma > 0, -nu, nu), np.where(sigma > 0, nu, -nu)
     # the largest root: Newton from above the Cauchy bound (the cubic is convex there: monotone convergence)
     x3 = np.maximum(one_m_w0, 0.0) + 1.0 + np.maximum(np.abs(B), np.maximum(np.abs(C), np.abs(D))) / A
-    for _ in range(200):
+    for _ in range(200):  # from above, the steps shrink to the cubic's rounding, where they turn negative
         g = _cubic(A, B, C, D, x3)
         dg = (3 * A * x3 + 2 * B) * x3 + C
-        step = np.where(dg > 0, g / np.where(dg > 0, dg, 1.0), 0.0)
+        step = np.where((dg > 0) & (g > 0), g / np.where(dg > 0, dg, 1.0), 0.0)
         x3 = x3 - step
-        if np.all(np.abs(step) <= 1e-16 * np.abs(x3)):
+        if np.all(step <= 4.0 * 2.0 ** -52 * np.abs(x3)):
             break
     Bq = B + A * x3
     Cq = -D / np.where(x3 > 0, x3, 1.0)
@@ -328,19 +328,18 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
     half_near, half_far = rn / math.sqrt(2.0), rf / math.sqrt(2.0)
     out_q = np.empty(r.shape + (4,))
     pos = col(sigma) > 0
-    a0, a1 = np.where(pos, 1, 0), np.where(pos, 2, 3)  # near pair indices
-    b0, b1 = np.where(pos, 0, 1), np.where(pos, 3, 2)  # far pair indices
-    cn_n, sn_n = half_near * np.cos(0.5 * chi_n), half_near * np.sin(0.5 * chi_n)
-    cf, sf = half_far * np.cos(0.5 * chi_f), half_far * np.sin(0.5 * chi_f)
+    cos_n, sin_n = np.cos(0.5 * chi_n), np.sin(0.5 * chi_n)  # the half angles' cosines and sines, once
+    cos_f, sin_f = np.cos(0.5 * chi_f), np.sin(0.5 * chi_f)
+    cn_n, sn_n = half_near * cos_n, half_near * sin_n
+    cf, sf = half_far * cos_f, half_far * sin_f
     out_q[..., 0] = np.where(pos, cf, cn_n)
     out_q[..., 3] = np.where(pos, sf, sn_n)
     out_q[..., 1] = np.where(pos, cn_n, cf)
     out_q[..., 2] = np.where(pos, sn_n, sf)
-    del a0, a1, b0, b1
     out_q /= np.sqrt(np.sum(out_q * out_q, axis=-1, keepdims=True))
     chi_plus, chi_minus = np.where(pos, chi_f, chi_n), np.where(pos, chi_n, chi_f)
-    cp, sp_ = np.cos(0.5 * chi_plus), np.sin(0.5 * chi_plus)
-    cm, sm = np.cos(0.5 * chi_minus), np.sin(0.5 * chi_minus)
+    cp, sp_ = np.where(pos, cos_f, cos_n), np.where(pos, sin_f, sin_n)
+    cm, sm = np.where(pos, cos_n, cos_f), np.where(pos, sin_n, sin_f)
     cos_psi, sin_psi = cp * cm + sp_ * sm, sp_ * cm - cp * sm
     A_ = 0.5 * col(Bn) * rf / rn + 0.5 * col(Bf) * rn / rf
     B_ = col(sigma) * 2.0 * col(lam) * dn * ratio_n * ratio_f
