@@ -4,7 +4,8 @@ at once (the vectorised Carlson integrals and Jacobi functions of :mod:`eulersym
 Same formulas as :mod:`eulersym.numerics.heavy_top_exact`, but the constants of each motion (roots, λ, K, τ0, the
 rates) are computed in double rather than 36-digit decimal arithmetic and the phase is not reduced in
 double-double, so the error grows with the number of nutation periods instead of staying at round-off: by ε·λ·t
-from the phase and by m_c's own rounding, at most :data:`CONDITION_ULPS` ulp — below ~1e-14 a period. Members this
+from the phase and by m_c's own rounding, at most :data:`CONDITION_ULPS` ulp (~1e-14 a period), and by the other constants in double: below ~3e-13 a period
+in all (tests/test_numerics_closed_form_edges.py, against the precise path). Members this
 path does not treat — a steady motion (double root), a start at or near a pole (``1 ∓ w`` below 1e-6 at a turning
 point), a motion whose m_c the cubic's rounding moves by more than that (next to the separatrix, where two roots
 nearly meet; with an accuracy asked: by more than a tenth of it over the times' phase), or a nutation too small to
@@ -281,7 +282,7 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
     # a pole) by DLMF 19.7.9 instead: W_n(x) = x − W_{m/n}(x) + atan2(|sn x| ρ, cn x dn x)/ρ · sign x, with
     # ρ² = (1 − n)(1 − m/n) — the steep part in closed form, the series of the smooth W_{m/n}
     one_m_mn_n = (x3 - one_m_w0) / span  # 1 − m/n of the near pole: (w3 − 1)/(w3 − w1)
-    steep_n, steep_f = n_n1 < 0.5, n_f1 < 0.5
+    steep_n, steep_f = (n_n1 < 0.5) & (one_m_mn_n > 0), (n_f1 < 0.5) & (one_m_m_over_n > 0)
     n_eff = (col(np.where(steep_n, 1.0 - one_m_mn_n, n_n)), col(np.where(steep_f, m_over_n, n_f)))
     # the series converge like the nome q = exp(−πK′/K)^k: members with m_c below SERIES_MC (q^N above round-off)
     # go to Carlson's integrals at once
@@ -314,7 +315,7 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
             rho = np.sqrt(rho2[rows])[:, None]
             sign = np.sign(r[rows]) if W is Wn else np.sign(x[rows])
             W[rows] += sign * np.arctan2(s_abs[rows] * rho, c_d[rows]) / rho
-    slow = np.flatnonzero(~fits)
+    slow = np.flatnonzero(~(fits & np.isfinite(Wn).all(axis=1) & np.isfinite(Wf).all(axis=1)))
     if slow.size:  # steep integrands (a pass near a pole): Carlson's integrals at the times, these members only
         rs, ss, cs, ds, xs = r[slow], sn[slow], cn[slow], dn[slow], x[slow]
         pick = lambda v: np.asarray(v)[slow][:, None]  # noqa: E731

@@ -49,7 +49,7 @@ where those series decline, the direct evaluation computes the phase and the sec
 series shorter, wherever the rounding and truncation bounds stay below a tenth of the accuracy.
 
 Sweeps: more than :data:`BATCH_PRECISE` members are evaluated all at once with the constants in double precision
-(:mod:`eulersym.numerics._heavy_top_batch`, ``precise=False``; the error then grows by up to ~1e-14 a nutation
+(:mod:`eulersym.numerics._heavy_top_batch`, ``precise=False``; the error then grows by up to ~3e-13 a nutation
 period, the members ill-conditioned in double going the precise way).
 
 Limits: a tilt below 2e-17 rad from a pole is taken as the pole itself; next to the separatrix of the upright top the
@@ -1099,7 +1099,7 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None, accuracy=None):
         Times (any order, negative allowed).
     precise : bool or None, optional
         True: every member's constants to 36 digits and the phase in double-double (round-off error at any t,
-        ~0.2 ms per member). False: all members at once in double precision (error below ~1e-14 × the number
+        ~0.2 ms per member). False: all members at once in double precision (error below ~3e-13 × the number
         of nutation periods; members at a double root, near a pole, or whose m_c the rounding of the cubic's
         coefficients moves by more than 64 ulp — next to the separatrix — or, for an ``accuracy`` asked, by more
         than a tenth of it over the times' phase, still go the precise way).
