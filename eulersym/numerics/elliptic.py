@@ -562,7 +562,8 @@ def _third_kind(s, c2, d2, n, p):
 # ----------------------------------------------------------------------------------------------------------------
 def reduce_phase(t, rate, start, period):
     """The phase ``u = rate·t + start`` reduced modulo ``period``: ``u = j·period + r``, ``|r| ≤ period/2`` (to
-    the rounding of r: the quotient that picks j is rounded, and a j one off is corrected by one more period).
+    the rounding of r: the quotient that picks j is rounded, and a j one off is corrected by one more period;
+    while ``u/period`` is below 2⁵², beyond which j itself is not a whole number of periods).
 
     ``rate``, ``start`` and ``period`` are double-doubles ``(hi, lo)`` (:mod:`eulersym.numerics._doubledouble`) and
     the product, the sum and the reduction are carried out in double-double, so r keeps ~ulp(period) absolute
@@ -598,7 +599,9 @@ def reduce_phase(t, rate, start, period):
     e_hi, e_lo = two_prod(j, period[0])
     r = ((u_hi - e_hi) - e_lo) + (u_lo - j * period[1])
     # the quotient's rounding (ε·u/period periods) may pick the neighbouring j: one more period brings r back
+    # (while j is an exact integer: beyond 2⁵², u/period has no unit digit left to correct)
     step = np.where(r > 0.5 * period[0], 1.0, np.where(r < -0.5 * period[0], -1.0, 0.0))
+    step = np.where(np.abs(j) < 2.0 ** 52, step, 0.0)
     if step.any():
         r = (r - step * period[0]) - step * period[1]
         j = j + step
@@ -614,7 +617,7 @@ def _reduce_phase_scalar(t: float, rate, start, period):
     j = float(round((u_hi + u_lo) / period[0]))
     e_hi, e_lo = two_prod(j, period[0])
     r = ((u_hi - e_hi) - e_lo) + (u_lo - j * period[1])
-    if abs(r) > 0.5 * period[0]:  # the quotient rounded to the neighbouring j
+    if abs(r) > 0.5 * period[0] and abs(j) < 2.0 ** 52:  # the quotient rounded to the neighbouring j
         step = math.copysign(1.0, r)
         r, j = (r - step * period[0]) - step * period[1], j + step
     return r, j
