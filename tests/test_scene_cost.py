@@ -295,22 +295,26 @@ def test_a_chunked_model_sweep_equals_the_single_pass_member_for_member(cache):
     assert np.max(np.abs(chunked.omega[0] - one.omega)) < 1e-5  # member 0 (c = 0) is the single run
 
 
-def _lagrange(*want):
+def _lagrange(*want, spins=None):
     from importlib import resources
 
     base = Scene.from_toml(str(resources.files("eulersym.models") / "lagrange-top.toml")).model.to_dict()
+    spin = 150.0 if spins is None else {"start": 120.0, "stop": 150.0, "num": spins}
     return Scene.from_dict({**base, "parameters": {**base["parameters"], "l": [0.02, 0.03, 0.04, 0.05], "M": [0.4, 0.5]},
-                            "initial": {"euler": [0.0, 0.5, 0.0], "omega": [0.0, 0.0, 150.0]},
+                            "initial": {"euler": [0.0, 0.5, 0.0], "omega": [0.0, 0.0, spin]},
                             "time": {"end": 0.2, "points": 21}, "output": {"want": list(want)}})
 
 
 def test_a_chunked_heavy_top_model_sweep_equals_the_single_pass(cache):
-    """A Lagrange top written as a model takes the closed form in its frame: chunks of 3 members, same bits; its
-    summaries are the reductions of the trajectories."""
+    """A Lagrange top written as a model takes the closed form in its frame: chunks of one block of members (the
+    closed form's grain, 1024), same bits; its summaries are the reductions of the trajectories."""
+    scene = _lagrange("omega", "euler_angles", "invariants", spins=300)
+    whole = simulate(scene)
+    assert whole.plan.engine.startswith("closed form") and whole.omega.shape == (2400, 21, 3)
+    grain = cost.method_cost(whole.plan).grain
+    _same(whole, simulate(scene, memory=_chunked_budget(scene, whole.plan, grain)))
     scene = _lagrange("omega", "euler_angles", "invariants")
     whole = simulate(scene)
-    assert whole.plan.engine.startswith("closed form") and whole.omega.shape == (8, 21, 3)
-    _same(whole, simulate(scene, memory=_chunked_budget(scene, whole.plan, 3)))
     summary = simulate(_lagrange("summary", "omega"))
     assert summary.omega is None
     assert np.array_equal(summary.summary["omega3.max"], whole.omega[:, :, 2].max(axis=1))
@@ -409,17 +413,22 @@ def test_a_single_start_on_the_separatrix_is_integrated_too():
 
 def test_a_chunked_sweep_reports_the_singular_members_of_every_chunk():
     kw = dict(moments=(1.0, 1.0, 1.0), mass=1.0, l=0.3, euler=(0.0, 0.0, 0.0), t_end=1.0, points=5)
-    scene = Scene(**kw, omega=([0.5, 1e-80, 0.3, 0.2, 1e-90, 0.1, 0.4], 0.0, 3.0))
+    spins = np.linspace(0.1, 0.5, 2100)
+    spins[[1, 1500]] = 1e-80, 1e-90  # one in each chunk of 1024 (the closed form's grain)
+    scene = Scene(**kw, omega=(spins.tolist(), 0.0, 3.0))
     whole = simulate(scene)
     e = cost.estimate(scene, whole.plan)
-    chunked = simulate(scene, memory=e.output_bytes + e.per_member_working * 2 * cost.threads(whole.plan))
+    grain = cost.method_cost(whole.plan).grain
+    budget = e.output_bytes + e.per_member_working * grain * cost.threads(whole.plan)
+    assert cost.estimate(scene, whole.plan, memory=budget).chunk < scene.batch
+    chunked = simulate(scene, memory=budget)
     assert np.array_equal(whole.omega, chunked.omega) and whole.notes == chunked.notes
-    assert any("2 of 7 members (members 1, 4)" in n for n in whole.notes)
+    assert any("2 of 2100 members (members 1, 1500)" in n for n in whole.notes)
 
 
 def test_only_the_members_the_closed_form_refuses_are_integrated(monkeypatch):
     """The mechanism, whatever the closed form refuses: an engine that refuses members with ω1 = 0.25 (as the
-    heavy top's does at the separatrix) leaves those to DOP853, the others bit for bit its own, in order, in chunks."""
+    heavy top's does at the separatrix) leaves those to DOP853, the others bit for bit its own, in order."""
     from eulersym.errors import SingularConfiguration
     from eulersym.numerics.methods import LagrangeTopClosedForm
 
@@ -436,10 +445,8 @@ def test_only_the_members_the_closed_form_refuses_are_integrated(monkeypatch):
     clean = simulate(scene)
     assert not any("singular" in n for n in clean.notes) and clean.n_rhs_calls == 0
     monkeypatch.setattr(LagrangeTopClosedForm, "run", picky)
-    mixed = simulate(scene)
-    e = cost.estimate(scene, mixed.plan)
-    chunked = simulate(scene, memory=e.output_bytes + e.per_member_working * 2 * cost.threads(mixed.plan))
-    for r in (mixed, chunked):
+    mixed = simulate(scene)  # (chunks are multiples of the closed form's blocks of 1024 members: the test above)
+    for r in (mixed,):
         assert any("3 of 7 members (members 1, 4, 6)" in n for n in r.notes) and r.n_rhs_calls > 0
         for k, w1 in enumerate(values):
             if w1 == 0.25:  # DOP853 at rtol 1e-11 against the exact motion
@@ -447,4 +454,3 @@ def test_only_the_members_the_closed_form_refuses_are_integrated(monkeypatch):
                     r.omega[k], clean.omega[k])
             else:
                 assert np.array_equal(r.omega[k], clean.omega[k]) and np.array_equal(r.gamma[k], clean.gamma[k])
-    assert np.array_equal(mixed.omega, chunked.omega)

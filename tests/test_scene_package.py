@@ -17,8 +17,8 @@ PACKAGE = Path(eulersym.scene.__file__).parent
 
 #: The modules of eulersym.scene in the order data flows; a module may import only modules listed before it.
 LAYERS = (
-    "values", "regime", "cost", "catalog", "model_kernel", "rates", "plan", "spec", "frames", "symbolic", "problem",
-    "progress", "quantities", "result", "chunked", "run", "io", "cli", "__init__",
+    "_closed_forms", "values", "regime", "cost", "catalog", "model_kernel", "rates", "plan", "spec", "frames",
+    "symbolic", "problem", "progress", "quantities", "result", "chunked", "run", "io", "cli", "__init__",
 )
 
 

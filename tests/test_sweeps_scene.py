@@ -105,11 +105,16 @@ def test_summaries_are_the_reductions_of_the_trajectories(method):
 
 @pytest.mark.parametrize("method", ["auto", "DOP853", "splitting"])
 def test_chunked_equals_unchunked_bitwise(method):
-    """A memory budget that forces several chunks gives the bits of the single pass."""
-    whole = simulate(_map(method=method, outputs=("omega", "invariants")))
-    small = scene_cost.estimate(_map(method=method, outputs=("omega", "invariants")), whole.plan)
-    budget = small.output_bytes + small.per_member_working * (5 if method != "DOP853" else 4096)
-    chunked = simulate(_map(method=method, outputs=("omega", "invariants")), memory=budget)
+    """A memory budget that forces several chunks gives the bits of the single pass (a chunk is a multiple of the
+    members a method evaluates together: the closed form's blocks of 1024, DOP853's groups of 4096)."""
+    size = dict(n_tilt=30, n_spin=70) if method == "auto" else {}
+    scene = _map(method=method, outputs=("omega", "invariants"), **size)
+    whole = simulate(scene)
+    small = scene_cost.estimate(scene, whole.plan)
+    grain = methods.get(whole.plan.options["engine"]).cost.grain
+    budget = small.output_bytes + small.per_member_working * max(5, grain) * scene_cost.threads(whole.plan)
+    chunked = simulate(scene, memory=budget)
+    assert scene_cost.estimate(scene, whole.plan, memory=budget).chunk < scene.batch or method == "DOP853"
     for name in ("omega", "gamma"):
         assert np.array_equal(getattr(whole, name), getattr(chunked, name)), name
     for name in whole.invariants:
@@ -218,3 +223,41 @@ def test_the_command_line_runs_on_local_workers(tmp_path):
 
     strip = lambda text: [line for line in text.splitlines() if not line.startswith("timings")]  # noqa: E731
     assert strip(report(here)) == strip(remote.stdout)[1:]  # after the line naming the scene
+
+
+_MEASURE = """
+import json, sys
+from eulersym.scene import Scene, simulate, cost
+kind = sys.argv[1]
+if kind == "free":
+    scene = Scene(moments=(1.0, 2.0, 3.0), omega=({"start": 0.1, "stop": 1.0, "num": 300},
+                  {"start": 0.5, "stop": 1.5, "num": 300}, 0.3), t_end=10, points=31, outputs=("omega", "attitude"))
+elif kind == "map":
+    scene = Scene(moments=(1.2e-3, 1.2e-3, 4e-4), mass=0.5, l=0.04, g=9.81, t_end=3, points=31, accuracy=1e-6,
+                  outputs=("summary",), omega=(0.0, 0.0, {"start": 60.0, "stop": 95.0, "num": 150}),
+                  euler=(0.0, {"start": 0.005, "stop": 0.05, "num": 150}, 0.0))
+else:
+    from eulersym.bench.sweeps import _asymmetric_scene
+    scene = _asymmetric_scene(8000, t_end=1.0, outputs=("summary",))
+e = cost.estimate(scene, scene.plan())
+r = simulate(scene)
+hwm = [int(l.split()[1]) for l in open("/proc/self/status") if l.startswith("VmHWM:")][0] * 1024
+print(json.dumps(dict(peak=hwm, estimate=e.process_bytes, arrays=e.peak_bytes, calls=r.n_rhs_calls,
+                      evaluations=e.evaluations, chunk=e.chunk, members=scene.batch)))
+"""
+
+
+@pytest.mark.parametrize("kind", ["free", "map", "dop853"])
+def test_the_estimate_is_within_one_and_a_half_of_the_measured_peak_and_kernel_calls(kind):
+    """A fresh process: its resident peak (VmHWM: interpreter, imports and the run's arrays) against the estimate
+    (the arrays, what the budget bounds, plus the baseline it reports beside them), and the kernel calls of an
+    integrated sweep against the estimated evaluations; chunks sized to the cache, not to the budget."""
+    import json
+
+    out = subprocess.run([sys.executable, "-c", _MEASURE, kind], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    got = json.loads(out.stdout.strip().splitlines()[-1])
+    assert got["estimate"] / 1.5 <= got["peak"] <= 1.5 * got["estimate"], got
+    assert got["chunk"] < got["members"], got
+    if kind == "dop853":
+        assert got["evaluations"] / 1.5 <= got["calls"] <= 1.5 * got["evaluations"], got

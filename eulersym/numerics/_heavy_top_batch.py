@@ -3,11 +3,13 @@ at once (the vectorised Carlson integrals and Jacobi functions of :mod:`eulersym
 
 Same formulas as :mod:`eulersym.numerics.heavy_top_exact`, but the constants of each motion (roots, λ, K, τ0, the
 rates) are computed in double rather than 36-digit decimal arithmetic and the phase is not reduced in
-double-double, so the error grows like ~1e-16 × (number of nutation periods) instead of staying at round-off; it
-is ~1e-13 relative to ω after 10³ periods. Members this path does not treat — a steady motion (double root), a
-start at or near a pole (``1 ∓ w`` below 1e-6 at a turning point), a motion near the separatrix (``m_c < 1e-12``),
-or a nutation too small to resolve in double (``Δ < 1e-6``) — are returned in a mask for the precise per-member
-path.
+double-double, so the error grows with the number of nutation periods instead of staying at round-off: by ε·λ·t
+from the phase and by m_c's own rounding, at most :data:`CONDITION_ULPS` ulp (~1e-14 a period), and by the other constants in double: below ~3e-13 a period
+in all (tests/test_numerics_closed_form_edges.py, against the precise path). Members this
+path does not treat — a steady motion (double root), a start at or near a pole (``1 ∓ w`` below 1e-6 at a turning
+point), a motion whose m_c the cubic's rounding moves by more than that (next to the separatrix, where two roots
+nearly meet; with an accuracy asked: by more than a tenth of it over the times' phase), or a nutation too small to
+resolve in double (``Δ < 1e-6``) — are returned in a mask for the precise per-member path.
 """
 
 from __future__ import annotations
@@ -16,24 +18,31 @@ import math
 
 import numpy as np
 
-from eulersym.numerics.elliptic import _rf, _rj, _sncndn, _third_kind
+from eulersym.numerics.elliptic import _agm_landen, _rf, _rj, _sncndn, _third_kind
 
 __all__ = ["batch_motion"]
 
 
-def _jacobi(u, mc):
-    """sn, cn, dn of u (B, n) for complementary parameters mc (B, 1), 1e-12 ≤ mc ≤ 1: the algorithm of
-    :func:`eulersym.numerics.elliptic.jacobi_sncndn` (descending Landen from √m_c, quarter-period reflection), with a
-    fixed number of AGM levels so that every member runs the same array operations."""
+def _landen(mc):
+    """The descending Landen sequence of complementary parameters mc (B, 1), 1e-12 ≤ mc ≤ 1, every member with the
+    number of AGM levels the call's smallest m_c needs (|a − b| ≤ 1e-9 a, as
+    :func:`eulersym.numerics.elliptic._agm_landen`; a sweep calls this a block of 1024 members at a time)."""
     rootmc = np.sqrt(mc)
+    finite = rootmc[np.isfinite(rootmc)]
+    levels = len(_agm_landen(float(np.clip(finite.min(), 1e-6, 1.0)))[0]) if finite.size else 12
     a, b = np.ones_like(rootmc), rootmc
     avals, bvals = [], []
-    for _ in range(12):  # from √m_c ≥ 1e-6 the AGM has converged to the last bit after ≤ 9 levels
+    for _ in range(levels):
         avals.append(a)
         bvals.append(b)
         a, b = 0.5 * (a + b), np.sqrt(a * b)
-    agm = 0.5 * (a + b)
-    return _sncndn(u, rootmc, (avals, bvals, agm))
+    return avals, bvals, 0.5 * (a + b)
+
+
+def _jacobi(u, mc, landen=None):
+    """sn, cn, dn of u (B, n) for complementary parameters mc (B, 1): the algorithm of
+    :func:`eulersym.numerics.elliptic.jacobi_sncndn` (descending Landen from √m_c, quarter-period reflection)."""
+    return _sncndn(u, np.sqrt(mc), _landen(mc) if landen is None else landen)
 
 
 def _quadratic_roots(A, B, C):
@@ -43,6 +52,66 @@ def _quadratic_roots(A, B, C):
     safe = np.where(qq == 0, 1.0, qq)
     r1, r2 = qq / A, np.where(qq == 0, 0.0, C / safe)
     return np.minimum(r1, r2), np.maximum(r1, r2)
+
+
+#: Harmonics of the third-kind integrands' cosine series (:func:`_W_series`): sampled at N + 1 nodes of the half
+#: period, of which the Jacobi functions are evaluated at N/2 + 1 (the others by sn²(K − y) = cn² y/dn² y).
+SERIES_N = 32
+#: ... for members whose m_c is at least this (below, the cosine series would need more harmonics: Carlson's
+#: integrals at each time instead).
+SERIES_MC = 0.3
+
+
+def _dct1(N):
+    """The DCT-I as a matrix: values at θ_i = iπ/N (i = 0 … N) → c_k of Σ c_k cos kθ (c_0, c_N halved)."""
+    i = np.arange(N + 1)
+    w = np.where((i == 0) | (i == N), 0.5, 1.0)
+    M = (2.0 / N) * w[:, None] * np.cos(np.pi * np.outer(i, i) / N)
+    M[:, 0] *= 0.5
+    M[:, N] *= 0.5
+    return M
+
+
+_DCT = {}
+
+
+def _W_series(mc, landen, K, characteristics):
+    """The sine-series parts of ∫₀ˣ dy/(1 − n sn² y) = c_0·x + Σ_{k=1}^{N} b_k sin(kπx/K) per member and
+    characteristic n (columns (B, 1)), from the cosine series Σ c_k cos(kπy/K) of the integrand (period 2K, even)
+    fitted at N + 1 nodes of [0, K] (no elliptic integral). Returns c_0 (P, B, 1), b (P, B, N) and a mask (B,) of
+    the members whose every series has converged: its last three coefficients below 16 ε of c_0."""
+    N = SERIES_N
+    M = _DCT.get(N)
+    if M is None:
+        M = _DCT[N] = _dct1(N)
+    half = N // 2
+    y = K * (np.arange(half + 1) / N)[None, :]
+    sn, cn, dn = _sncndn(y, np.sqrt(mc), landen)
+    s2 = np.empty((mc.shape[0], N + 1))
+    s2[:, :half + 1] = sn * sn
+    s2[:, N:half - 1:-1] = (cn / dn) ** 2  # sn²(K − y) = cd² y
+    c0 = np.empty((len(characteristics), mc.shape[0], 1))
+    out = np.empty((len(characteristics), mc.shape[0], N))
+    ok = np.ones(mc.shape[0], dtype=bool)
+    k = np.arange(1, N + 1)
+    for p, n in enumerate(characteristics):
+        c = (1.0 / (1.0 - n * s2)) @ M  # c_0 … c_N
+        ok &= np.isfinite(c).all(axis=1) & (np.abs(c[:, -3:]).sum(axis=1) <= 16 * 2.0 ** -52 * np.abs(c[:, 0]))
+        c0[p] = c[:, :1]
+        out[p] = c[:, 1:] * (K / (np.pi * k))
+    return c0, out, ok
+
+
+def _sine_series(b, c2, s1):
+    """Σ_k b_k sin kθ by Clenshaw's recurrence, from b (P, B, N), 2 cos θ and sin θ (P, B, n)."""
+    u1 = np.zeros_like(c2)
+    u2 = np.zeros_like(c2)
+    for k in range(b.shape[-1] - 1, -1, -1):
+        u = c2 * u1
+        u -= u2
+        u += b[:, :, k, None]
+        u2, u1 = u1, u
+    return u1 * s1
 
 
 def _cubic(A, B, C, D, x):
@@ -55,14 +124,37 @@ def _W(s, c, n, one_minus_n, mc):
     return _third_kind(s, c2, c2 + mc * s * s, n, one_minus_n + n * c2)
 
 
-def batch_motion(I1, I3, mgl, omega, q, t):
+#: A member stays on this path where the relative error of its m_c (from the rounding of the cubic's coefficients,
+#: moved over the gap between its two nearest roots) is at most this many ulp: the phase then errs by at most
+#: ~this × ε (1.4e-14) per nutation period.
+CONDITION_ULPS = 64.0
+
+
+def batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
     with np.errstate(invalid="ignore", divide="ignore"):  # the rows left to the precise path may be nan here
-        return _batch_motion(I1, I3, mgl, omega, q, t)
+        return _batch_motion(I1, I3, mgl, omega, q, t, accuracy)
 
 
-def _batch_motion(I1, I3, mgl, omega, q, t):
+def _conditioning(A, B, C, D, Bmag, Cmag, x1, x2, x3):
+    """The relative error of m_c = (x3 − x2)/(x3 − x1) in double: each root of the cubic moves by the rounding of
+    the cubic there (its terms' sizes, a few ε each: ``Bmag``, ``Cmag`` are the sums of the sizes of the terms B and
+    C were formed from, ε each) over the cubic's slope ``A (x − x_i)(x − x_j)``; m_c's two differences by both roots'."""
+    eps = 2.0 ** -52
+
+    def moved(x, a, b):
+        slope = A * np.abs((x - a) * (x - b))
+        return 2.0 * eps * (A * np.abs(x) ** 3 + Bmag * x * x + Cmag * np.abs(x) + D) / slope
+
+    d1, d2, d3 = moved(x1, x2, x3), moved(x2, x1, x3), moved(x3, x1, x2)
+    return (d2 + d3) / (x3 - x2) + (d1 + d3) / (x3 - x1)
+
+
+def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
     """Constants and motion of B members at the times t (n,): returns (ok (B,), omega, gamma, q, euler, period,
-    turning) with the motion arrays of shape (B, n, ·); rows where ``ok`` is False are to be computed precisely."""
+    turning) with the motion arrays of shape (B, n, ·); rows where ``ok`` is False are to be computed precisely:
+    among them every member whose m_c is ill-conditioned in double (:func:`_conditioning`) beyond
+    :data:`CONDITION_ULPS` ulp — or, for an ``accuracy`` asked, beyond a tenth of it over the phase λ·max|t| the
+    times span (a near-double root: next to the upright top's separatrix, where the cubic's coefficients cancel)."""
     I1, I3, mgl = (np.asarray(x, dtype=float) for x in (I1, I3, mgl))
     w = np.asarray(omega, dtype=float)
     qn = np.asarray(q, dtype=float)
@@ -89,12 +181,12 @@ def _batch_motion(I1, I3, mgl, omega, q, t):
     nu_near, nu_far = np.where(sigma > 0, -nu, nu), np.where(sigma > 0, nu, -nu)
     # the largest root: Newton from above the Cauchy bound (the cubic is convex there: monotone convergence)
     x3 = np.maximum(one_m_w0, 0.0) + 1.0 + np.maximum(np.abs(B), np.maximum(np.abs(C), np.abs(D))) / A
-    for _ in range(200):
+    for _ in range(200):  # from above, the steps shrink to the cubic's rounding, where they turn negative
         g = _cubic(A, B, C, D, x3)
         dg = (3 * A * x3 + 2 * B) * x3 + C
-        step = np.where(dg > 0, g / np.where(dg > 0, dg, 1.0), 0.0)
+        step = np.where((dg > 0) & (g > 0), g / np.where(dg > 0, dg, 1.0), 0.0)
         x3 = x3 - step
-        if np.all(np.abs(step) <= 1e-16 * np.abs(x3)):
+        if np.all(step <= 4.0 * 2.0 ** -52 * np.abs(x3)):
             break
     Bq = B + A * x3
     Cq = -D / np.where(x3 > 0, x3, 1.0)
@@ -122,6 +214,14 @@ def _batch_motion(I1, I3, mgl, omega, q, t):
     m = delta / span
     ok = ~((D == 0) & (C == 0)) & (delta > 1e-6) & (mc > 1e-12) & (y2 > 1e-6) & (z1 > 1e-6) & (x3 > 0) & np.isfinite(span)
     ok &= (Bn != 0) & (Bf != 0)
+    Bmag = 2 * np.abs(beta * u0) + wt2 + a * a
+    Cmag = 2 * np.abs(u0) * wt2 + np.abs(beta) * s2 + 2 * np.abs(a * wpar)
+    cond = _conditioning(A, B, C, D, Bmag, Cmag, x1, x2, x3)
+    tmax = float(np.max(np.abs(t))) if np.size(t) else 0.0
+    allowed = CONDITION_ULPS * 2.0 ** -52
+    if accuracy is not None:  # the phase's relative error e spans e·λ·tmax radians by the last time
+        allowed = np.maximum(allowed, 0.1 * accuracy / (np.sqrt(A * np.abs(x3 - x1)) / 2 * tmax + 1.0))
+    ok &= cond <= allowed
     # for the members this path does not treat, harmless placeholders (their rows are replaced)
     fill = ~ok
     delta, span, mc, m = (np.where(fill, v, x) for v, x in ((1.0, delta), (2.0, span), (0.5, mc), (0.5, m)))
@@ -138,6 +238,7 @@ def _batch_motion(I1, I3, mgl, omega, q, t):
     per_n = coef_n * 2 * half_n
     n_f, n_f1 = (z1 * m + delta) / (z1 + delta), z1 * mc / (z1 + delta)
     m_over_n = m * (z1 + delta) / (z1 * m + delta)
+    one_m_m_over_n = delta * mc / (z1 * m + delta)
     rate_f = nu_far + Bf * m_over_n / (z1 + delta)
     coef_f = Bf * delta * mc / (z1 * m + delta) / (lam * (z1 + delta))
     half_f = _rf(0.0, mc, 1.0) + n_f / 3 * _rj(0.0, mc, 1.0, n_f1)
@@ -162,7 +263,8 @@ def _batch_motion(I1, I3, mgl, omega, q, t):
     tau = col(lam) * tt + col(tau0)
     j = np.round(tau / col(2 * K))
     r = tau - j * col(2 * K)
-    sn, cn, dn = _jacobi(r, col(mc))
+    landen = _landen(col(mc))
+    sn, cn, dn = _jacobi(r, col(mc), landen)
     parity = 1.0 - 2.0 * np.mod(j, 2.0)
     sn_t, cn_t = parity * sn, parity * cn
     dl = col(delta)
@@ -171,32 +273,74 @@ def _batch_motion(I1, I3, mgl, omega, q, t):
     sd = np.sqrt(dl)
     ratio_n, ratio_f = sd * cn_t / rn, sd * sn_t / rf
     # W of the near pole at r (|r| ≤ K), of the far pole at r − K (wrapped to [−K, K])
-    Wn = np.sign(r) * _W(np.abs(sn), np.abs(cn), col(n_n), col(n_n1), col(mc))
     x = r - col(K)
     low = x < -col(K)
     x = np.where(low, x + col(2 * K), x)
     jf = np.where(low, j - 1.0, j)
-    # |sn|, |cn| at r − K (or r + K): |cd r| and k′ |sd r| — no second Jacobi evaluation
-    Wf = np.sign(x) * _W(np.abs(cn / dn), np.sqrt(col(mc)) * np.abs(sn / dn), col(n_f), col(n_f1), col(mc))
+    # by the integrands' cosine series (no elliptic integral at the times) where they converge: θ = πr/K for the
+    # near pole, θ − π for the far one (its wrap by 2K is a whole turn). A steep integrand (1 − n < ½: a pass near
+    # a pole) by DLMF 19.7.9 instead: W_n(x) = x − W_{m/n}(x) + atan2(|sn x| ρ, cn x dn x)/ρ · sign x, with
+    # ρ² = (1 − n)(1 − m/n) — the steep part in closed form, the series of the smooth W_{m/n}
+    one_m_mn_n = (x3 - one_m_w0) / span  # 1 − m/n of the near pole: (w3 − 1)/(w3 − w1)
+    steep_n, steep_f = (n_n1 < 0.5) & (one_m_mn_n > 0), (n_f1 < 0.5) & (one_m_m_over_n > 0)
+    n_eff = (col(np.where(steep_n, 1.0 - one_m_mn_n, n_n)), col(np.where(steep_f, m_over_n, n_f)))
+    # the series converge like the nome q = exp(−πK′/K)^k: members with m_c below SERIES_MC (q^N above round-off)
+    # go to Carlson's integrals at once
+    fits = mc >= SERIES_MC
+    rows = np.flatnonzero(fits)
+    c0 = np.zeros((2, mc.size, 1))
+    series = np.zeros((2,) + r.shape)
+    if rows.size:
+        sub = lambda v: v[rows]  # noqa: E731
+        landen_rows = ([sub(a) for a in landen[0]], [sub(b_) for b_ in landen[1]], sub(landen[2]))
+        c0r, b, fits_rows = _W_series(col(mc[rows]), landen_rows, col(K[rows]), tuple(sub(n) for n in n_eff))
+        fits[rows] = fits_rows
+        c0[:, rows] = c0r
+        theta = (np.pi / col(K[rows])) * r[rows]
+        c2 = np.empty((2,) + theta.shape)
+        s1 = np.empty((2,) + theta.shape)
+        np.cos(theta, out=c2[0])
+        np.sin(theta, out=s1[0])
+        c2[0] *= 2.0
+        np.negative(c2[0], out=c2[1])
+        np.negative(s1[0], out=s1[1])
+        series[:, rows] = _sine_series(b, c2, s1)
+    Wn = np.where(col(steep_n), r - series[0] - c0[0] * r, series[0] + col(half_n / K) * r)
+    Wf = np.where(col(steep_f), x - series[1] - c0[1] * x, series[1] + col(half_f / K) * x)
+    for W, steep, rho2, s_abs, c_d in ((Wn, steep_n, n_n1 * one_m_mn_n, np.abs(sn), np.abs(cn) * dn),
+                                       (Wf, steep_f, n_f1 * one_m_m_over_n, np.abs(cn / dn),
+                                        col(mc) * np.abs(sn) / (dn * dn))):
+        rows = np.flatnonzero(steep)
+        if rows.size:
+            rho = np.sqrt(rho2[rows])[:, None]
+            sign = np.sign(r[rows]) if W is Wn else np.sign(x[rows])
+            W[rows] += sign * np.arctan2(s_abs[rows] * rho, c_d[rows]) / rho
+    slow = np.flatnonzero(~(fits & np.isfinite(Wn).all(axis=1) & np.isfinite(Wf).all(axis=1)))
+    if slow.size:  # steep integrands (a pass near a pole): Carlson's integrals at the times, these members only
+        rs, ss, cs, ds, xs = r[slow], sn[slow], cn[slow], dn[slow], x[slow]
+        pick = lambda v: np.asarray(v)[slow][:, None]  # noqa: E731
+        Wn[slow] = np.sign(rs) * _W(np.abs(ss), np.abs(cs), pick(n_n), pick(n_n1), pick(mc))
+        # |sn|, |cn| at r − K (or r + K): |cd r| and k′ |sd r| — no second Jacobi evaluation
+        Wf[slow] = np.sign(xs) * _W(np.abs(cs / ds), np.sqrt(pick(mc)) * np.abs(ss / ds), pick(n_f), pick(n_f1),
+                                    pick(mc))
     four_pi = 4 * math.pi
     chi_n = np.mod(col(nu_near) * tt + col(per_n) * j, four_pi) + col(chi_n0) + col(coef_n) * (Wn - col(W0n))
     chi_f = np.mod(col(rate_f) * tt + col(per_f) * (jf - col(j0f)), four_pi) + col(chi_f0) + col(coef_f) * (Wf - col(W0f))
     half_near, half_far = rn / math.sqrt(2.0), rf / math.sqrt(2.0)
     out_q = np.empty(r.shape + (4,))
     pos = col(sigma) > 0
-    a0, a1 = np.where(pos, 1, 0), np.where(pos, 2, 3)  # near pair indices
-    b0, b1 = np.where(pos, 0, 1), np.where(pos, 3, 2)  # far pair indices
-    cn_n, sn_n = half_near * np.cos(0.5 * chi_n), half_near * np.sin(0.5 * chi_n)
-    cf, sf = half_far * np.cos(0.5 * chi_f), half_far * np.sin(0.5 * chi_f)
+    cos_n, sin_n = np.cos(0.5 * chi_n), np.sin(0.5 * chi_n)  # the half angles' cosines and sines, once
+    cos_f, sin_f = np.cos(0.5 * chi_f), np.sin(0.5 * chi_f)
+    cn_n, sn_n = half_near * cos_n, half_near * sin_n
+    cf, sf = half_far * cos_f, half_far * sin_f
     out_q[..., 0] = np.where(pos, cf, cn_n)
     out_q[..., 3] = np.where(pos, sf, sn_n)
     out_q[..., 1] = np.where(pos, cn_n, cf)
     out_q[..., 2] = np.where(pos, sn_n, sf)
-    del a0, a1, b0, b1
     out_q /= np.sqrt(np.sum(out_q * out_q, axis=-1, keepdims=True))
     chi_plus, chi_minus = np.where(pos, chi_f, chi_n), np.where(pos, chi_n, chi_f)
-    cp, sp_ = np.cos(0.5 * chi_plus), np.sin(0.5 * chi_plus)
-    cm, sm = np.cos(0.5 * chi_minus), np.sin(0.5 * chi_minus)
+    cp, sp_ = np.where(pos, cos_f, cos_n), np.where(pos, sin_f, sin_n)
+    cm, sm = np.where(pos, cos_n, cos_f), np.where(pos, sin_n, sin_f)
     cos_psi, sin_psi = cp * cm + sp_ * sm, sp_ * cm - cp * sm
     A_ = 0.5 * col(Bn) * rf / rn + 0.5 * col(Bf) * rn / rf
     B_ = col(sigma) * 2.0 * col(lam) * dn * ratio_n * ratio_f

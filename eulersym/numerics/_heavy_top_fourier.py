@@ -95,7 +95,13 @@ def _tables(size):
             swap, orders.reshape(2 * size, size))
 
 
-_TABLES = {size: _tables(size) for size in _SIZES}
+_TABLES = {}  # size → _tables(size), made on first use (a scene that never sums these series does not pay them)
+
+
+def _table(size):
+    if size not in _TABLES:
+        _TABLES[size] = _tables(size)
+    return _TABLES[size]
 
 
 def _pairs(sigma):
@@ -191,7 +197,7 @@ def _series(mo, tolerance, half0):
     mix = np.array([0.5 * far.B, 0.5 * near.B])  # A·sin θ = ½(B_n R_f² + B_f R_n²), R² = (1 − w, 1 + w)
     along = -mo.sigma * 2.0 * mo.delta * mo.lam  # −B sin θ = −σ 2λΔ dn cn sn
     for size in _SIZES:
-        grid, integrate, fourier, swap, orders = _TABLES[size]
+        grid, integrate, fourier, swap, orders = _table(size)
         half = size // 2
         r = grid * mo.period
         r += r0

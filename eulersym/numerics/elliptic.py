@@ -561,8 +561,9 @@ def _third_kind(s, c2, d2, n, p):
 # Phases reduced modulo a period in double-double
 # ----------------------------------------------------------------------------------------------------------------
 def reduce_phase(t, rate, start, period):
-    """The phase ``u = rate·t + start`` reduced modulo ``period``: ``u = j·period + r``, ``|r| ≤ period/2`` (while
-    ``u/period`` is below 2⁵¹; beyond, j may be one off and |r| up to a period).
+    """The phase ``u = rate·t + start`` reduced modulo ``period``: ``u = j·period + r``, ``|r| ≤ period/2`` (to
+    the rounding of r: the quotient that picks j is rounded, and a j one off is corrected by one more period;
+    while ``u/period`` is below 2⁵², beyond which j itself is not a whole number of periods).
 
     ``rate``, ``start`` and ``period`` are double-doubles ``(hi, lo)`` (:mod:`eulersym.numerics._doubledouble`) and
     the product, the sum and the reduction are carried out in double-double, so r keeps ~ulp(period) absolute
@@ -596,7 +597,15 @@ def reduce_phase(t, rate, start, period):
         return u_hi + u_lo, np.zeros_like(t)
     j = np.round((u_hi + u_lo) / period[0])
     e_hi, e_lo = two_prod(j, period[0])
-    return ((u_hi - e_hi) - e_lo) + (u_lo - j * period[1]), j
+    r = ((u_hi - e_hi) - e_lo) + (u_lo - j * period[1])
+    # the quotient's rounding (ε·u/period periods) may pick the neighbouring j: one more period brings r back
+    # (while j is an exact integer: beyond 2⁵², u/period has no unit digit left to correct)
+    step = np.where(r > 0.5 * period[0], 1.0, np.where(r < -0.5 * period[0], -1.0, 0.0))
+    step = np.where(np.abs(j) < 2.0 ** 52, step, 0.0)
+    if step.any():
+        r = (r - step * period[0]) - step * period[1]
+        j = j + step
+    return r, j
 
 
 def _reduce_phase_scalar(t: float, rate, start, period):
@@ -607,7 +616,11 @@ def _reduce_phase_scalar(t: float, rate, start, period):
     u_lo = u_err + p_lo + start[1]
     j = float(round((u_hi + u_lo) / period[0]))
     e_hi, e_lo = two_prod(j, period[0])
-    return ((u_hi - e_hi) - e_lo) + (u_lo - j * period[1]), j
+    r = ((u_hi - e_hi) - e_lo) + (u_lo - j * period[1])
+    if abs(r) > 0.5 * period[0] and abs(j) < 2.0 ** 52:  # the quotient rounded to the neighbouring j
+        step = math.copysign(1.0, r)
+        r, j = (r - step * period[0]) - step * period[1], j + step
+    return r, j
 
 
 def _reduce_secular(rate, t, per, j, modulus):

@@ -49,10 +49,13 @@ where those series decline, the direct evaluation computes the phase and the sec
 series shorter, wherever the rounding and truncation bounds stay below a tenth of the accuracy.
 
 Sweeps: more than :data:`BATCH_PRECISE` members are evaluated all at once with the constants in double precision
-(:mod:`eulersym.numerics._heavy_top_batch`, ``precise=False``; the error then grows like ~1e-16 per nutation period).
+(:mod:`eulersym.numerics._heavy_top_batch`, ``precise=False``; the error then grows by up to ~3e-13 a nutation
+period, the members ill-conditioned in double going the precise way).
 
-Limits: a tilt below 2e-17 rad from a pole is taken as the pole itself; a start on (or within m_c < 1e-150 of) the
-separatrix of the upright top is refused; at times within a pass closer to the vertical than ~1e-8 rad (the
+Limits: a tilt below 2e-17 rad from a pole is taken as the pole itself; next to the separatrix of the upright top the
+and a pole the constants are computed with as many more digits as m_c or the pole distance cancels
+(:func:`_digits_for`); a start on (or within
+m_c < 1e-150 of) it is refused; at times within a pass closer to the vertical than ~1e-8 rad (the
 pass lasting less than ~1e8 ulps of the phase) ω is only as accurate as the phase resolves the pass.
 """
 
@@ -60,7 +63,8 @@ from __future__ import annotations
 
 import decimal
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
+from typing import NamedTuple
 from decimal import Decimal
 
 import numpy as np
@@ -135,8 +139,7 @@ def _dd(x) -> tuple[float, float]:
 # ----------------------------------------------------------------------------------------------------------------
 # The constants of one motion, in decimal arithmetic
 # ----------------------------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class _Pole:
+class _Pole(NamedTuple):  # (a NamedTuple: made at import ~20× faster than a frozen dataclass of as many fields)
     """One pole's half of the attitude: amplitude² = base + Δ·(cn² or sn²); angle χ = χ0 + rate t + coef·W(x)."""
 
     base: float  # y2 (near) or z1 (far)
@@ -154,8 +157,7 @@ class _Pole:
     chi0: float
 
 
-@dataclass(frozen=True)
-class _Motion:
+class _Motion(NamedTuple):
     steady: bool
     sigma: float
     w1: float
@@ -218,7 +220,7 @@ def _largest_root(A, B, C, D, lo):
     while g(hi) <= 0:
         hi = lo + 2 * (hi - lo)
     x = hi
-    eps = Decimal(10) ** (-_de.DIGITS + 5)
+    eps = Decimal(10) ** (-decimal.getcontext().prec + 5)
     for _ in range(400):
         gx = g(x)
         if gx > 0:
@@ -327,23 +329,37 @@ def _W_chebyshev(poles, c2, K, tolerance=0.0):
     return [None if bad[k] else (float(slope[k, 0]), a[k, :int(keep[k])]) for k in range(len(poles))]
 
 
-def _W_direct(x, n, one_minus_n, mc, rootmc):
-    """W(x) = ∫₀ˣ dy/(1 − n sn² y) for |x| ≤ K (Carlson's R_F, R_J: :mod:`eulersym.numerics.elliptic`)."""
-    s, c, _ = jacobi_sncndn(np.abs(x), mc, rootmc=rootmc)
+def _W_direct(x, n, one_minus_n, mc, rootmc, sc=None):
+    """W(x) = ∫₀ˣ dy/(1 − n sn² y) for |x| ≤ K (Carlson's R_F, R_J: :mod:`eulersym.numerics.elliptic`); ``sc``:
+    |sn x| and |cn x| as the caller has them (the very values its amplitudes use: near a pole W is steep, and sn
+    and cn of the same x evaluated twice may differ by an ulp of K − |x|)."""
+    if sc is None:
+        s, c, _ = jacobi_sncndn(np.abs(x), mc, rootmc=rootmc)
+    else:
+        s, c = sc
     s = np.abs(s)
     c2 = c * c
     d2 = c2 + mc * s * s
     return np.sign(x) * _third_kind(s, c2, d2, n, one_minus_n + n * c2)
 
 
-def _setup(I1, I3, M, g, l, omega, q, exact=True):
-    """Classify one motion and compute its constants: in decimal at 36 digits, then rounded to double or
-    double-double. ``exact=False`` (for an accuracy asked, :func:`_setup_double`): the same up to the turning points
-    and the modulus (every difference that may cancel, in decimal), the rest (λ, the phase at t = 0, K, the
-    third-kind integrals, the angles' rates) in double; None where that motion is not :data:`_BENIGN` (steady, near
-    a pole or the separatrix)."""
+def _digits_for(closeness) -> int:
+    """The decimal digits a motion needs: :data:`_de.DIGITS`, plus the digits its closest difference cancels —
+    ``closeness`` = m_c near the separatrix (the cubic's coefficients are rounded at the working precision, and a
+    near-double root moves by that rounding over the gap: m_c loses ``log₁₀(1/m_c)`` digits), or a pole distance
+    over the start's, ``y2/(1 − w0)``, near a pole (its difference of a root from the start's distance)."""
+    lost = max(0, -closeness.adjusted()) if closeness > 0 else 0
+    return _de.DIGITS + (lost + 4 if lost > 3 else 0)
+
+
+def _setup(I1, I3, M, g, l, omega, q, exact=True, digits=None):
+    """Classify one motion and compute its constants: in decimal at 36 digits (more near the separatrix: the
+    digits m_c cancels, :func:`_digits_for`), then rounded to double or double-double. ``exact=False`` (for an
+    accuracy asked, :func:`_setup_double`): the same up to the turning points and the modulus (every difference
+    that may cancel, in decimal), the rest (λ, the phase at t = 0, K, the third-kind integrals, the angles' rates)
+    in double; None where that motion is not :data:`_BENIGN` (steady, near a pole or the separatrix)."""
     with decimal.localcontext() as ctx:
-        ctx.prec = _de.DIGITS
+        ctx.prec = digits or _de.DIGITS
         Dm = [Decimal(float(v)) for v in (I1, I3, M, g, l)]
         w = [Decimal(float(v)) for v in omega]
         qd = [Decimal(float(v)) for v in q]
@@ -402,6 +418,11 @@ def _setup(I1, I3, M, g, l, omega, q, exact=True):
             z1, Bf = Decimal(0), Decimal(0)
         span = x3 - x1
         mc = (x3 - x2) / span
+        # near the separatrix (m_c = (x3 − x2)/span) or a pole (y2 = (1 − w0) − x2, z1 = (1 + w0) + x1): again,
+        # with the digits those differences cancel
+        closeness = min([mc] + [d / whole for d, whole in ((y2, one_m_w0), (z1, one_p_w0)) if d > 0 and whole > 0])
+        if digits is None and _digits_for(closeness) > ctx.prec:
+            return _setup(I1, I3, M, g, l, omega, q, exact, digits=_digits_for(closeness))
         m = delta / span
         if mc < Decimal("1e-150"):  # on the separatrix, or so close that the third-kind integrals overflow a double
             raise SingularConfiguration(
@@ -619,7 +640,7 @@ def _resolved(mo):
     poles = [(p.B, p.n, p.one_minus_n, p.WK) for p in (mo.near, mo.far)]
     W0n, j0n, W0f, j0f = _start_W(mo.K, mo.period, mo.mc, mo.rootmc, r0, j0, _agm_landen(mo.rootmc), poles,
                                   {"near": (None, 0.0), "far": (None, 0.0)})
-    return replace(mo, near=replace(mo.near, W0=W0n, j0=j0n), far=replace(mo.far, W0=W0f, j0=j0f))
+    return mo._replace(near=mo.near._replace(W0=W0n, j0=j0n), far=mo.far._replace(W0=W0f, j0=j0f))
 
 
 #: From this many output times on, W comes from its Chebyshev series (fitted per call at 32 nodes, both poles at once:
@@ -634,7 +655,12 @@ def _phase_double(mo, t):
     u = mo.lam * t
     u += mo.lam_lo * t + mo.u0
     j = np.rint(u / mo.period)
-    return u - j * mo.period, j
+    r = u - j * mo.period
+    step = np.where(r > 0.5 * mo.period, 1.0, np.where(r < -0.5 * mo.period, -1.0, 0.0))  # a quotient rounded over
+    if step.any():
+        r -= step * mo.period
+        j += step
+    return r, j
 
 
 def _phase_and_jacobi(mo, t, tolerance, tmax):
@@ -659,7 +685,7 @@ def _phase_and_jacobi(mo, t, tolerance, tmax):
     return r, j, sn, cn, dn, node_c2
 
 
-def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0, node_c2=None):
+def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0, node_c2=None, jacobi=None):
     """χ_near, χ_far at t (shape (2, n)): the secular part ``rate·t + per·(j − j0)`` reduced modulo 4π in
     double-double (both poles at once), plus ``coef·(W(x) − W0)`` with x = r (near) and x = r ∓ K (far: r − K
     wrapped into [−K, K], a half period back where r < 0). ``tolerance`` > 0 (radians): the secular part in double
@@ -722,7 +748,13 @@ def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0, node_c2=None):
     direct = [k for k in active if fits[k] is None]
     if direct:  # both poles' W at once (one pass of Carlson's duplication over both rows)
         column = lambda name: np.array([[getattr(poles[k], name)] for k in direct])  # noqa: E731
-        chi[direct] += column("coef") * _W_direct(x[direct], column("n"), column("one_minus_n"), mo.mc, mo.rootmc)
+        sc = None
+        if jacobi is not None:  # |sn|, |cn| at r (near) and at r ∓ K (far: |cd r| and k′|sd r|), as the amplitudes
+            sn, cn, dn = jacobi
+            s_abs, c_abs = np.abs(sn), np.abs(cn)
+            pairs = {0: (s_abs, c_abs), 1: (c_abs / dn, mo.rootmc * s_abs / dn)}
+            sc = (np.stack([pairs[k][0] for k in direct]), np.stack([pairs[k][1] for k in direct]))
+        chi[direct] += column("coef") * _W_direct(x[direct], column("n"), column("one_minus_n"), mo.mc, mo.rootmc, sc)
     return chi
 
 
@@ -763,7 +795,7 @@ def _evaluate(mo, t, accuracy=None):
         B_ = None
     else:
         r, j, sn, cn, dn, node_c2 = _phase_and_jacobi(mo, t, tolerance, tmax)
-        chi = _chis(mo, t, r, j, tolerance, tmax, node_c2)
+        chi = _chis(mo, t, r, j, tolerance, tmax, node_c2, (sn, cn, dn))
         sd = math.sqrt(mo.delta)
         # the pole distances 1 ∓ w = R² (R signed where its base is 0: the top passes through that pole)
         rn2 = cn * cn
@@ -956,22 +988,26 @@ def _members(I, M, g, l, omega0, q0):
     w = np.broadcast_to(w, (nb, 3))
     qq = np.broadcast_to(qq, (nb, 4))
     Mv, gv, lv = (np.broadcast_to(x, (nb,)) for x in scal)
-    for k in range(nb):
-        moments("I", tuple(Iarr[k]))
-        if Iarr[k, 0] != Iarr[k, 1]:
-            raise InvalidInput("I", tuple(Iarr[k]), "a symmetric top (I1, I1, I3): I1 == I2 exactly "
-                               "(for I1 != I2 integrate: there is no closed form)")
-        if not Mv[k] > 0:
-            raise InvalidInput("M", float(Mv[k]), "a positive mass")
-        if gv[k] == 0:
-            raise InvalidInput("g", float(gv[k]), "a non-zero gravitational acceleration (g = 0 is torque-free: "
-                               "use free_rigid_body_attitude_exact)")
-        if lv[k] == 0:
-            raise InvalidInput("l", float(lv[k]), "a non-zero distance from the pivot to the centre of mass "
-                               "(l = 0 is torque-free: use free_rigid_body_attitude_exact)")
-        norm = math.sqrt(float(np.sum(qq[k] * qq[k])))
-        if abs(norm - 1.0) > 1e-6:
-            raise InvalidInput("q0", tuple(qq[k]), "a unit quaternion (q0, q1, q2, q3), scalar first, |q| = 1")
+    moments("I", Iarr)  # every member at once (the one check of a body's moments: positive, the triangle)
+    first = lambda bad: int(np.argmax(bad))  # noqa: E731  (the first member that fails, for the message)
+    bad = Iarr[:, 0] != Iarr[:, 1]
+    if bad.any():
+        raise InvalidInput("I", tuple(Iarr[first(bad)]), "a symmetric top (I1, I1, I3): I1 == I2 exactly "
+                           "(for I1 != I2 integrate: there is no closed form)")
+    bad = ~(Mv > 0)
+    if bad.any():
+        raise InvalidInput("M", float(Mv[first(bad)]), "a positive mass")
+    bad = gv == 0
+    if bad.any():
+        raise InvalidInput("g", float(gv[first(bad)]), "a non-zero gravitational acceleration (g = 0 is torque-free: "
+                           "use free_rigid_body_attitude_exact)")
+    bad = lv == 0
+    if bad.any():
+        raise InvalidInput("l", float(lv[first(bad)]), "a non-zero distance from the pivot to the centre of mass "
+                           "(l = 0 is torque-free: use free_rigid_body_attitude_exact)")
+    bad = np.abs(np.sqrt(np.sum(qq * qq, axis=1)) - 1.0) > 1e-6
+    if bad.any():
+        raise InvalidInput("q0", tuple(qq[first(bad)]), "a unit quaternion (q0, q1, q2, q3), scalar first, |q| = 1")
     return batched, nb, Iarr, Mv, gv, lv, w, qq
 
 
@@ -979,6 +1015,24 @@ def _gamma_of(q):
     """Γ = R(q)ᵀ ẑ of a unit quaternion."""
     a, b, c, d = q
     return np.array([2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d])
+
+
+def _gammas(q):
+    """Γ = R(q)ᵀ ẑ of unit quaternions (rows)."""
+    a, b, c, d = q.T
+    return np.stack([2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d], axis=1)
+
+
+def _snap_rows(q):
+    """:func:`_snap_to_poles` of quaternions as rows, all at once (the same comparisons, elementwise)."""
+    q = np.array(q, dtype=np.float64)
+    n2 = np.sum(q * q, axis=1)
+    up = q[:, 1] ** 2 + q[:, 2] ** 2 < 1e-34 * n2
+    down = ~up & (q[:, 0] ** 2 + q[:, 3] ** 2 < 1e-34 * n2)
+    q[up, 1:3] = 0.0
+    q[down, 0] = 0.0
+    q[down, 3] = 0.0
+    return q
 
 
 def _snap_to_poles(q):
@@ -997,14 +1051,15 @@ def _snap_to_poles(q):
 BATCH_PRECISE = 64
 
 
-def _batch(batched, nb, Iarr, Mv, gv, lv, w, qq, tt):
+def _batch(batched, nb, Iarr, Mv, gv, lv, w, qq, tt, accuracy=None):
     """All members at once in double precision; the members that path leaves out, one by one, precisely."""
     from eulersym.numerics._heavy_top_batch import batch_motion
 
-    snapped = np.array([_snap_to_poles(x) for x in qq])
-    ok, omega, gamma, q, euler, period, turning = batch_motion(Iarr[:, 0], Iarr[:, 2], Mv * gv * lv, w, snapped, tt)
+    snapped = _snap_rows(qq)
+    ok, omega, gamma, q, euler, period, turning = batch_motion(Iarr[:, 0], Iarr[:, 2], Mv * gv * lv, w, snapped, tt,
+                                                               accuracy)
     for k in np.flatnonzero(~ok):
-        one = heavy_top_exact(Iarr[k], Mv[k], gv[k], lv[k], w[k], qq[k], tt, precise=True)
+        one = heavy_top_exact(Iarr[k], Mv[k], gv[k], lv[k], w[k], qq[k], tt, precise=True, accuracy=accuracy)
         omega[k], gamma[k], q[k], euler[k], period[k], turning[k] = (one.omega, one.gamma, one.q, one.euler,
                                                                       one.period, one.turning_points)
     start = tt == 0.0
@@ -1012,7 +1067,7 @@ def _batch(batched, nb, Iarr, Mv, gv, lv, w, qq, tt):
         omega[:, start] = w[:, None, :]
         unit = snapped / np.sqrt(np.sum(snapped * snapped, axis=1, keepdims=True))
         q[:, start] = unit[:, None, :]
-        gamma[:, start] = np.array([_gamma_of(x) for x in unit])[:, None, :]
+        gamma[:, start] = _gammas(unit)[:, None, :]
     if not batched:
         return HeavyTopMotion(t=tt, omega=omega[0], gamma=gamma[0], q=q[0], euler=euler[0], period=float(period[0]),
                               turning_points=turning[0])
@@ -1044,8 +1099,10 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None, accuracy=None):
         Times (any order, negative allowed).
     precise : bool or None, optional
         True: every member's constants to 36 digits and the phase in double-double (round-off error at any t,
-        ~0.2 ms per member). False: all members at once in double precision (error ~1e-16 × the number of
-        nutation periods; members at a double root, near a pole or the separatrix still go the precise way).
+        ~0.2 ms per member). False: all members at once in double precision (error below ~3e-13 × the number
+        of nutation periods; members at a double root, near a pole, or whose m_c the rounding of the cubic's
+        coefficients moves by more than 64 ulp — next to the separatrix — or, for an ``accuracy`` asked, by more
+        than a tenth of it over the times' phase, still go the precise way).
         None (default): precise up to :data:`BATCH_PRECISE` members.
     accuracy : float or None, optional
         Relative accuracy asked (of ω, relative to its scale) for the precise path (a scene passes its accuracy):
@@ -1103,7 +1160,7 @@ def heavy_top_exact(I, M, g, l, omega0, q0, t, *, precise=None, accuracy=None):
     if precise is None:
         precise = nb <= BATCH_PRECISE
     if not precise:
-        return _batch(batched, nb, Iarr, Mv, gv, lv, w, qq, tt)
+        return _batch(batched, nb, Iarr, Mv, gv, lv, w, qq, tt, accuracy)
     outs = ([], [], [], [], [], [])
     block = None
     tmax = float(np.max(np.abs(tt))) if accuracy is not None and tt.size else 0.0

@@ -4,7 +4,8 @@ The prepared :class:`~eulersym.numerics.methods.Problem` is cut into chunks of m
 (:meth:`~eulersym.numerics.methods.Problem.take`); each chunk runs the plan's method and turns its trajectory into
 the scene's outputs (:func:`run_chunk`) — trajectories, or per-member summaries when the scene asks for
 ``"summary"`` — and :mod:`eulersym.sweeps.chunks` writes them into preallocated outputs in member order. Peak
-memory: the outputs plus one chunk's working set, which :mod:`eulersym.scene.cost` sized to the budget. With a
+memory: the outputs plus the working set of the chunks in flight, which :mod:`eulersym.scene.cost` sizes to the
+cache (a few thousand members of a closed form), within the budget. With a
 ``dask.distributed.Client`` the same chunks run on its workers (:mod:`eulersym.sweeps.distributed`): a chunk is a
 problem of a few arrays per member, the task imports the method and the generated kernels (no SymPy), and the
 result is the same bits.
@@ -29,12 +30,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from eulersym.errors import SingularConfiguration
 from eulersym.numerics import methods
 from eulersym.scene.result import outputs, report_notes
-from eulersym.sweeps import chunks
+from eulersym.sweeps import chunks, zarr_store
 from eulersym.sweeps.summary import drift, summarize
 
-__all__ = ["take", "motion", "singular_note", "run_chunk", "run", "SEPARATRIX"]
+__all__ = ["take", "motion", "singular_note", "run_chunk", "run_chunk_to", "run", "SEPARATRIX"]
 
 _TRAJECTORIES = ("omega", "attitude", "euler_angles", "polhode")
 #: Invariants reported as their largest value rather than a drift (they start at zero by definition).
@@ -76,7 +78,49 @@ def motion(problem, plan, *, progress=None) -> tuple:
     >>> singular, bool(np.all(np.isfinite(traj.omega)))
     ((1,), True)
     """
-    return methods.solve(problem, plan.options["engine"], progress=progress)
+    name = plan.options["engine"]
+    grain = methods.get(name).cost.grain
+    if problem.batch <= grain:
+        return methods.solve(problem, name, progress=progress)
+    try:
+        return methods.get(name).run(problem, progress=progress), ()
+    except SingularConfiguration:  # block by block (the method's grain, counted from the first member), so that a
+        pass  # member's bits do not depend on how the sweep was chunked; within a block methods.solve halves
+    pieces, singular = [], []
+    for lo in range(0, problem.batch, grain):
+        traj, found = methods.solve(problem.take(lo, min(lo + grain, problem.batch)), name)
+        pieces.append(traj)
+        singular.extend(lo + int(k) for k in found)
+    if progress is not None:
+        progress(1.0)
+    return _join(pieces), tuple(singular)
+
+
+def _join(pieces):
+    """One trajectory of the members of ``pieces`` in order (:func:`eulersym.numerics.methods.solve` joins the same
+    way): arrays concatenated, calls summed, a field only some pieces give dropped."""
+    import dataclasses
+
+    from eulersym.numerics.trajectory import Trajectory
+
+    joined = {}
+    for f in dataclasses.fields(Trajectory):
+        values = [getattr(traj, f.name) for traj in pieces]
+        if f.name == "t":
+            joined[f.name] = values[0]
+        elif f.name == "n_rhs_calls":
+            joined[f.name] = sum(int(v) for v in values)
+        elif f.name == "q_unit":
+            joined[f.name] = all(values)
+        elif f.name in ("method", "message"):
+            joined[f.name] = " + ".join(dict.fromkeys(values))
+        elif f.name == "status":
+            joined[f.name] = max(values)
+        elif all(isinstance(v, np.ndarray) for v in values):
+            joined[f.name] = np.concatenate(values, axis=0)
+        else:
+            joined[f.name] = None
+    return Trajectory(**joined)
 
 
 def singular_note(singular, batch: int, rtol: float) -> str:
@@ -131,6 +175,35 @@ def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
     return arrays
 
 
+def _stored(name: str):
+    """The store's name of a chunk's output: a trajectory's own, an invariant's without ``invariant:``; None for the
+    bookkeeping (``_calls``, ``_theta_min``…)."""
+    if name in _TRAJECTORIES or name == "gamma":
+        return name
+    if name.startswith("invariant:"):
+        return name.split(":", 1)[1]
+    return None
+
+
+def run_chunk_to(piece, *, sink, **options) -> dict:
+    """:func:`run_chunk` on ``piece = (problem, lo)`` (the chunk's members and the first one's index), its
+    trajectories and invariants written into ``sink`` (:class:`eulersym.sweeps.zarr_store.ZarrSink`) at rows
+    ``lo:``; returns what stays small: each invariant's drift per member, the tilt range, the bookkeeping."""
+    problem, lo = piece
+    arrays = run_chunk(problem, **options)
+    stored = {}
+    for name in list(arrays):
+        key = _stored(name)
+        if key is None:
+            continue
+        values = arrays.pop(name)
+        stored[key] = values
+        if name.startswith("invariant:"):
+            arrays[f"drift:{key}"] = np.max(values, axis=1) if key in _MAXIMA else drift(values)
+    sink.write(stored, lo)
+    return arrays
+
+
 def _grain(plan) -> int:
     """Members the plan's method steps together (its cost's grain)."""
     return methods.get(plan.options["engine"]).cost.grain
@@ -150,9 +223,19 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
     if problem.batch > chunk and chunk % grain:
         chunk = max(chunk // grain, 1) * grain  # whole groups of members that step together: the same bits
     keep_gamma = plan.regime in ("heavy top", "model") or "invariants" in problem.outputs
-    gathered = chunks.run(run_chunk, problem.take, members=problem.batch, chunk=chunk,
-                          static={"plan": plan, "layout": layout, "keep_gamma": keep_gamma}, client=client,
-                          progress=progress, threads=threads)
+    static = {"plan": plan, "layout": layout, "keep_gamma": keep_gamma}
+    path = zarr_store.target() if layout is None else None
+    if path is not None:  # the trajectories to a Zarr store as each chunk is computed (by whoever computes it)
+        first = run_chunk(problem.take(0, 1), **static)
+        fields = {_stored(name): v for name, v in first.items() if _stored(name)}
+        sink = zarr_store.create(path, members=problem.batch, chunk=chunk, t=problem.t, first=fields,
+                                 coords=problem.members, attrs={"plan": plan, "engine": plan.engine})
+        gathered = chunks.run(run_chunk_to, lambda lo, hi: (problem.take(lo, hi), lo), members=problem.batch,
+                              chunk=chunk, static={**static, "sink": sink}, client=client, progress=progress,
+                              threads=threads)
+    else:
+        gathered = chunks.run(run_chunk, problem.take, members=problem.batch, chunk=chunk, static=static,
+                              client=client, progress=progress, threads=threads)
     n_calls = int(gathered.pop("_calls").sum())
     singular = np.flatnonzero(gathered.pop("_singular"))
     theta_range = (gathered.pop("_theta_min", None), gathered.pop("_theta_max", None))
@@ -175,6 +258,8 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
                 "n_calls": n_calls}
     invariants = {name.split(":", 1)[1]: v for name, v in gathered.items() if name.startswith("invariant:")}
     drifts = {name: float(np.max(v)) if name in _MAXIMA else float(np.max(drift(v))) for name, v in invariants.items()}
+    drifts.update({name.split(":", 1)[1]: float(np.max(v)) for name, v in gathered.items()
+                   if name.startswith("drift:")})  # streamed to a store: each member's drift, from its chunk
     gamma = gathered.get("gamma")
     theta_min, theta_max = theta_range
     notes = report_notes(plan, moments, P, theta_min=theta_min, theta_max=theta_max, w3=omega3_start, bound=bound,

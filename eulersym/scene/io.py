@@ -14,15 +14,16 @@ import os
 import numpy as np
 
 from eulersym.errors import InvalidInput
-from eulersym.files import atomic_write as _atomic, check_target, clean_leftovers
+from eulersym.files import atomic_write as _atomic, check_target as _check_target, clean_leftovers, write_all
 from eulersym.labels import quantity_label
 from eulersym.scene.result import report
 from eulersym.sweeps.summary import largest_tilt
 
-__all__ = ["report", "save", "plot", "figure", "summary", "summary_path", "quantity_label", "clean_leftovers", "check_target",
+__all__ = ["report", "save", "stream", "plot", "figure", "summary", "summary_path", "quantity_label", "clean_leftovers",
+           "check_target",
            "require_matplotlib", "OUTPUT_SUFFIXES", "PLOT_SUFFIXES"]
 
-OUTPUT_SUFFIXES = (".npz", ".csv")
+OUTPUT_SUFFIXES = (".npz", ".csv", ".zarr")
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
 
 
@@ -53,6 +54,24 @@ def _columns(result):
     names += head
     blocks += [v[..., None] for v in values]
     return names, np.concatenate(blocks, axis=-1)
+
+
+def check_target(flag: str, path: str, suffixes, *, sweep: bool = False) -> None:
+    """Refuse, before any work, an output path eulersym could not write (:func:`eulersym.files.check_target`); for a
+    sweep's ``.csv`` its per-member summary beside it (:func:`summary_path`) too, and a ``.zarr`` store is a folder.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> folder = tempfile.mkdtemp()
+    >>> os.mkdir(os.path.join(folder, "x.summary.csv"))
+    >>> check_target("-o", os.path.join(folder, "x.csv"), OUTPUT_SUFFIXES, sweep=True)
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: -o='...x.csv' is not valid: expected an output whose companion file ...x.summary.csv can be written (it is a folder)
+    """
+    beside = (summary_path(path),) if sweep and os.path.splitext(path)[1].lower() == ".csv" else ()
+    _check_target(flag, path, suffixes, beside=beside, folders=(".zarr",))
 
 
 def summary_path(path: str) -> str:
@@ -138,6 +157,8 @@ def save(result, path: str) -> list:
     """
     suffix = os.path.splitext(path)[1].lower()
     sweep = list(result.sweep)
+    if suffix == ".zarr":
+        return [_save_zarr(result, path)]
     if suffix == ".npz":
         arrays = {"t": result.t, "moments": result.moments, "axes": result.axes, "plan": np.array(str(result.plan))}
         for key in ("omega", "attitude", "euler_angles", "polhode", "gamma"):
@@ -154,7 +175,7 @@ def save(result, path: str) -> list:
         _atomic(path, lambda tmp: np.savez(tmp, **arrays))
         return [path]
     if suffix != ".csv":
-        raise InvalidInput("-o", path, "a file ending in .npz or .csv")
+        raise InvalidInput("-o", path, "a file ending in .npz, .csv or .zarr")
     if result.omega is None:  # a summary scene (want = ["summary"]): one row per member, every summary kept
         names, rows = summary(result)
         names += list(result.summary)
@@ -171,14 +192,101 @@ def save(result, path: str) -> list:
         cols = [np.repeat(np.arange(batch), n)[:, None]] + [np.repeat(result.sweep[k], n)[:, None] for k in sweep] + cols
         head = ["member", *sweep, *head]
     table = np.concatenate(cols, axis=1)
-    _atomic(path, lambda tmp: np.savetxt(tmp, table, delimiter=",", header=",".join(head), comments="", fmt="%.17g"))
-    if not sweep:
-        return [path]
-    names, rows = summary(result)
-    side = summary_path(path)
-    _atomic(side, lambda tmp: np.savetxt(tmp, rows, delimiter=",", header=",".join(names), comments="",
-                                         fmt="%.17g"))
-    return [path, side]
+    writes = [(path, lambda tmp: np.savetxt(tmp, table, delimiter=",", header=",".join(head), comments="",
+                                            fmt="%.17g"))]
+    if sweep:  # the long table and the per-member summary: both written, or neither (a folder in the way refused first)
+        side_names, rows = summary(result)
+        writes.append((summary_path(path), lambda tmp: np.savetxt(tmp, rows, delimiter=",",
+                                                                  header=",".join(side_names), comments="",
+                                                                  fmt="%.17g")))
+    write_all(writes)
+    return [p for p, _ in writes]
+
+
+def _save_zarr(result, path: str) -> str:
+    """A result held in memory written as a Zarr store (:mod:`eulersym.sweeps.zarr_store`): its trajectories over
+    (member, time[, component]) — one member for a single run — or, for summaries, each summary over member; the
+    swept values as coordinates. A folder is written: into a temporary beside it, renamed into place."""
+    import shutil
+    import tempfile
+
+    from eulersym.sweeps import zarr_store
+
+    zarr_store.require_zarr(path)
+    single = result.plan.batch == 1
+    lift = (lambda a: np.asarray(a)[None]) if single else np.asarray
+    fields = {}
+    for key in ("omega", "attitude", "euler_angles", "polhode", "gamma"):
+        if getattr(result, key) is not None:
+            fields[key] = lift(getattr(result, key))
+    for key, values in result.invariants.items():
+        fields[key] = lift(values)
+    members = result.plan.batch
+    coords = {k: np.asarray(v) for k, v in result.sweep.items()}
+    folder = os.path.dirname(os.path.abspath(path))
+    tmp = tempfile.mkdtemp(prefix=f".{os.path.basename(path)}.eulersym-tmp-", dir=folder)
+    try:
+        staging = os.path.join(tmp, "store.zarr")
+        if fields:
+            sink = zarr_store.create(staging, members=members, chunk=members, t=result.t,
+                                     first={k: v[:1] for k, v in fields.items()}, coords=coords,
+                                     attrs={"plan": result.plan, "engine": result.plan.engine})
+            sink.write(fields, 0)
+        else:
+            zarr_store.create(staging, members=members, chunk=members, t=result.t, first={}, coords=coords,
+                              attrs={"plan": result.plan, "engine": result.plan.engine})
+        if result.summary:
+            import warnings
+
+            import zarr
+
+            group = zarr.open_group(staging, mode="r+")
+            for name, values in result.summary.items():
+                values = np.asarray(values, dtype=float)
+                group.create_array(name, shape=values.shape, chunks=values.shape, dtype="f8",
+                                   dimension_names=["member"], compressors=None)[:] = values
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # consolidated metadata: not in the Zarr 3 specification (yet)
+                zarr.consolidate_metadata(staging)
+        if os.path.isdir(path):
+            shutil.rmtree(path)
+        os.replace(staging, path)
+    except OSError as exc:
+        from eulersym.files import describe_os_error
+
+        raise InvalidInput("-o", path, f"a store eulersym can write ({describe_os_error(exc)})") from None
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return path
+
+
+def stream(scene, path: str, *, client=None, memory=None, work=None, progress: bool = False):
+    """Run ``scene`` (:func:`eulersym.scene.simulate`) with its trajectories written to the Zarr store ``path`` as
+    each chunk of members is computed — by this process, or by the Dask workers of ``client``, nothing gathered —
+    so the output may be larger than memory: the memory budget then bounds the working set only. A run small enough
+    for one chunk is written from memory at the end; summaries likewise. Returns the :class:`Result` (its
+    trajectories None when they were streamed). Read the store back lazily with ``xarray.open_zarr(path)``.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from eulersym.scene import Scene
+    >>> path = os.path.join(tempfile.mkdtemp(), "sweep.zarr")
+    >>> r = stream(Scene(moments=(1, 2, 3), omega=(0.1, [1.0, 2.0], 0.0), t_end=1, points=3), path)
+    >>> import xarray
+    >>> xarray.open_zarr(path)["omega"].dims
+    ('member', 'time', 'component')
+    """
+    from eulersym.scene.run import simulate
+    from eulersym.sweeps import zarr_store
+
+    zarr_store.require_zarr(path)
+    check_target("-o", path, OUTPUT_SUFFIXES)
+    with zarr_store.streaming(path):
+        result = simulate(scene, client=client, memory=memory, work=work, progress=progress)
+    if result.omega is not None or result.summary or not os.path.isdir(path):
+        _save_zarr(result, path)  # what stayed in memory (one chunk, or summaries)
+    return result
 
 
 def plot(result, path: str, *, figure: str | None = None) -> list:
