@@ -104,13 +104,11 @@ def _parser() -> argparse.ArgumentParser:
     where = p.add_mutually_exclusive_group()
     where.add_argument("--workers", metavar="N", type=_count, help="run a sweep's chunks on a local Dask cluster of N processes (the dask extra)")
     where.add_argument("--scheduler", metavar="ADDRESS", help="run a sweep's chunks on the Dask cluster at ADDRESS (tcp://host:8786)")
-    p.add_argument("--scheduler-timeout", metavar="SECONDS", type=_seconds, default=CONNECT_SECONDS,
-                   help=f"give up on a --scheduler that does not answer within SECONDS (default {CONNECT_SECONDS:g})")
+    p.add_argument("--scheduler-timeout", metavar="SECONDS", type=_seconds, default=None,
+                   help="give up on a --scheduler that does not answer within SECONDS (default $EULERSYM_DASK_TIMEOUT, "
+                        "else 5)")
     return p
 
-
-#: Seconds a --scheduler has to answer (Dask's own connect timeout does not bound a listener that never replies).
-CONNECT_SECONDS = 10.0
 
 
 def _seconds(text: str) -> float:
@@ -289,6 +287,7 @@ def _connect(address: str, seconds: float):
     from eulersym._budget import BudgetExceeded, time_budget
     from eulersym.sweeps import distributed
 
+    seconds = distributed.timeout_seconds(seconds)  # one default for the CLI and the API: EULERSYM_DASK_TIMEOUT, else 5 s
     try:
         with time_budget(seconds):
             return distributed.connect(address, timeout=seconds)
