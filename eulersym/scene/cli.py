@@ -71,10 +71,12 @@ points = 1001               # output times from 0 to end, 2 to 10**7
 [output]
 want = ["omega", "euler_angles", "invariants"]   # any of omega, attitude, euler_angles, invariants, polhode;
                             #   or "summary" (per member only: min/max/final, largest tilt, drift) for big sweeps
-accuracy = 1e-8             # relative accuracy wanted, 1e-13 to 1e-1
+accuracy = 1e-8             # the global error asked, 1e-13 to 1e-1 (estimated and reported for an integration)
 method = "auto"             # auto, closed-form, splitting, DOP853, RK45, Radau, LSODA
 memory = "2 GiB"            # budgets: a run estimated beyond them is refused with the estimate
 work = 1e9                  #   (kernel evaluations); --memory-budget / --work-budget override them
+# quantities = { energy = { expression = "E", unit = "J" }, tilt = "theta" }   # outputs of your own: scalars of the
+                            #   model's names, L, its integrals (E, K, ...), phi/theta/psi; a column and a panel each
 """
 
 __all__ = ["cli"]
