@@ -135,6 +135,9 @@ def summary(result) -> tuple:
     head, extra = summary_columns(result)
     names += head
     cols += extra
+    for key, values in (result.error or {}).items():  # each member's estimated global error (an integration)
+        names.append(f"error_{key}")
+        cols.append(np.broadcast_to(np.asarray(values, dtype=float), (batch,)))
     return names, np.stack(cols, axis=1)
 
 
@@ -167,6 +170,9 @@ def save(result, path: str) -> list:
         arrays.update({f"invariant_{k}": v for k, v in result.invariants.items()})
         arrays.update({f"quantity_{k}": v for k, v in result.quantities.items()})  # the model's own quantities
         arrays.update({f"drift_{k}": np.array(v) for k, v in result.drift.items()})
+        arrays.update({f"error_{k}": np.asarray(v, dtype=float) for k, v in (result.error or {}).items()})
+        if result.accuracy is not None:
+            arrays["accuracy"] = np.array(float(result.accuracy))  # asked; error_* (integrations only): estimated
         arrays.update({f"sweep_{k}": v for k, v in result.sweep.items()})
         if sweep or result.summary:
             names, rows = summary(result)
