@@ -29,6 +29,8 @@ array([[0., 0., 1.],
 from __future__ import annotations
 
 import importlib
+import sys
+import types
 
 #: public name → the submodule of eulersym.numerics that defines it (loaded on first access).
 _WHERE = {
@@ -76,6 +78,16 @@ def __dir__():
     return sorted(__all__)
 
 
-# ``heavy_top_exact`` names both a function and its module: bind the function now, or importing the submodule
-# (which sets the package attribute) would shadow it.
-from eulersym.numerics.heavy_top_exact import heavy_top_exact  # noqa: E402
+class _Numerics(types.ModuleType):
+    """``heavy_top_exact`` names both a function and its module: the import system's binding of the submodule to the
+    package attribute is skipped, so the name stays the function (loaded on first use by ``__getattr__``), as
+    ``from eulersym.numerics import heavy_top_exact`` has always given it — without importing it (and ``decimal``)
+    in every scene."""
+
+    def __setattr__(self, name, value):
+        if name == "heavy_top_exact" and isinstance(value, types.ModuleType):
+            return
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Numerics
