@@ -17,11 +17,12 @@ Functions (each ``f(t, y, *params)``, ``y`` in the order of ``STATE``):
 - ``invariants`` — the integrals proven conserved (:func:`eulersym.model.rolling_integrals.invariants`);
 - ``contact`` — ``(x_P, y_P, N, u_x, u_y)``: the contact point on the plane (space), the normal force, the slip
   velocity (space; zero rolling);
-- ``normal_force`` — ``(N,)``: the lift-off event's function (lift-off where it falls to 0).
+- ``normal_force`` — ``(N,)``: the lift-off event's function (lift-off where it falls to 0);
+- ``height`` — ``(z,)``: the centre of mass's height ``−r_P·Γ``;
 
 and the contract: ``STATE``, ``PARAMETERS``, ``DEFAULTS``, ``INVARIANTS``, ``OUTPUTS`` (the names of ``contact``),
 ``FLAGS`` (``{"contact": "rolling"|"sliding", "surface": kind, "friction": law, ...}``) and
-``lift_off(*params)`` → an event function for :func:`scipy.integrate.solve_ivp` (``terminal``, ``direction = −1``).
+``lift_off(t, y, *params)`` → ``N``, :func:`scipy.integrate.solve_ivp`'s event (``terminal``, ``direction = −1``).
 
 Examples
 --------
@@ -104,7 +105,7 @@ def program(body: BodyOnPlane) -> tuple:
     >>> from eulersym.model.contact_examples import examples
     >>> functions, cse = program(examples()["rolling-sphere"])
     >>> [f.name for f in functions]
-    ['rhs', 'jac', 'invariants', 'contact', 'normal_force']
+    ['rhs', 'jac', 'invariants', 'contact', 'normal_force', 'height']
     """
     eqs = newton_euler(body)
     state = eqs.state
@@ -117,10 +118,11 @@ def program(body: BodyOnPlane) -> tuple:
     x_P = state[10] + (A[:, 0].T * r)[0, 0]
     y_P = state[11] + (A[:, 1].T * r)[0, 0]
     wanted = {"rhs": ["rhs"], "jac": ["jac"], "invariants": [e for _, e in conserved],
-              "contact": [x_P, y_P, "normal_force", "slip"], "normal_force": ["normal_force"]}
+              "contact": [x_P, y_P, "normal_force", "slip"], "normal_force": ["normal_force"],
+              "height": [eqs.height]}
     definitions, outputs = eqs.program(wanted)
     shapes = {"rhs": (n, 1), "jac": (n, n), "invariants": (len(conserved), 1), "contact": (5, 1),
-              "normal_force": (1, 1)}
+              "normal_force": (1, 1), "height": (1, 1)}
     cse = _cse(definitions, outputs, shapes)
     args = _arguments(body, state)
     docs = {
@@ -133,6 +135,7 @@ def program(body: BodyOnPlane) -> tuple:
                     OUTPUTS),
         "normal_force": ("the normal force N: the lift-off event (the body leaves the plane where N falls to 0)",
                          ("N",)),
+        "height": ("the centre of mass's height z = −r_P·Γ (the body touching the plane)", ("z",)),
     }
     functions = tuple(FunctionSpec(name, args, cse.reduced[name], *docs[name]) for name in wanted)
     return functions, cse
@@ -206,7 +209,6 @@ def _contract(body: BodyOnPlane, state, conserved) -> str:
              "torque": any(sp.sympify(e) != 0 for e in body.mechanics.torque),
              "potential": sp.sympify(body.mechanics.potential) != 0,
              "rotor": any(sp.sympify(e) != 0 for e in body.mechanics.rotor)}
-    params = ", ".join(s.name for s, _ in body.parameters)
     return "\n".join([
         "#: State names, in the order of y.",
         f"STATE = {tuple(s.name for s in state)!r}",
@@ -222,21 +224,17 @@ def _contract(body: BodyOnPlane, state, conserved) -> str:
         "FLAGS = {" + ", ".join(f"{k!r}: {v!r}" for k, v in flags.items()) + "}",
         "",
         "",
-        f"def lift_off({params}{', ' if params else ''}*extra):",
-        '    """lift_off(' + params + ') -> an event function ``event(t, y)`` for scipy.integrate.solve_ivp',
+        "def lift_off(t, y, *params):",
+        '    """lift_off(t, y, *params) -> N: solve_ivp\'s event for lift-off (terminal, direction -1)',
         "",
-        "    The normal force N (``normal_force``): terminal, direction -1 — the integration stops where the body",
-        "    leaves the plane (N falls to 0).",
+        "    The normal force (``normal_force``): the integration stops where the body leaves the plane (N falls",
+        "    to 0). Pass ``events=lift_off`` with ``args=params``.",
         '    """',
-        "    if extra:",
-        f"        raise _too_many('lift_off', extra, {tuple(s.name for s, _ in body.parameters)!r})",
+        "    return normal_force(t, y, *params)[0]",
         "",
-        "    def event(t, y):",
-        f"        return normal_force(t, y{', ' if params else ''}{params})[0]",
         "",
-        "    event.terminal = True",
-        "    event.direction = -1",
-        "    return event",
+        "lift_off.terminal = True",
+        "lift_off.direction = -1",
     ])
 
 
@@ -288,8 +286,8 @@ def _source(body: BodyOnPlane, name: str, versions: tuple | None) -> str:
             f"  t: time; y = ({', '.join(s.name for s in eqs.state)}): state"]
     if body.parameters:
         doc.append("  " + ", ".join(s.name for s, _ in body.parameters) + ": the parameters")
-    doc += ["", "Conventions and flavours as in every eulersym kernel (eulersym.codegen.emitter). lift_off(*params) "
-            "gives solve_ivp's terminal event at N = 0.", '"""']
+    doc += ["", "Conventions and flavours as in every eulersym kernel (eulersym.codegen.emitter). lift_off(t, y, *params) "
+            "is solve_ivp's terminal event at N = 0.", '"""']
     wrapped = []
     for line in doc:
         wrapped.extend(textwrap.wrap(line, width=118, break_on_hyphens=False, break_long_words=False,
@@ -313,7 +311,7 @@ def source(body: BodyOnPlane, *, name: str | None = None, versions: dict | None 
     --------
     >>> from eulersym.model.contact_examples import examples
     >>> text = source(examples()["rolling-sphere"])
-    >>> "import sympy" in text, "def lift_off(M, a, g, *extra):" in text
+    >>> "import sympy" in text, "def lift_off(t, y, *params):" in text
     (False, True)
     """
     if not isinstance(body, BodyOnPlane):
