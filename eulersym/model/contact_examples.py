@@ -86,22 +86,30 @@ def euler_disk(c_r=None, **values) -> BodyOnPlane:
     return BodyOnPlane(mech, Contact(surface("disk", radius=a), rolling_resistance=symbols.get("c_r", 0)))
 
 
-def rattleback(**values) -> BodyOnPlane:
+def rattleback(sigma=None, **values) -> BodyOnPlane:
     """Kane & Levinson's rattleback, rolling (module docstring): ``M``, semi-axes ``a, b, c``, ``h``, inertia per
-    unit mass ``A, B, C``, product ``D``, ``g``.
+    unit mass ``A, B, C``, product ``D``, ``g``; with ``sigma`` (m²/s, per unit mass as theirs) the viscous torque
+    ``−M σ ω`` of their model, as the contact's rolling resistance and spin friction ``c_r = c_s = M σ``.
 
     Examples
     --------
     >>> rattleback().mechanics.inertia[0, 1]
     D*M
+    >>> rattleback(sigma=1e-5).contact.spin_friction
+    M*sigma
     """
     defaults = dict(M=1.0, a=0.2, b=0.03, c=0.02, h=0.01, A=2e-4, B=1.6e-3, C=1.7e-3, D=-2e-5, g=9.81)
+    if sigma is not None:
+        defaults["sigma"] = sigma
     defaults.update(values)
     params = _parameters(**defaults)
-    M, a, b, c, h, A, B, C, D, g = (s for s, _ in params)
+    symbols = {s.name: s for s, _ in params}
+    M, a, b, c, h, A, B, C, D, g = (symbols[n] for n in ("M", "a", "b", "c", "h", "A", "B", "C", "D", "g"))
     inertia = sp.ImmutableMatrix([[A * M, D * M, 0], [D * M, B * M, 0], [0, 0, C * M]])
     mech = Mechanics(name="rattleback", inertia=inertia, mass=M, gravity=g, parameters=params)
-    return BodyOnPlane(mech, Contact(surface("ellipsoid", semi_axes=(a, b, c), centre=(0, 0, h))))
+    damping = M * symbols["sigma"] if "sigma" in symbols else 0
+    return BodyOnPlane(mech, Contact(surface("ellipsoid", semi_axes=(a, b, c), centre=(0, 0, h)),
+                                     rolling_resistance=damping, spin_friction=damping))
 
 
 def chaplygin_ball(**values) -> BodyOnPlane:
