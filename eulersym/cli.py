@@ -1,12 +1,16 @@
 """The ``eulersym`` command line.
 
-Each subcommand lives beside the code it drives: the table below maps a name to ``module:function``, and that
-function takes the remaining arguments (``argv: list[str]``) and returns the exit status. Exit codes everywhere:
-0 success, 1 a check or verification failed, 2 bad usage or bad input.
+Each subcommand lives beside the code it drives: the table below maps a name to ``module:function`` (the package's
+one lazy command table: a command's module is imported when it runs, so ``eulersym check`` never loads the scene),
+and that function takes the remaining arguments (``argv: list[str]``) and returns the exit status. The top level is
+an argparse parser with one subparser per command; ``--model FILE`` and ``--model=FILE`` both route ``derive``,
+``generate`` and ``verify`` to a model of the user's own. Exit codes everywhere: 0 success, 1 a check or
+verification failed, 2 bad usage or bad input.
 """
 
 from __future__ import annotations
 
+import argparse
 import importlib
 import sys
 import warnings
@@ -17,11 +21,12 @@ __all__ = ["main", "COMMANDS"]
 COMMANDS: dict[str, tuple[str, str]] = {
     "check": ("eulersym.text:cli", "derive every closed form of the text and prove it equal"),
     "derive": ("eulersym.derive_command:cli", "print a derived quantity (--latex for LaTeX)"),
-    "generate": ("eulersym.codegen:cli", "write the NumPy kernels to generated/ (--check: fail if stale)"),
+    "generate": ("eulersym.codegen:cli", "write the NumPy and C kernels to generated/ (--target c|jax; --check: fail if stale)"),
     "verify": ("eulersym.verify:cli", "check a hand derivation against a derived quantity"),
     "simulate": ("eulersym.scene:cli", "run a scene (TOML file or bundled name)"),
     "bench": ("eulersym.bench:cli", "time eulersym against a baseline in the same run"),
     "animate": ("eulersym.animation.cli:cli", "animate a scene: out.gif, out.mp4 or a self-contained out.html"),
+    "stability": ("eulersym.model.stability_cli:main", "a model's steady motions and their stability, proven"),
 }
 
 #: Subcommands that take ``--model FILE``: a user's model is handled by :mod:`eulersym.model.cli`.
@@ -31,37 +36,74 @@ _MODEL_ROUTES: dict[str, str] = {
     "verify": "eulersym.model.cli:verify",
 }
 
-_USAGE = "usage: eulersym {" + ",".join(COMMANDS) + "} [args...]\n"
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # bad usage: exit status 2 with the usage line, as every subcommand does
+        raise SystemExit(_usage_error(self, message))
+
+
+def _usage_error(parser: argparse.ArgumentParser, message: str) -> int:
+    sys.stderr.write(parser.format_usage() + f"eulersym: error: {message}\n")
+    return 2
+
+
+def _parser() -> argparse.ArgumentParser:
+    """``eulersym COMMAND ...``: one subparser per command of :data:`COMMANDS`; each command's own options are
+    parsed by the command (its ``--help`` lists them), so the subparsers take no options of their own."""
+    parser = _Parser(prog="eulersym", description="Derive rigid-body motion with SymPy, prove it against the text, "
+                     "emit kernels, run scenes.", epilog="Run `eulersym COMMAND --help` for a command's options. "
+                     "derive, generate and verify take --model FILE (or --model=FILE) for a model of your own.")
+    parser.add_argument("--version", action="store_true", help="print the version and exit")
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND", title="commands", parser_class=_Parser)
+    for name, (_, description) in COMMANDS.items():
+        commands.add_parser(name, help=description, add_help=False)
+    return parser
 
 
 def _help() -> str:
-    width = max(map(len, COMMANDS))
-    lines = [_USAGE, "commands:"]
-    lines += [f"  {name:<{width}}  {desc}" for name, (_, desc) in COMMANDS.items()]
-    lines.append("\nRun `eulersym COMMAND --help` for a command's options.")
-    return "\n".join(lines)
+    return _parser().format_help()
+
+
+def _model_given(args: list) -> bool:
+    """Whether ``--model`` is among the arguments, in either spelling (``--model FILE``, ``--model=FILE``)."""
+    return any(a == "--model" or a.startswith("--model=") for a in args)
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; return the exit status (0 ok, 1 check failed, 2 bad usage or input)."""
+    """Run the command line; return the exit status (0 ok, 1 check failed, 2 bad usage or input).
+
+    Examples
+    --------
+    >>> main(["--version"])
+    eulersym 0.1.0
+    0
+    """
     from eulersym.errors import CheckFailed, EulersymError, EulersymWarning, InvalidInput
 
     argv = list(sys.argv[1:] if argv is None else argv)
+    parser = _parser()
     if not argv or argv[0] in ("-h", "--help"):
-        print(_help())
+        print(parser.format_help())
         return 0 if argv else 2
-    if argv[0] == "--version":
+    if argv[0] not in COMMANDS and not argv[0].startswith("-"):
+        valid = ", ".join(COMMANDS)
+        return _usage_error(parser, f"unknown command {argv[0]!r}; valid: {valid}")
+    try:
+        args, rest = parser.parse_known_args(argv)  # the command's own arguments pass through in their order
+    except SystemExit as exc:
+        return int(exc.code or 0)
+    if args.version:
         from eulersym import __version__
 
         print(f"eulersym {__version__}")
         return 0
-    name, rest = argv[0], argv[1:]
-    if name not in COMMANDS:
-        sys.stderr.write(_USAGE + f"eulersym: error: unknown command {name!r}; valid: {', '.join(COMMANDS)}\n")
-        return 2
+    name = args.command
+    if name is None:
+        return _usage_error(parser, "a command, one of " + ", ".join(COMMANDS))
     target = COMMANDS[name][0]
-    if name in _MODEL_ROUTES and "--model" in rest:  # a user's model: eulersym.model.cli handles the subcommand
+    if name in _MODEL_ROUTES and _model_given(rest):  # a user's model: eulersym.model.cli handles the subcommand
         target = _MODEL_ROUTES[name]
+        if name == "generate" and any(a.split("=")[0] == "--target" for a in rest):  # C or JAX
+            target = "eulersym.model.targets:cli"
     module_name, func_name = target.split(":")
     func = getattr(importlib.import_module(module_name), func_name)
     show = warnings.showwarning

@@ -19,7 +19,10 @@ __all__ = ["cli"]
 
 def cli(argv: list[str]) -> int:
     """``eulersym derive NAME [--latex]``: print a derived quantity (a closed-form id or a verify quantity)."""
-    parser = argparse.ArgumentParser(prog="eulersym derive", description="Print a derived quantity.")
+    parser = argparse.ArgumentParser(prog="eulersym derive", description="Print a derived quantity.",
+                                     epilog="A model of your own: eulersym derive --model FILE (or --model=FILE; "
+                                            "a bundled model's name) derives its equations by two routes, proven "
+                                            "equal, and its integrals; eulersym derive --model FILE --help.")
     parser.add_argument("name", nargs="?", help="a closed-form id (eulersym check --list) or a quantity name")
     parser.add_argument("--latex", action="store_true")
     parser.add_argument("--list", action="store_true", help="list the names")

@@ -99,17 +99,17 @@ __all__ = [
     "separatrix_solution",
 ]
 
-#: Kinetic energy of the torque-free body (a constant of the motion).
-E = sp.Symbol("E", positive=True)
-#: Square of the angular momentum |L|² (a constant of the motion).
-L2 = sp.Symbol("L2", positive=True)
+#: The energy of the torque-free body, its kinetic energy (a constant of the motion): :data:`eulersym.symbols.E`.
+E = _symbols.E
+#: Square of the angular momentum |L|² (a constant of the motion): :data:`eulersym.symbols.L2`.
+L2 = _symbols.L2
 #: The constant spin ω3 of the torque-free symmetric top (a plain symbol: ``omega3`` itself is a function of t).
-SPIN = sp.Symbol("omega_3", real=True)
+SPIN = _symbols.spin
 #: Amplitude and phase of the harmonic solution of the torque-free symmetric top.
-AMPLITUDE = sp.Symbol("A", nonnegative=True)
-PHASE = sp.Symbol("delta", real=True)
+AMPLITUDE = _symbols.amplitude
+PHASE = _symbols.phase
 #: Coordinates ρ = ω/√(2T) of Poinsot's inertia ellipsoid (Goldstein §5.6).
-RHO = sp.symbols("rho1 rho2 rho3", real=True)
+RHO = (_symbols.rho1, _symbols.rho2, _symbols.rho3)
 _L2_SYMBOL = L2
 
 _OMEGA = sp.ImmutableMatrix([omega1, omega2, omega3])

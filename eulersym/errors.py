@@ -17,6 +17,7 @@ __all__ = [
     "SingularConfiguration",
     "UnsafeExpression",
     "CheckFailed",
+    "IntegrationFailed",
     "CacheError",
     "EulersymWarning",
     "CacheRepaired",
@@ -99,6 +100,39 @@ class CheckFailed(EulersymError):
     ...
     eulersym.errors.CheckFailed: generated/euler.py is stale; run `eulersym generate`
     """
+
+
+class IntegrationFailed(EulersymError, RuntimeError):
+    """A method could not get the motion of an input that was valid: a state overflowed, no step could meet the
+    tolerance. (Bad input is :class:`InvalidInput`; this is the run's own failure, as ``solve_ivp`` reports it with
+    ``success = False``.)
+
+    Parameters
+    ----------
+    method : str
+        The method that failed (``"batched_dop853"``, ``"ivp"``...).
+    reason : str
+        What happened.
+    hint : str, optional
+        What might get the motion instead.
+
+    Examples
+    --------
+    >>> raise IntegrationFailed("ivp", "DOP853: required step size is less than spacing between numbers", "a looser accuracy")
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.IntegrationFailed: the method 'ivp' could not get the motion: DOP853: required step size is less than spacing between numbers (try a looser accuracy)
+    """
+
+    def __init__(self, method: str, reason: str, hint: str = ""):
+        self.method = method
+        self.reason = reason
+        self.hint = hint
+        text = f"the method {method!r} could not get the motion: {reason}" + (f" (try {hint})" if hint else "")
+        Exception.__init__(self, text)
+
+    def __reduce__(self):
+        return (type(self), (self.method, self.reason, self.hint))
 
 
 class CacheError(EulersymError, OSError):

@@ -49,6 +49,7 @@ from eulersym._numpy import np
 import sympy as sp
 
 from eulersym.errors import InvalidInput
+from eulersym.symbols import x, y, z
 from eulersym.validation import choice, finite_array, positive
 
 __all__ = [
@@ -73,8 +74,8 @@ __all__ = [
     "angular_momentum",
 ]
 
-#: The Cartesian coordinates a density may depend on (matched by name: any symbol called x, y or z).
-x, y, z = sp.symbols("x y z", real=True)
+#: The Cartesian coordinates a density may depend on (matched by name: any symbol called x, y or z); x, y, z
+#: themselves are :mod:`eulersym.symbols`'.
 _CARTESIAN_NAMES = ("x", "y", "z")
 
 # Integration variables, private to this module so they never collide with a user's symbols.

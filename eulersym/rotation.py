@@ -13,6 +13,9 @@ lower-case sequence ``"abc"`` of this module, SciPy's intrinsic sequence ``"ABC"
 Quaternions are unit, scalar first, ``q = (cos α/2, sin α/2 · n)``, and describe the same rotation as
 ``from_axis_angle(n, α)``: ``from_quaternion(q) = R(q)ᵀ`` with ``R(q)`` the active matrix (body → space).
 
+SymPy input gives SymPy results, derived here. Numeric input gives arrays computed by the one numeric attitude core,
+:class:`eulersym.attitude.Attitude` (SymPy-free; use it directly in numeric code), after this module's checks.
+
 Examples
 --------
 >>> import sympy as sp
@@ -34,6 +37,7 @@ from typing import Any
 from eulersym._numpy import np
 import sympy as sp
 
+from eulersym.attitude import SEQUENCES, Attitude, _sequence, hamilton
 from eulersym.errors import InvalidInput
 from eulersym.validation import finite_array
 
@@ -57,11 +61,8 @@ __all__ = [
 ]
 
 #: The 12 Euler (proper, a = c) and Tait–Bryan (all different) sequences: the body-fixed axes of the three
-#: successive passive rotations, first to last. "zxz" is the text's.
-CONVENTIONS = (
-    "zxz", "xyx", "yzy", "zyz", "xzx", "yxy",
-    "xyz", "yzx", "zxy", "xzy", "zyx", "yxz",
-)
+#: successive passive rotations, first to last. "zxz" is the text's. (:data:`eulersym.attitude.SEQUENCES`.)
+CONVENTIONS = SEQUENCES
 
 _AXES = {"x": (1, 0, 0), "y": (0, 1, 0), "z": (0, 0, 1)}
 
@@ -187,12 +188,10 @@ def from_axis_angle(axis, angle, *, degrees: bool = False):
     axis = _unit_axis(axis)
     if _is_numeric(*axis, angle):
         n = _numbers("axis", axis, shape=(3,), what="an axis")
-        norm = np.linalg.norm(n)
-        if norm == 0.0:
+        if not np.any(n):
             raise InvalidInput("axis", axis, "a non-zero 3-vector")
         angle = _radians(float(_numbers("angle", angle, shape=())), degrees)
-        K = skew(n / norm)
-        return np.eye(3) - np.sin(angle) * K + (1.0 - np.cos(angle)) * (K @ K)
+        return Attitude.from_axis_angle(n, angle).as_matrix(passive=True)
     for k, c in enumerate(axis):
         if isinstance(c, (str, bytes)):
             raise InvalidInput(f"axis[{k}]", c, "a number or a SymPy expression, not a string")
@@ -268,33 +267,8 @@ def B(psi):
 
 
 def _convention(convention: str) -> str:
-    if convention not in CONVENTIONS:
-        hint = ""
-        if isinstance(convention, str) and convention.lower() in CONVENTIONS:
-            hint = (
-                f" (upper case is not accepted: {convention.lower()!r} is the body-fixed sequence; the space-fixed "
-                f"sequence 'abc' with angles (φ, θ, ψ) equals the body-fixed 'cba' with (ψ, θ, φ))"
-            )
-        raise InvalidInput("convention", convention, "one of " + ", ".join(CONVENTIONS) + hint)
-    return convention
-
-
-def _numeric_elementary(axis: str, angle: np.ndarray) -> np.ndarray:
-    """Passive elementary rotations, broadcast over an array of angles: shape angle.shape + (3, 3).
-
-    The same matrices as :func:`from_axis_angle` about a coordinate axis (a test pins the two together), laid out
-    for broadcasting.
-    """
-    c, s = np.cos(angle), np.sin(angle)
-    i = "xyz".index(axis)
-    j, k = (i + 1) % 3, (i + 2) % 3
-    out = np.zeros(np.shape(angle) + (3, 3))
-    out[..., i, i] = 1.0
-    out[..., j, j] = c
-    out[..., k, k] = c
-    out[..., j, k] = s
-    out[..., k, j] = -s
-    return out
+    """``convention`` if it is one of :data:`CONVENTIONS`, else InvalidInput (with a hint for upper case)."""
+    return _sequence(convention)
 
 
 def euler_matrix(phi, theta, psi, convention: str = "zxz", *, degrees: bool = False):
@@ -330,10 +304,9 @@ def euler_matrix(phi, theta, psi, convention: str = "zxz", *, degrees: bool = Fa
     seq = _convention(convention)
     named = (("phi", phi), ("theta", theta), ("psi", psi))
     if _is_numeric(phi, theta, psi):
-        angles = [_radians(_numbers(name, v), degrees) for name, v in named]
-        angles = np.broadcast_arrays(*angles)
-        Pa, Pb, Pc = (_numeric_elementary(ax, ang) for ax, ang in zip(seq, angles))
-        return Pc @ Pb @ Pa
+        angles = np.stack(np.broadcast_arrays(*(_radians(_numbers(name, v), degrees) for name, v in named)), axis=-1)
+        A = Attitude.from_euler(angles.reshape(-1, 3), seq).as_matrix(passive=True)
+        return A.reshape(angles.shape[:-1] + (3, 3))
     phi, theta, psi = (_radians(_angle(name, v), degrees) for name, v in named)
     return _euler_matrix_symbolic(phi, theta, psi, seq)
 
@@ -343,8 +316,10 @@ def _euler_matrix_symbolic(phi, theta, psi, seq):
     return elementary(seq[2], psi) * elementary(seq[1], theta) * elementary(seq[0], phi)
 
 
-#: Below this distance of the middle angle from its singular values (0 or π for proper Euler sequences, ±π/2 for
-#: Tait–Bryan), :func:`to_euler` treats the attitude as gimbal-locked; SciPy's threshold, so the angles agree.
+#: SciPy's gimbal-lock band: within this distance of the middle angle from its singular values (0 or π for proper
+#: Euler sequences, ±π/2 for Tait–Bryan) SciPy snaps the third angle to 0, which moves the attitude by up to twice
+#: the distance. :func:`to_euler` no longer snaps (it keeps SciPy's choice only exactly at the lock); the constant
+#: stays for code that names the band.
 GIMBAL_LOCK_TOLERANCE = 1e-7
 
 
@@ -352,16 +327,19 @@ def to_euler(A, convention: str = "zxz", *, degrees: bool = False):
     """The Euler (or Tait–Bryan) angles of an attitude matrix: the inverse of :func:`euler_matrix`.
 
     For the passive, body-fixed sequence ``"abc"`` (``r_body = A @ r_space``, ``A = P_c(ψ) P_b(θ) P_a(φ)``) this
-    returns (φ, θ, ψ) with ``euler_matrix(φ, θ, ψ, convention) == A``. The angles are SciPy's:
-    ``Rotation.from_matrix(A.T).as_euler(convention.upper())``, computed from the attitude quaternion by the
-    method of Bernardes and Viollet (PLoS ONE 17, e0276302, 2022), one formula for all 12 sequences.
+    returns (φ, θ, ψ) with ``euler_matrix(φ, θ, ψ, convention) == A`` to round-off: SciPy's angles
+    (``Rotation.from_matrix(A.T).as_euler(convention.upper())``), computed from the attitude quaternion by the
+    method of Bernardes and Viollet (PLoS ONE 17, e0276302, 2022), one formula for all 12 sequences
+    (:meth:`eulersym.attitude.Attitude.as_euler`).
 
     Ranges: φ and ψ in [−π, π]; θ in [0, π] for proper Euler sequences (a = c, such as the text's "zxz") and in
     [−π/2, π/2] for Tait–Bryan sequences (a, b, c all different).
 
-    Gimbal lock (θ within :data:`GIMBAL_LOCK_TOLERANCE` of 0 or π for proper Euler sequences, of ±π/2 for
-    Tait–Bryan): only a combination of φ and ψ is determined. The documented choice, SciPy's, is ψ = 0 with φ
-    carrying the whole turn; no warning, never NaN, and ``euler_matrix`` of the result is ``A`` again.
+    Gimbal lock: at it (θ = 0 or π for proper Euler sequences, ±π/2 for Tait–Bryan, to within 2ε: the doubles
+    nearest those angles) only a combination of φ and ψ is determined; the documented choice, SciPy's, is ψ = 0 with
+    φ carrying the whole turn; no warning, never NaN. Near it SciPy snaps to the same choice within
+    :data:`GIMBAL_LOCK_TOLERANCE` and moves the attitude by up to twice the distance; here the angles reproduce
+    ``A`` to round-off at every distance from the lock.
 
     Parameters
     ----------
@@ -385,6 +363,9 @@ def to_euler(A, convention: str = "zxz", *, degrees: bool = False):
     [10.0, 20.0, 30.0]
     >>> to_euler(np.eye(3))  # gimbal lock: θ = 0, and ψ = 0 by choice
     (0.0, 0.0, 0.0)
+    >>> A = euler_matrix(0.3, 5e-8, 1.2)  # 5e-8 rad from the lock: the angles still give A back
+    >>> bool(np.max(np.abs(euler_matrix(*to_euler(A)) - A)) < 1e-15)
+    True
     """
     seq = _convention(convention)
     if not isinstance(degrees, bool):
@@ -400,72 +381,10 @@ def to_euler(A, convention: str = "zxz", *, degrees: bool = False):
     stack = arr.reshape(-1, 3, 3)
     for k, matrix in enumerate(stack):
         _require_rotation("A" if arr.ndim == 2 else f"A[{k}]", matrix)
-    angles = _euler_from_quaternions(_quaternions(stack), seq)
-    if degrees:
-        angles = np.rad2deg(angles)
+    angles = Attitude.from_matrix(stack, passive=True).as_euler(seq, degrees=degrees)
     if arr.ndim == 2:
         return tuple(float(a) for a in angles[0])
     return angles.reshape(arr.shape[:-2] + (3,))
-
-
-def _quaternions(A: np.ndarray) -> np.ndarray:
-    """Unit quaternions (scalar first) of a stack of passive attitude matrices, ``from_quaternion(q) == A``:
-    :func:`to_quaternion`'s Shepperd method, vectorised."""
-    R = np.swapaxes(A, -1, -2)  # active
-    tr = np.trace(R, axis1=-2, axis2=-1)
-    diag = np.diagonal(R, axis1=-2, axis2=-1)
-    choice = np.argmax(np.concatenate([tr[:, None], diag], axis=1), axis=1)
-    q = np.empty((len(A), 4))
-    for k in range(4):
-        rows = choice == k
-        if not rows.any():
-            continue
-        r = R[rows]
-        if k == 0:
-            w = 0.5 * np.sqrt(1.0 + tr[rows])
-            q[rows] = np.stack([w, (r[:, 2, 1] - r[:, 1, 2]) / (4 * w), (r[:, 0, 2] - r[:, 2, 0]) / (4 * w),
-                                (r[:, 1, 0] - r[:, 0, 1]) / (4 * w)], axis=1)
-        else:
-            i = k - 1
-            j, m = (i + 1) % 3, (i + 2) % 3
-            v = 0.5 * np.sqrt(np.maximum(1.0 + 2.0 * r[:, i, i] - tr[rows], 0.0))
-            out = np.empty((len(r), 4))
-            out[:, 1 + i] = v
-            out[:, 0] = (r[:, m, j] - r[:, j, m]) / (4 * v)
-            out[:, 1 + j] = (r[:, j, i] + r[:, i, j]) / (4 * v)
-            out[:, 1 + m] = (r[:, m, i] + r[:, i, m]) / (4 * v)
-            q[rows] = out
-    return q / np.linalg.norm(q, axis=1, keepdims=True)
-
-
-def _euler_from_quaternions(q: np.ndarray, seq: str) -> np.ndarray:
-    """(φ, θ, ψ) rows for the body-fixed (intrinsic) sequence ``seq`` of the active rotations of ``q``.
-
-    An intrinsic sequence "abc" is the extrinsic "cba" with the angles reversed; the extrinsic angles of axes
-    (i, j, k) follow from the quaternion permuted to (a, b, c, d) (Bernardes & Viollet, as SciPy does)."""
-    i, j, k = ("xyz".index(ax) for ax in reversed(seq))
-    symmetric = i == k
-    if symmetric:
-        k = 3 - i - j
-    sign = (i - j) * (j - k) * (k - i) // 2  # the parity of (i, j, k)
-    w, v = q[:, 0], q[:, 1:]
-    if symmetric:
-        a, b, c, d = w, v[:, i], v[:, j], v[:, k] * sign
-    else:
-        a, b, c, d = w - v[:, j], v[:, i] + v[:, k] * sign, v[:, j] + w, v[:, k] * sign - v[:, i]
-    middle = 2.0 * np.arctan2(np.hypot(c, d), np.hypot(a, b))  # in [0, π]
-    half_sum, half_diff = np.arctan2(b, a), np.arctan2(d, c)
-    at_zero = np.abs(middle) <= GIMBAL_LOCK_TOLERANCE
-    at_pi = np.abs(middle - np.pi) <= GIMBAL_LOCK_TOLERANCE
-    regular = ~(at_zero | at_pi)
-    # extrinsic (first, middle, third) = intrinsic (ψ, θ, φ); at gimbal lock the intrinsic third angle ψ is 0
-    phi = np.where(regular, half_sum + half_diff, np.where(at_zero, 2.0 * half_sum, 2.0 * half_diff))
-    psi = np.where(regular, half_sum - half_diff, 0.0)
-    if not symmetric:
-        phi = phi * sign
-        middle = middle - np.pi / 2
-    phi, psi = (np.mod(x + np.pi, 2.0 * np.pi) - np.pi for x in (phi, psi))
-    return np.stack([phi, middle, psi], axis=1)
 
 
 def _square3(argument: str, A):
@@ -526,7 +445,8 @@ def axis_angle(A, *, degrees: bool = False):
 
     The angle is in [0, π]. The axis is the eigenvector of eigenvalue 1 (every proper rotation has one). Robust
     near 0 (the axis from the antisymmetric part) and near π (the axis from the symmetric part, its sign from the
-    antisymmetric part). At angle 0 the axis is arbitrary and (0, 0, 1) is returned.
+    antisymmetric part; numerically from the quaternion, ``α = 2 atan2(|v|, |q0|)``). At angle 0 the axis is
+    arbitrary and (0, 0, 1) is returned.
 
     Parameters
     ----------
@@ -572,23 +492,8 @@ def _axis_angle(A):
             raise InvalidInput("A", A, "a rotation whose axis orientation can be decided (numeric entries, or symbols "
                                f"whose signs are known): the sign of sin(angle) = {dot} is not")
         return sp.simplify(v), angle
-    R = A.T  # the active rotation
-    s = 0.5 * np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])  # sin α · n
-    c = 0.5 * (np.trace(R) - 1.0)  # cos α
-    sin_a = np.linalg.norm(s)
-    angle = float(np.arctan2(sin_a, c))
-    if angle < 0.5 * np.pi:
-        if sin_a == 0.0:
-            return np.array([0.0, 0.0, 1.0]), 0.0
-        return s / sin_a, angle
-    # near π: (R + Rᵀ)/2 − cos α · 1 = (1 − cos α) n nᵀ
-    S = 0.5 * (R + R.T) - c * np.eye(3)
-    k = int(np.argmax(np.diag(S)))
-    n = S[:, k] / np.sqrt(S[k, k])
-    n /= np.linalg.norm(n)
-    if n @ s < 0:
-        n = -n
-    return n, angle
+    axis, angle = Attitude.from_matrix(A, passive=True).as_axis_angle()
+    return axis, float(angle)
 
 
 def quaternion_multiply(p, q):
@@ -606,8 +511,6 @@ def quaternion_multiply(p, q):
     if _is_numeric(p0, p1, p2, p3, q0, q1, q2, q3):
         _numbers("p", [p0, p1, p2, p3], what="a quaternion")
         _numbers("q", [q0, q1, q2, q3], what="a quaternion")
-    from eulersym.quaternion import hamilton  # NumPy's import, only when quaternions are multiplied
-
     out = list(hamilton((p0, p1, p2, p3), (q0, q1, q2, q3)))
     if _is_numeric(*p, *q):
         return np.array(out, dtype=float)
@@ -617,9 +520,10 @@ def quaternion_multiply(p, q):
 def from_quaternion(q):
     """Passive attitude matrix of a unit quaternion (scalar first): ``A = R(q)ᵀ``, ``r_body = A @ r_space``.
 
-    ``R(q)`` is the active rotation (body → space) defined by conjugation, ``R(q) v = q ⊗ (0, v) ⊗ q*``: its columns
-    are the images of the unit vectors, built with :func:`quaternion_multiply`. Numeric input is normalised first (a
-    zero quaternion is refused); SymPy input is used as given (assumed unit).
+    ``R(q)`` is the active rotation (body → space) defined by conjugation, ``R(q) v = q ⊗ (0, v) ⊗ q*``: for SymPy
+    input its columns are the images of the unit vectors, built with :func:`quaternion_multiply` (q used as given,
+    assumed unit); numeric input is normalised (a zero quaternion is refused) and converted by
+    :class:`eulersym.attitude.Attitude`.
 
     Examples
     --------
@@ -630,14 +534,12 @@ def from_quaternion(q):
     q = _three("q", q, 4)
     if _is_numeric(*q):
         qa = _numbers("q", q, shape=(4,), what="a quaternion")
-        norm = np.linalg.norm(qa)
-        if norm == 0.0:
+        if not np.any(qa):
             raise InvalidInput("q", q, "a non-zero quaternion (scalar first)")
-        q = list(qa / norm)
+        return Attitude.from_quaternion(qa).as_matrix(passive=True)
     conjugate = [q[0], -q[1], -q[2], -q[3]]
-    columns = [quaternion_multiply(quaternion_multiply(q, [0, *e]), conjugate)[1:] for e in np.eye(3, dtype=int)]
-    if _is_numeric(*q):
-        return np.column_stack(columns).T
+    columns = [quaternion_multiply(quaternion_multiply(q, [0, *e]), conjugate)[1:]
+               for e in ((1, 0, 0), (0, 1, 0), (0, 0, 1))]
     return sp.Matrix.hstack(*(sp.Matrix(c).applyfunc(sp.expand) for c in columns)).T
 
 
@@ -656,25 +558,7 @@ def to_quaternion(A) -> np.ndarray:
     A = _require_rotation("A", A)
     if isinstance(A, sp.MatrixBase):
         A = np.array(A.evalf(), dtype=float)
-    R = A.T
-    tr = np.trace(R)
-    cand = np.array([tr, R[0, 0], R[1, 1], R[2, 2]])
-    k = int(np.argmax(cand))
-    if k == 0:
-        w = 0.5 * np.sqrt(1.0 + tr)
-        q = np.array([w, (R[2, 1] - R[1, 2]) / (4 * w), (R[0, 2] - R[2, 0]) / (4 * w), (R[1, 0] - R[0, 1]) / (4 * w)])
-    else:
-        i = k - 1
-        j, m = (i + 1) % 3, (i + 2) % 3
-        vi = 0.5 * np.sqrt(1.0 + 2.0 * R[i, i] - tr)
-        q = np.empty(4)
-        q[1 + i] = vi
-        q[0] = (R[m, j] - R[j, m]) / (4 * vi)
-        q[1 + j] = (R[j, i] + R[i, j]) / (4 * vi)
-        q[1 + m] = (R[m, i] + R[i, m]) / (4 * vi)
-    if q[0] < 0:
-        q = -q
-    return q / np.linalg.norm(q)
+    return Attitude.from_matrix(A, passive=True).as_quaternion(canonical=True)
 
 
 def degrees_of_freedom(n_points: int = 3, *, seed: int = 0) -> int:

@@ -21,7 +21,6 @@ exact (trig-polynomial reduction) + numeric (5 points at 30 digits)
 from __future__ import annotations
 
 import argparse
-import importlib
 import sys
 import time
 from dataclasses import dataclass
@@ -76,6 +75,26 @@ class ClosedForm:
         return self._derive()
 
 
+def _derivation_module(name: str):
+    """The module an entry is derived in, imported on first use (so checking one section imports only its own
+    modules); each import written out, so that readers and tools see the package's real dependencies."""
+    if name == "eulersym.rotation":
+        from eulersym import rotation as module
+    elif name == "eulersym.kinematics":
+        from eulersym import kinematics as module
+    elif name == "eulersym.inertia":
+        from eulersym import inertia as module
+    elif name == "eulersym.dynamics":
+        from eulersym import dynamics as module
+    elif name == "eulersym.top":
+        from eulersym import top as module
+    elif name == "eulersym.model.chapter":
+        from eulersym.model import chapter as module
+    else:
+        raise DerivationMissing(f"no module {name}")
+    return module
+
+
 def _call(target: str, *args, **kwargs) -> Callable[[], Any]:
     """A lazy call of ``module:function(*args, **kwargs)``; ``[i]`` after the name picks an item of the result."""
     module_name, _, name = target.partition(":")
@@ -85,12 +104,7 @@ def _call(target: str, *args, **kwargs) -> Callable[[], Any]:
         index = int(rest.rstrip("]"))
 
     def run():
-        try:
-            module = importlib.import_module(module_name)
-        except ModuleNotFoundError as exc:
-            if exc.name != module_name:
-                raise
-            raise DerivationMissing(f"no module {module_name}") from None
+        module = _derivation_module(module_name)
         if not hasattr(module, name):
             raise DerivationMissing(f"{module_name} has no {name}")
         result = getattr(module, name)(*args, **kwargs)
@@ -174,7 +188,7 @@ def _omega_cross_L():
 
 
 def _inertia():
-    return importlib.import_module("eulersym.inertia")
+    return _derivation_module("eulersym.inertia")
 
 
 def _corner_cube():
@@ -195,7 +209,11 @@ def _entries() -> list[ClosedForm]:
     E = ClosedForm
     G = sp.Matrix([G1(t), G2(t), G3(t)])
     r = sp.Matrix([x, y, z])
-    root = sp.sqrt(I3**2 * omega3**2 - 4 * I1 * M * g * l * _c(theta))
+    radicand = I3**2 * omega3**2 - 4 * I1 * M * g * l * _c(theta)  # Example 4.3: the rates are real iff ≥ 0
+    root = sp.sqrt(radicand)
+    growth_rate = omega0 * sp.sqrt((I3 - I2) * (I2 - I1) / (I1 * I3))
+    rates = ((I3 * omega3 - root) / (2 * I1 * _c(theta)), (I3 * omega3 + root) / (2 * I1 * _c(theta)))
+    sleeping_bound = 4 * M * g * l * I1 / I3**2
     return [
         # §4.1 -------------------------------------------------------------------------------------------------
         E("4.1.dof", "4.1",
@@ -305,7 +323,12 @@ def _entries() -> list[ClosedForm]:
           I3 * (_phid * _c(theta) + _psid), "top.conserved_momenta()[1] = ∂L/∂ψ̇",
           _call("eulersym.top:conserved_momenta[1]")),
         E("4.5.sleeping_top", "4.5", "The sleeping top is stable if ω3² ≥ 4 M g l I1 / I3².",
-          4 * M * g * l * I1 / I3**2, "top.sleeping_top_threshold()", _call("eulersym.top:sleeping_top_threshold")),
+          sleeping_bound, "top.sleeping_top_threshold()", _call("eulersym.top:sleeping_top_threshold")),
+        E("4.5.sleeping_top_model", "4.5",
+          "The same bound from the general machinery: the lagrange-top model's spin about the vertical, axis up, "
+          "changes from unstable to stable at s² = 4 M g l I1 / I3².",
+          sleeping_bound, "model.chapter.sleeping_top_threshold() (steady motions + proven conditions of the "
+          "lagrange-top model)", _call("eulersym.model.chapter:sleeping_top_threshold")),
         # Example 4.1 ------------------------------------------------------------------------------------------
         E("ex4.1.Ixx", "Example 4.1", "Cube about a corner: I_xx = (2/3) M a².", sp.Rational(2, 3) * M * a**2,
           "inertia.cube(M, a, origin='corner')[0, 0]",
@@ -344,9 +367,14 @@ def _entries() -> list[ClosedForm]:
           (I2 - I3) * (I1 - I2) / (I1 * I3) * omega0**2, "dynamics.perturbation_coefficient(axis=2)",
           _call("eulersym.dynamics:perturbation_coefficient", 2)),
         E("ex4.2.growth_rate", "Example 4.2", "Growth rate Ω = ω0 √[(I3 − I2)(I2 − I1)/(I1 I3)].",
-          omega0 * sp.sqrt((I3 - I2) * (I2 - I1) / (I1 * I3)),
+          growth_rate,
           "dynamics.intermediate_axis_growth_rate(I1, I2, I3, ω0)",
           _call("eulersym.dynamics:intermediate_axis_growth_rate", I1, I2, I3, omega0)),
+        E("ex4.2.growth_rate_model", "Example 4.2",
+          "The same growth rate from the general machinery: the torque-free model's unstable permanent rotation, "
+          "the positive root of its reduced characteristic polynomial.",
+          growth_rate, "model.chapter.intermediate_axis_growth_rate() (steady motions + stability of the "
+          "torque-free model)", _call("eulersym.model.chapter:intermediate_axis_growth_rate")),
         # Example 4.3 ------------------------------------------------------------------------------------------
         E("ex4.3.nutation_equation", "Example 4.3",
           "I1 θ̈ = I1 φ̇² sin θ cos θ − I3 ω3 φ̇ sin θ + M g l sin θ.",
@@ -358,8 +386,16 @@ def _entries() -> list[ClosedForm]:
           _Eq(I1 * _c(theta) * _phid**2 - I3 * omega3 * _phid + M * g * l, 0),
           "top.steady_precession_condition()", _call("eulersym.top:steady_precession_condition"), up_to_factor=True),
         E("ex4.3.roots", "Example 4.3", "φ̇ = [I3 ω3 ± √(I3² ω3² − 4 I1 M g l cos θ)] / (2 I1 cos θ) (slow: −, fast: +).",
-          ((I3 * omega3 - root) / (2 * I1 * _c(theta)), (I3 * omega3 + root) / (2 * I1 * _c(theta))),
-          "top.steady_precession_rates()", _call("eulersym.top:steady_precession_rates")),
+          rates, "top.steady_precession_rates()", _call("eulersym.top:steady_precession_rates")),
+        E("ex4.3.roots_model", "Example 4.3",
+          "The same two rates from the general machinery: the lagrange-top model's relative equilibria about its "
+          "symmetry axis (Routh), their precession rates φ̇ = (ω + ν e)·Γ.",
+          rates, "model.chapter.steady_precession_rates() (steady motions of the lagrange-top model)",
+          _call("eulersym.model.chapter:steady_precession_rates")),
+        E("ex4.3.existence_model", "Example 4.3",
+          "The rates exist (are real) iff I3² ω3² − 4 I1 M g l cos θ ≥ 0: the model's existence condition D ≥ 0.",
+          radicand, "model.chapter.steady_precession_existence() (the lagrange-top model's families' existence "
+          "condition)", _call("eulersym.model.chapter:steady_precession_existence")),
         E("ex4.3.limits", "Example 4.3", "Large spin: φ̇_slow ≈ M g l/(I3 ω3), φ̇_fast ≈ I3 ω3/(I1 cos θ).",
           (M * g * l / (I3 * omega3), I3 * omega3 / (I1 * _c(theta))), "top.precession_limits()",
           _call("eulersym.top:precession_limits")),

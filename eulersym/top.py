@@ -34,7 +34,7 @@ import sympy as sp
 from eulersym.errors import CheckFailed, InvalidInput, SingularConfiguration
 from eulersym.inertia import kinetic_energy as _kinetic_energy
 from eulersym.kinematics import _reduce_sin_squares, omega_body
-from eulersym.symbols import I1, I3, M, g, l, omega3, phi, psi, t, theta
+from eulersym.symbols import E, I1, I3, M, g, l, omega3, p_phi, p_psi, phi, psi, t, theta, u
 from eulersym.validation import is_symbolic, moments, positive
 
 __all__ = [
@@ -60,13 +60,13 @@ __all__ = [
     "steady_precession_double_root",
 ]
 
-#: Conserved momenta conjugate to φ and ψ.
-P_PHI = sp.Symbol("p_phi", real=True)
-P_PSI = sp.Symbol("p_psi", real=True)
-#: The (conserved) total energy E = T + V.
-ENERGY = sp.Symbol("E", real=True)
+#: Conserved momenta conjugate to φ and ψ (:mod:`eulersym.symbols`).
+P_PHI = p_phi
+P_PSI = p_psi
+#: The (conserved) total energy E = T + V (:data:`eulersym.symbols.E`, the torque-free body's too).
+ENERGY = E
 #: u = cos θ.
-U = sp.Symbol("u", real=True)
+U = u
 
 _Q = (phi, theta, psi)
 _QDOT = tuple(q.diff(t) for q in _Q)

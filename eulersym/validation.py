@@ -26,15 +26,15 @@ from eulersym._numpy import np
 
 from eulersym.errors import InvalidInput
 
-__all__ = ["positive", "moments", "finite_array", "choice", "is_symbolic", "GENERATED_CODE_NAMES", "docstring_text",
-           "comment_text"]
+__all__ = ["positive", "moments", "inertia_tensor", "finite_array", "choice", "is_symbolic", "GENERATED_CODE_NAMES",
+           "docstring_text", "comment_text", "TRIANGLE_SLACK"]
 
 #: Names that generated code uses at module level or calls (Python's keywords and built-ins, ``math``'s names, the
 #: modules and the functions and tables a generated module defines): a parameter or argument that took one would
 #: shadow what the code calls (``float``, ``isinstance``, ``fabs``, ``rhs_flat``), so they are refused by name.
 GENERATED_CODE_NAMES = frozenset(
     set(keyword.kwlist) | set(dir(builtins)) | set(dir(math))
-    | {"np", "numpy", "math", "out", "extra", "shape", "row", "InvalidInput", "body", "STATE", "PARAMETERS",
+    | {"np", "numpy", "jax", "jnp", "math", "out", "extra", "shape", "row", "InvalidInput", "body", "STATE", "PARAMETERS",
        "DEFAULTS", "INVARIANTS", "FLAGS", "QUANTITIES"}
     | {f + s for f in ("rhs", "jac", "invariants", "quantities") for s in ("", "_flat", "_batched", "_loop")}
 )
@@ -126,22 +126,28 @@ def _nonfinite(value) -> bool:  # SymPy: oo, zoo, nan
     return any(str(a) in ("oo", "-oo", "zoo", "nan") for a in getattr(value, "atoms", lambda: ())())
 
 
-def moments(argument: str, values: Iterable, *, body: bool = True) -> tuple:
-    """Validate three principal moments of inertia.
+def moments(argument: str, values: Any, *, body: bool = True, shown: Any = None):
+    """Validate principal moments of inertia: three of them, or one row of three per member.
+
+    The one check of a body's moments in eulersym (a model's, a scene's keywords and every member of a sweep, the
+    numerics' inputs): positive, and — for a body — the triangle inequalities.
 
     Parameters
     ----------
     argument : str
         Name used in the error message.
-    values : iterable of 3 numbers or SymPy expressions
+    values : iterable of 3 numbers or SymPy expressions, or an array of shape (..., 3)
+        One body's moments, or a row of them per member (floats: checked all at once with NumPy).
     body : bool, optional
         Also require the triangle inequalities that every physical body satisfies:
         I1 + I2 ≥ I3, I2 + I3 ≥ I1, I3 + I1 ≥ I2 (floats with a relative slack of ``TRIANGLE_SLACK``).
+    shown : optional
+        The value the message shows (default ``values``), e.g. what the user wrote before a sweep was expanded.
 
     Returns
     -------
-    tuple
-        The three moments, unchanged.
+    tuple or ndarray
+        The moments, unchanged (an array of rows is returned as given).
 
     Examples
     --------
@@ -151,31 +157,111 @@ def moments(argument: str, values: Iterable, *, body: bool = True) -> tuple:
     Traceback (most recent call last):
     ...
     eulersym.errors.InvalidInput: I=[1, -2, 3] is not valid: expected three positive principal moments (I2=-2 is not)
+    >>> import numpy as np
+    >>> moments("moments", np.array([[1.0, 2.0, 3.0], [1.0, 2.0, 3.5]]))
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: moments=[[1.0, 2.0, 3.0], [1.0, 2.0, 3.5]] is not valid: expected principal moments of a body: positive and I1 + I2 >= I3, I2 + I3 >= I1, I3 + I1 >= I2 (here I1 + I2 = 3 < I3 = 3.5, member 1)
     """
+    shown = values if shown is None else shown
+    if hasattr(shown, "tolist") and hasattr(shown, "dtype"):  # an array (duck-typed: NumPy is not imported here)
+        shown = shown.tolist()
+    if hasattr(values, "dtype") and getattr(values, "ndim", 0) >= 1 and values.dtype.kind in "fiu":
+        return _moment_rows(argument, values, body, shown)
     try:
         items = tuple(values)
     except TypeError:
-        raise InvalidInput(argument, values, "three principal moments (I1, I2, I3)") from None
+        raise InvalidInput(argument, shown, "three principal moments (I1, I2, I3)") from None
     if len(items) != 3:
-        raise InvalidInput(argument, values, f"three principal moments (I1, I2, I3), got {len(items)} values")
+        raise InvalidInput(argument, shown, f"three principal moments (I1, I2, I3), got {len(items)} values")
     for k, value in enumerate(items, start=1):
         try:
             positive(f"{argument}[{k - 1}]", value)
         except InvalidInput:
-            raise InvalidInput(argument, values, f"three positive principal moments (I{k}={value!r} is not)") from None
+            raise InvalidInput(argument, shown, f"three positive principal moments (I{k}={value!r} is not)") from None
     if not body or any(is_symbolic(v) and v.free_symbols for v in items):
         return items
-    floats = [float(v) for v in items]
-    scale = max(floats)
+    floats = [float(v) for v in items]  # one body: plain floats (the symbolic layers import no NumPy)
+    scale = max(floats) * TRIANGLE_SLACK
     for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
-        if floats[i] + floats[j] < floats[k] - TRIANGLE_SLACK * scale:
-            raise InvalidInput(
-                argument,
-                values,
-                "principal moments of a body: positive and I1 + I2 >= I3, I2 + I3 >= I1, I3 + I1 >= I2 "
-                f"(here I{i + 1} + I{j + 1} = {items[i] + items[j]:g} < I{k + 1} = {items[k]:g})",
-            )
+        if floats[i] + floats[j] < floats[k] - scale:
+            raise InvalidInput(argument, shown, _TRIANGLE + f" (here I{i + 1} + I{j + 1} = {items[i] + items[j]:g} < "
+                                                            f"I{k + 1} = {items[k]:g})")
     return items
+
+
+_TRIANGLE = "principal moments of a body: positive and I1 + I2 >= I3, I2 + I3 >= I1, I3 + I1 >= I2"
+
+
+def _moment_rows(argument: str, rows, body: bool, shown: Any, items: tuple | None = None):
+    """:func:`moments` on an array of rows (..., 3); ``items``: the one row as the caller wrote it (for the message)."""
+    m = np.asarray(rows, dtype=float)
+    if m.shape[-1:] != (3,):
+        raise InvalidInput(argument, shown, f"three principal moments (I1, I2, I3) per member, got shape {m.shape}")
+    flat = m.reshape(-1, 3)
+    bad = ~np.isfinite(flat) | (flat <= 0)
+    if bad.any():
+        member, k = (int(i) for i in np.argwhere(bad)[0])
+        where = f", member {member}" if len(flat) > 1 else ""
+        raise InvalidInput(argument, shown, f"three positive principal moments (I{k + 1}={flat[member, k]!r} is not"
+                                            f"{where})")
+    if not body:
+        return rows
+    scale = np.max(flat, axis=1) * TRIANGLE_SLACK
+    for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+        broken = flat[:, i] + flat[:, j] < flat[:, k] - scale
+        if broken.any():
+            member = int(np.argmax(broken))
+            row = items if items is not None and len(flat) == 1 else flat[member].tolist()
+            where = f", member {member}" if len(flat) > 1 else ""
+            raise InvalidInput(argument, shown, _TRIANGLE + f" (here I{i + 1} + I{j + 1} = {row[i] + row[j]:g} < "
+                                                            f"I{k + 1} = {row[k]:g}{where})")
+    return rows
+
+
+def inertia_tensor(argument: str, tensors: Any, *, shown: Any = None) -> np.ndarray:
+    """Validate inertia tensors of bodies: a (3, 3) array, or one per member (..., 3, 3) — symmetric, positive
+    definite, and their principal moments (the eigenvalues) those of a body (:func:`moments`).
+
+    Examples
+    --------
+    >>> inertia_tensor("tensor", [[2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 1.0]]).shape
+    (3, 3)
+    >>> inertia_tensor("tensor", [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 3.0]])
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: tensor=[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 3.0]] is not valid: expected the tensor of a body: its principal moments [1.0, 1.0, 3.0] must satisfy I1 + I2 >= I3 (the triangle inequality)
+    """
+    shown = tensors if shown is None else shown
+    if hasattr(shown, "tolist") and hasattr(shown, "dtype"):
+        shown = shown.tolist()
+    T = np.asarray(tensors, dtype=float)
+    if T.shape[-2:] != (3, 3):
+        raise InvalidInput(argument, shown, "a 3×3 symmetric inertia tensor")
+    flat = T.reshape(-1, 3, 3)
+    if not np.all(np.isfinite(flat)):
+        raise InvalidInput(argument, shown, "a tensor of finite numbers")
+    scale = np.max(np.abs(flat), axis=(1, 2))
+    asym = np.max(np.abs(flat - flat.transpose(0, 2, 1)), axis=(1, 2)) > 1e-12 * scale
+    if asym.any():
+        member = int(np.argmax(asym))
+        i, j = (int(x) for x in np.unravel_index(np.argmax(np.abs(flat[member] - flat[member].T)), (3, 3)))
+        raise InvalidInput(argument, shown, f"a symmetric tensor: {argument}[{i}][{j}] = {flat[member, i, j]:g} but "
+                                            f"{argument}[{j}][{i}] = {flat[member, j, i]:g}")
+    eig = np.linalg.eigvalsh((flat + flat.transpose(0, 2, 1)) / 2)
+    where = lambda member: f" (member {member})" if len(flat) > 1 else ""  # noqa: E731
+    low = eig[:, 0] <= 1e-14 * np.where(scale > 0, scale, 1.0)
+    if low.any():
+        member = int(np.argmax(low))
+        raise InvalidInput(argument, shown, f"a positive-definite tensor (its principal moments are "
+                                            f"{[float(f'{e:.6g}') for e in eig[member]]}{where(member)})")
+    broken = eig[:, 0] + eig[:, 1] < eig[:, 2] * (1 - TRIANGLE_SLACK)
+    if broken.any():
+        member = int(np.argmax(broken))
+        raise InvalidInput(argument, shown, f"the tensor of a body: its principal moments "
+                                            f"{[float(f'{e:.6g}') for e in eig[member]]} must satisfy I1 + I2 >= I3 "
+                                            f"(the triangle inequality){where(member)}")
+    return T
 
 
 def finite_array(argument: str, value: Any, shape: Sequence[int | None] | None = None) -> np.ndarray:

@@ -37,17 +37,13 @@ Examples
 from __future__ import annotations
 
 import argparse
-import contextlib
 import difflib
 import functools
-import importlib
 import math
 import json
 import random
 import re
-import signal
 import sys
-import threading
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -57,6 +53,7 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 
 from eulersym import symbols as S
+from eulersym._budget import BudgetExceeded, time_budget
 from eulersym.compare import SIMPLIFY_BUDGET, compare, components, freeze_functions, zero_exact
 from eulersym.errors import EulersymError, InvalidInput
 from eulersym.parsing import parse, parse_latex
@@ -85,8 +82,26 @@ class Quantity(NamedTuple):
     derive: Callable[[], Any]
 
 
+def _module(name: str):
+    """The derivation module ``eulersym.<name>``, imported on first use (one quantity imports only its own module);
+    each import written out, so that readers and tools see the package's real dependencies."""
+    if name == "rotation":
+        from eulersym import rotation as module
+    elif name == "kinematics":
+        from eulersym import kinematics as module
+    elif name == "inertia":
+        from eulersym import inertia as module
+    elif name == "dynamics":
+        from eulersym import dynamics as module
+    elif name == "top":
+        from eulersym import top as module
+    else:
+        raise ImportError(f"no derivation module eulersym.{name}")
+    return module
+
+
 def _call(module: str, attr: str, *args, **kwargs):
-    return getattr(importlib.import_module(f"eulersym.{module}"), attr)(*args, **kwargs)
+    return getattr(_module(module), attr)(*args, **kwargs)
 
 
 def _item(index):
@@ -163,7 +178,7 @@ def _derived_callable(module, attr, args, kwargs, post):
 
 def _available(module: str, attr: str) -> bool:
     try:
-        mod = importlib.import_module(f"eulersym.{module}")
+        mod = _module(module)
     except ImportError:
         return False
     return callable(getattr(mod, attr, None))
@@ -199,7 +214,9 @@ def _derived_quantity(name: str) -> Quantity | None:
 
 def _closed_forms() -> dict:
     try:
-        return getattr(importlib.import_module("eulersym.text"), "CLOSED_FORMS", {})
+        from eulersym import text
+
+        return text.CLOSED_FORMS
     except ImportError:
         return {}
 
@@ -503,31 +520,9 @@ def _short(obj, limit: int = 400) -> str:
 # Time budget
 
 
-class _BudgetExceeded(BaseException):
-    """Raised by the interval timer; a BaseException so that SymPy's ``except Exception`` cannot swallow it."""
-
-
-@contextlib.contextmanager
-def _time_budget(seconds: float | None):
-    """Raise :class:`_BudgetExceeded` inside the block after ``seconds`` (POSIX, main thread, no other timer
-    running); elsewhere the block runs unbounded and the context value is False."""
-    usable = (seconds is not None and seconds > 0 and hasattr(signal, "setitimer")
-              and threading.current_thread() is threading.main_thread()
-              and signal.getitimer(signal.ITIMER_REAL)[0] == 0)  # never disturb a timer someone else set
-    if not usable:
-        yield False
-        return
-
-    def _expired(signum, frame):
-        raise _BudgetExceeded()
-
-    previous = signal.signal(signal.SIGALRM, _expired)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
-        yield True
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
+# the budget lives in eulersym._budget (shared with the steady-motion solver); the old names stay for callers
+_BudgetExceeded = BudgetExceeded
+_time_budget = time_budget
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -885,7 +880,7 @@ def _convention_families() -> tuple:
 
 def _conventions() -> tuple:
     try:
-        return tuple(importlib.import_module("eulersym.rotation").CONVENTIONS)
+        return tuple(_module("rotation").CONVENTIONS)
     except (ImportError, AttributeError):
         return ()
 

@@ -2,7 +2,7 @@
 # Source derivation: eulersym.rotation.euler_matrix(phi, theta, psi) and eulersym.kinematics.omega_body()
 # eulersym version: 0.1.0
 # SymPy version: 1.14.0
-# Input hash: sha256:36699300f53b136113b7503d498f2ff80b86c548a9c54d9a9ade3ae3f7fa589c
+# Input hash: sha256:49511ea885b14e8a76a3b9ad3a62548f56985ade2dab2130bdedbd0ec3ba267d
 # Arguments: attitude_matrix(phi, theta, psi)
 # Arguments: omega_body(phi, theta, psi, phidot, thetadot, psidot)
 """Kinematics of the zxz Euler angles (passive, the text's convention): the attitude matrix A = B(ψ)
@@ -31,9 +31,125 @@ the module itself never imports numba.
 import numpy as np
 from math import cos, sin
 
-from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _shape, _too_many, _wrong_length
+__all__ = ['attitude_matrix', 'omega_body', 'attitude_matrix_flat', 'omega_body_flat', 'attitude_matrix_batched', 'omega_body_batched', 'attitude_matrix_loop', 'omega_body_loop', 'STATE', 'PARAMETERS', 'DEFAULTS', 'INVARIANTS']
 
-__all__ = ['attitude_matrix', 'omega_body', 'attitude_matrix_flat', 'omega_body_flat', 'attitude_matrix_batched', 'omega_body_batched', 'attitude_matrix_loop', 'omega_body_loop']
+#: State names, in the order of y (empty: the functions take no state vector).
+STATE = ()
+#: Parameter names, in the order the functions take them after (t, y).
+PARAMETERS = ()
+#: Default values of the parameters (floats), same order.
+DEFAULTS = ()
+#: The rows of invariants(t, y, *params).
+INVARIANTS = ()
+
+
+# ---- The module's own helpers (eulersym.codegen.runtime, the same in every generated module) ----
+
+#: Columns per block of a long 1-d batch: a block's temporaries (a few rows of 128 KiB) stay in cache.
+_BLOCK = 16384
+
+
+def _error(kind, argument, value, expected):
+    """The error to raise: ``eulersym.errors.<kind>(argument, value, expected)`` where eulersym is installed, else
+    a ValueError with the same message (this module imports nothing from eulersym: it runs with NumPy alone)."""
+    try:
+        from eulersym import errors
+    except ImportError:
+        shown = " ".join(repr(value).split())
+        if len(shown) > 120:
+            shown = shown[:117] + "..."
+        return ValueError(f"{argument}={shown} is not valid: expected {expected}")
+    return getattr(errors, kind)(argument, value, expected)
+
+
+def _singular(name, value, expected):
+    """The error for a state on the singularity of the coordinates (where the scalar flavour divided by zero)."""
+    return _error("SingularConfiguration", name, value, expected)
+
+
+def _too_many(function, extra, names):
+    """The error for surplus positional arguments."""
+    order = ", ".join(names)
+    return _error("InvalidInput", f"{function} arguments", f"{len(extra)} more than expected",
+                  f"exactly {len(names)} positional arguments in the order ({order})")
+
+
+def _wrong_length(name, value, names):
+    """The error for a vector argument of the wrong length (scalar flavour)."""
+    order = ", ".join(names)
+    return _error("InvalidInput", name, value, f"a sequence of {len(names)} floats in the order ({order})")
+
+
+def _as_vector(name, value, names):
+    """``value`` as a float array of shape ``(len(names), *batch)``; otherwise InvalidInput naming the order."""
+    array = np.asarray(value, dtype=float)
+    if array.ndim == 0 or array.shape[0] != len(names):
+        order = ", ".join(names)
+        raise _error("InvalidInput", name, f"array of shape {array.shape}",
+                     f"shape ({len(names)}, ...) with rows in the order ({order}), batch after")
+    return array
+
+
+def _shape(value):
+    """``np.shape(value)``; a Python float or int (shape ``()``) and an ndarray cost no conversion."""
+    kind = type(value)
+    if kind is float or kind is int:
+        return ()
+    if kind is np.ndarray:
+        return value.shape
+    return np.shape(value)
+
+
+def _batch(shapes):
+    """The batch: ``np.broadcast_shapes(*shapes)``, without its cost when every non-empty shape is the same."""
+    batch = ()
+    for shape in shapes:
+        if shape and shape != batch:
+            if batch:  # two different batch shapes: NumPy's rules (and its refusal)
+                try:
+                    return np.broadcast_shapes(*shapes)
+                except ValueError:
+                    raise _error("InvalidInput", "arguments", f"batch shapes {shapes}",
+                                 "shapes that broadcast together") from None
+            batch = shape
+    return batch
+
+
+def _prepare_out(out, head, shapes, inputs=()):
+    """A float array of shape ``head + batch`` (batch: the shapes broadcast), ``out`` itself if it fits.
+
+    ``out`` is written in place row by row, so it may not overlap an input array (a Python float or int
+    cannot: only the others are asked).
+    """
+    shape = tuple(head) + tuple(_batch(shapes))
+    if out is None:
+        return np.empty(shape)
+    if not isinstance(out, np.ndarray) or out.shape != shape or out.dtype != np.float64:
+        got = f"{type(out).__name__} of shape {getattr(out, 'shape', None)}, dtype {getattr(out, 'dtype', None)}"
+        raise _error("InvalidInput", "out", got, f"a float64 ndarray of shape {shape}")
+    for array in inputs:
+        kind = type(array)
+        if kind is not float and kind is not int and np.may_share_memory(out, array):
+            raise _error("InvalidInput", "out", "an array overlapping an input",
+                         "a separate array (out is written in place)")
+    return out
+
+
+def _blocked(block, out, head, args, vectors):
+    """``block(*args, out)`` over slices of a long 1-d batch (``out.shape[head:] == (n,)``), else in one call.
+
+    An argument is sliced when it carries the batch: a vector (``vectors[i]``) of shape ``(k, n)``, a scalar
+    argument of shape ``(n,)``; anything else (floats, shape ``(1,)``) broadcasts as it is.
+    """
+    batch = out.shape[head:]
+    if len(batch) != 1 or batch[0] <= 2 * _BLOCK:
+        return block(*args, out)
+    n = batch[0]
+    sliced = [isinstance(a, np.ndarray) and a.ndim == 1 + v and a.shape[-1] == n for a, v in zip(args, vectors)]
+    for start in range(0, n, _BLOCK):
+        cut = slice(start, start + _BLOCK)
+        block(*[a[..., cut] if s else a for a, s in zip(args, sliced)], out[..., cut])
+    return out
 
 
 def attitude_matrix(phi, theta, psi, *extra):

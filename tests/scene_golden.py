@@ -4,11 +4,12 @@ tests/test_scene_fast_paths.py.
 For each scene of :func:`scenes` (the bundled scenes that need no model, shortened to a few output times, and
 variants that take the other branches: attitude, a quaternion or a space-frame start, another convention, sweeps,
 summaries) the file keeps what the engine was given (the prepared problem's arrays), what it returned (its
-:class:`~eulersym.scene.trajectory.Trajectory`, copied before the outputs touch it) and every field of the
+:class:`~eulersym.numerics.trajectory.Trajectory`, copied before the outputs touch it) and every field of the
 :class:`~eulersym.scene.Result` that ``simulate`` built around it. The test puts the recorded trajectory back in
 place of the engine (which checks that it is given the recorded problem) and asks ``simulate`` for the same Result,
 bit for bit: a check of everything the scene does around the engine (cost, plan, prepared problem, outputs, drift,
-notes) that does not move when the engines' own arithmetic does.
+notes) that does not move when the engines' own arithmetic does. (The engines are the methods of
+:mod:`eulersym.numerics.methods` now; the test replays through :func:`eulersym.numerics.methods.get`.)
 
 The file was written by the pipeline before its overhead was cut (commit 554542e), from the repository root:
 ``git archive 554542e | tar -x -C /tmp/base && PYTHONPATH=/tmp/base python tests/scene_golden.py``.
@@ -38,8 +39,6 @@ TRAJECTORY = ("omega", "q", "gamma", "euler", "turning", "state")
 
 def _fields(scene, **changes) -> dict:
     values = {f.name: getattr(scene, f.name) for f in dataclasses.fields(scene) if f.init}
-    if values.get("dimensions") is not None:
-        values["dimensions"] = dict(values["dimensions"])
     return {**values, **changes}
 
 
@@ -74,26 +73,26 @@ def _copy(traj) -> dict:
                "turning": np.array(traj.turning)}
     else:
         out = {name: (None if getattr(traj, name) is None else np.array(getattr(traj, name))) for name in TRAJECTORY}
-    out["n_calls"], out["q_unit"] = int(traj.n_calls), bool(traj.q_unit)
+    out["n_calls"], out["q_unit"] = int(traj.n_rhs_calls), bool(traj.q_unit)
     return out
 
 
-def trajectory(recorded: dict, lo: int = 0, hi: int | None = None):
-    """A fresh Trajectory of the recorded members ``lo:hi``, laid out as the engine laid it out."""
-    from eulersym.scene.trajectory import Trajectory
+def trajectory(recorded: dict, t, lo: int = 0, hi: int | None = None):
+    """A fresh Trajectory at times ``t`` of the recorded members ``lo:hi``, laid out as the engine laid it out."""
+    from eulersym.numerics.trajectory import Trajectory
 
     take = slice(lo, hi)
     if "block" in recorded:  # the closed form's rows: ω, Γ, q and the angles are views of one block
         block = np.array(recorded["block"][take])
         views = {name: block[:, rows].transpose(0, 2, 1) for name, rows in
                  (("omega", slice(0, 3)), ("gamma", slice(3, 6)), ("q", slice(6, 10)), ("euler", slice(10, 13)))}
-        return Trajectory(views["omega"], views["q"], views["gamma"], recorded["n_calls"], euler=views["euler"],
-                          turning=np.array(recorded["turning"][take]), state=block[:, :10],
-                          q_unit=recorded["q_unit"])
+        return Trajectory(t=t, omega=views["omega"], q=views["q"], gamma=views["gamma"],
+                          n_rhs_calls=recorded["n_calls"], euler=views["euler"],
+                          turning=np.array(recorded["turning"][take]), state=block[:, :10], q_unit=recorded["q_unit"])
     arrays = {name: (None if recorded.get(name) is None else np.array(recorded[name][take]))
               for name in TRAJECTORY if name != "state"}
-    return Trajectory(arrays["omega"], arrays["q"], arrays["gamma"], recorded["n_calls"], euler=arrays["euler"],
-                      turning=arrays["turning"], q_unit=recorded["q_unit"])
+    return Trajectory(t=t, omega=arrays["omega"], q=arrays["q"], gamma=arrays["gamma"], n_rhs_calls=recorded["n_calls"],
+                      euler=arrays["euler"], turning=arrays["turning"], q_unit=recorded["q_unit"])
 
 
 def result_fields(result) -> dict:
@@ -120,31 +119,35 @@ def _unpack(text: str) -> np.ndarray:
 
 
 def main() -> None:
-    from eulersym.scene import engines, simulate
+    from eulersym.numerics import methods
+    from eulersym.scene import simulate
 
-    real = engines.get
+    real = methods.get
     store: dict = {}
     for name, scene in scenes().items():
         recorded = []
 
-        def get(engine, _recorded=recorded):
-            module = real(engine)
+        def get(name, _recorded=recorded):
+            method = real(name)
 
             class Recording:
+                def __getattr__(self, attribute):
+                    return getattr(method, attribute)
+
                 @staticmethod
                 def run(problem, *, progress=None):
                     given = {f"problem/{key}": np.array(getattr(problem, key)) for key in PROBLEM
                              if getattr(problem, key) is not None}
-                    traj = module.run(problem, progress=progress)
+                    traj = method.run(problem, progress=progress)
                     _recorded.append({**_copy(traj), **given})
                     return traj
-            return Recording
+            return Recording()
 
-        engines.get = get
+        methods.get = get
         try:
             result = simulate(scene)
         finally:
-            engines.get = real
+            methods.get = real
         assert len(recorded) == 1, (name, len(recorded))  # one engine call (one chunk): the test replays it
         arrays = {(key if key.startswith("problem/") else f"trajectory/{key}"): value
                   for key, value in recorded[0].items() if isinstance(value, np.ndarray)}

@@ -69,3 +69,24 @@ def test_a_closed_pipe_ends_quietly():
                           text=True, timeout=120)
     assert proc.stdout.count("\n") == 1
     assert "Traceback" not in proc.stderr
+
+
+@pytest.mark.parametrize("spelling", [["--model", "damped"], ["--model=damped"]])
+def test_model_routes_in_both_argparse_spellings(spelling, capsys):
+    assert main(["derive", *spelling]) == 0
+    assert capsys.readouterr().out.startswith("model damped")
+
+
+@pytest.mark.parametrize("command", ["derive", "generate"])
+def test_the_help_of_a_command_that_takes_a_model_names_it(command, capsys):
+    try:
+        assert main([command, "--help"]) == 0
+    except SystemExit as exc:  # argparse's own --help exit
+        assert exc.code == 0
+    assert "--model" in capsys.readouterr().out
+
+
+def test_the_top_level_help_is_argparse_with_every_command(capsys):
+    assert main(["-h"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("usage: eulersym") and all(name in out for name in COMMANDS)

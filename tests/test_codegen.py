@@ -207,7 +207,7 @@ def test_first_order_solves_a_mass_matrix():
 
 def test_generate_writes_into_a_fresh_folder(tmp_path):
     paths = generate(tmp_path / "out", names=["kinematics"])
-    assert sorted(p.name for p in paths) == ["_runtime.py", "kinematics.py"]
+    assert sorted(p.name for p in paths) == ["kinematics.py"]
     assert main(["generate", "--dir", str(tmp_path / "out"), "no_such_kernel"]) == 2
 
 

@@ -61,10 +61,8 @@ def test_scalar_kernel_refuses_a_wrong_vector(bad):
 def test_long_batches_in_blocks_equal_one_pass(name, rng):
     """A batch longer than two blocks is cut into blocks: the same values as short batches, bit for bit,
     with per-member parameters (shape (n,)), broadcast ones (shape (1,)) and floats."""
-    from eulersym.generated import _runtime
-
     mod = _module(name)
-    n = 2 * _runtime._BLOCK + 7
+    n = 2 * mod._BLOCK + 7
     for function in build(name).functions:
         args = _arguments(function, rng, batch=n)
         scalars = [i for i, a in enumerate(function.arguments) if not a.vector]

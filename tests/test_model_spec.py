@@ -112,7 +112,7 @@ def test_cone_on_its_apex():
     assert m.inertia == inertia.cone(R("0.5"), R("0.05"), R("0.2"), origin="apex")
     assert m.mechanics.gravity == R("9.81")
     Model(body=body, pivot={"l": 0.15})  # consistent: accepted
-    with pytest.raises(InvalidInput, match=r"pivot\.l=0\.05 .*3/20"):
+    with pytest.raises(InvalidInput, match=r"pivot\.l=0\.05 .*0\.15"):
         Model(body=body, pivot={"l": 0.05})
     with pytest.raises(InvalidInput, match=r"pivot\.centre_of_mass"):
         Model(body=body, pivot={"centre_of_mass": [0.01, 0, 0.15]})
@@ -483,7 +483,7 @@ _GOOD_BODY = {"moments": [1, 2, 3]}
 BAD = [
     # (kwargs, key named in the message, a word of what is valid)
     ({"body": {"moments": [1, 1, 3]}}, "body.moments", "triangle|I1 \\+ I2"),
-    ({"body": {"moments": [1, -2, 3]}}, "body.moments\\[1\\]", "positive"),
+    ({"body": {"moments": [1, -2, 3]}}, "body.moments", "positive"),
     ({"body": {"moments": [1, 2]}}, "body.moments", "3 components"),
     ({"body": {"moments": 2.0}}, "body.moments", "scalar where a vector"),
     ({"body": {"tensor": [[1, 0.1, 0], [0, 1, 0], [0, 0, 1]]}}, "body.tensor", "symmetric"),
@@ -749,3 +749,14 @@ def test_delegation_kernels(damped_gyrostat, tmp_path):
 def test_delegation_check_of_a_heavy_top_from_a_scene():
     report = Model.from_toml(SCENES / "heavy-top-nutation.toml").check()
     assert report.ok
+
+
+def test_the_digest_does_not_depend_on_how_eulersym_was_installed(monkeypatch):
+    """An editable and an installed copy (whatever their distribution metadata says) give one digest: the model,
+    eulersym.__version__ and SymPy's version make it (issue 19)."""
+    from importlib import metadata
+
+    model = Model(body={"moments": [1, 2, 3]}, torque={"body": "-0.1*omega"})
+    real = metadata.version
+    monkeypatch.setattr(metadata, "version", lambda name: "0.0.dev-editable" if name == "eulersym" else real(name))
+    assert Model(body={"moments": [1, 2, 3]}, torque={"body": "-0.1*omega"}).digest == model.digest

@@ -45,7 +45,7 @@ def _initial_state(name, kernel):
 
 def test_every_bundled_model_is_a_scene_file_and_its_routes_agree():
     assert set(bundled()) == {"lagrange-top", "kovalevskaya", "gyrostat", "damped", "satellite", "spin-up",
-                              "gyroscope"}
+                              "gyroscope", "torque-free", "top-goryachev-chaplygin", "satellite-dual-spin"}
     for name, path in bundled().items():
         data = tomllib.loads(path.read_text())
         assert {"initial", "time", "output"} <= set(data), name

@@ -14,10 +14,8 @@ from eulersym.bench.workprecision import mp_reference_omega
 from eulersym.errors import InvalidInput
 from eulersym.numerics import exact
 from eulersym.numerics.exact import (
-    complete_elliptic_k,
     free_rigid_body_attitude_exact,
     free_rigid_body_exact,
-    jacobi_sncndn,
     quaternion_multiply,
 )
 
@@ -44,35 +42,6 @@ def mp_ode(I, w0, q0, ts, dps=30):
         y0 = [mp.mpf(float(x)) for x in list(w0) + list(q0)]
         sol = mp.odefun(f, 0, y0, tol=mp.mpf(10) ** (-22))  # 30-digit arithmetic, 1e-22 local tolerance
         return np.array([[float(v) for v in sol(mp.mpf(float(t)))] for t in ts])
-
-
-# ---------------------------------------------------------------------------------------------------------------
-# Elliptic functions with m_c as input
-# ---------------------------------------------------------------------------------------------------------------
-@pytest.mark.parametrize("mc", [1.0, 0.5, 1e-3, 1e-9, 1e-12, 1e-16, 1e-20, 1e-300, 0.0])
-def test_sncndn_against_mpmath(mc, rng):
-    us = np.concatenate([rng.uniform(-30, 30, 12), [0.0, 1e-12, -1e-7]])
-    sn, cn, dn = jacobi_sncndn(us, mc)
-    with mp.workdps(40):
-        m = 1 - mp.mpf(mc)
-        for u, s, c, d in zip(us, sn, cn, dn):
-            for name, got in (("sn", s), ("cn", c), ("dn", d)):
-                want = float(mp.ellipfun(name, mp.mpf(u), m))
-                assert abs(got - want) <= 1e-14, (name, u, mc, got, want)
-
-
-@pytest.mark.parametrize("mc", [1.0, 0.3, 1e-8, 1e-16, 1e-200])
-def test_complete_k(mc):
-    with mp.workdps(40):
-        want = mp.ellipk(1 - mp.mpf(mc))
-        assert abs(complete_elliptic_k(mc) - float(want)) <= 4e-16 * float(want)
-
-
-def test_sncndn_bad_parameter():
-    with pytest.raises(InvalidInput):
-        jacobi_sncndn(1.0, 1.5)
-    with pytest.raises(InvalidInput):
-        jacobi_sncndn([1.0, np.nan], 0.5)
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -402,12 +371,3 @@ def test_double_double_against_mpmath(rng):
             assert abs(mp.mpf(got[0]) + got[1] - want) <= 1e-31 * want
             q = dd.div((float(a), 0.0), (float(b), 0.0))
             assert abs(mp.mpf(q[0]) + q[1] - mp.mpf(float(a)) / float(b)) <= 1e-31 * a / b
-
-
-@settings(max_examples=60, deadline=None)
-@given(st.floats(0.0, 10.0), st.floats(1e-300, 10.0), st.floats(1e-20, 10.0))
-def test_carlson_rf_against_mpmath(x, y, z):
-    got = exact._carlson_rf(x, y, z)
-    with mp.workdps(30):
-        want = mp.elliprf(x, y, z)
-    assert abs(got - float(want)) <= 1e-15 * float(want)  # a few ulp (duplication steps round)

@@ -31,7 +31,7 @@ def _motion(I, M, g, l, omega0, q0):
 
 
 def _series_block(mo, t, accuracy):
-    return fourier.fourier_rows(mo, np.asarray(t, dtype=float), accuracy, exact._dd_linear, exact._four_pi())
+    return fourier.fourier_rows(mo, np.asarray(t, dtype=float), accuracy)
 
 
 def _declined(mo, size, accuracy):
@@ -151,7 +151,7 @@ def test_a_start_near_the_separatrix_is_declined_and_answered_directly():
 def test_few_times_a_steady_motion_and_no_accuracy_are_declined():
     mo = _motion(**SCENE)
     assert _series_block(mo, np.linspace(0.0, 1.0, fourier.FROM - 1), 1e-11) is None
-    assert fourier.fourier_rows(mo, np.linspace(0.0, 1.0, 2001), None, exact._dd_linear, exact._four_pi()) is None
+    assert fourier.fourier_rows(mo, np.linspace(0.0, 1.0, 2001), None) is None
     sleeping = _motion((1.0, 1.0, 0.5), 1.0, 9.81, 0.1, (0.0, 0.0, 50.0), (1.0, 0.0, 0.0, 0.0))
     assert sleeping.steady and _series_block(sleeping, np.linspace(0.0, 1.0, 2001), 1e-11) is None
 

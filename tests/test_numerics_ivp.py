@@ -97,9 +97,14 @@ def test_bad_input(kwargs):
 
 
 def test_blow_up_is_an_error_not_nan():
+    """ẏ = y², y(0) = 1 leaves the finite numbers at t = 1: the run fails (IntegrationFailed, not InvalidInput: the
+    input was fine), naming the method; nothing is returned half-finished."""
+    from eulersym.errors import IntegrationFailed
+
     blow = types.SimpleNamespace(__name__="x", rhs=lambda t, y: [y[0] ** 2, 0.0, 0.0])
-    with pytest.raises(InvalidInput):
+    with pytest.raises(IntegrationFailed) as info:
         integrate_ivp(blow, [1.0, 0.0, 0.0], [0.0, 2.0], ())
+    assert info.value.method == "ivp" and "DOP853" in str(info.value) and not isinstance(info.value, InvalidInput)
 
 
 # ---------------------------------------------------------------------------------------------------------------

@@ -32,3 +32,17 @@ def test_unknown_attribute():
 
 def test_public_submodules_are_listed():
     assert {"rotation", "kinematics", "inertia", "dynamics", "top", "text", "verify"} <= set(dir(eulersym))
+
+
+def test_the_front_door_loads_lazily_and_without_sympy():
+    """``from eulersym import Scene, Model, simulate`` (issue 19): the names resolve, and loading them costs neither
+    SymPy nor scipy.integrate."""
+    modules = _modules_after("from eulersym import Model, Scene, simulate, Result, Plan, Sweep, Trajectory")
+    assert "sympy" not in modules and "scipy.integrate" not in modules
+    from eulersym import Model, Scene, simulate
+    from eulersym.model.spec import Model as model_class
+    from eulersym.scene import Scene as scene_class, simulate as simulate_function
+
+    assert (Model, Scene, simulate) == (model_class, scene_class, simulate_function)
+    assert all(hasattr(eulersym, name) for name in eulersym.__all__)
+    assert {"Model", "Scene", "simulate"} <= set(dir(eulersym))

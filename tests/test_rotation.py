@@ -175,13 +175,19 @@ def test_bad_input_names_argument_value_and_what_is_valid(call, match):
     assert "expected" in str(info.value)
 
 
-def test_numeric_elementary_rotations_are_from_axis_angle(rng):
-    from eulersym.rotation import _numeric_elementary
-
-    for axis in "xyz":
-        for angle in rng.uniform(-7, 7, size=5):
-            np.testing.assert_allclose(_numeric_elementary(axis, np.array(angle)), from_axis_angle(axis, angle),
-                                       atol=1e-15)
+def test_numeric_rotations_are_the_symbolic_ones_evaluated(rng):
+    """The numeric path (eulersym.attitude) against the SymPy derivation at the same angles, to round-off."""
+    for axis in ("x", "y", "z", [1.0, -2.0, 0.5]):
+        for angle in rng.uniform(-7, 7, size=4):
+            exact = from_axis_angle(axis if isinstance(axis, str) else [sp.Rational(c) for c in axis],
+                                    sp.Float(angle, 30))
+            np.testing.assert_allclose(from_axis_angle(axis, angle), np.array(exact.evalf(20), dtype=float),
+                                       rtol=0, atol=4e-16)
+    for convention in CONVENTIONS:
+        a = rng.uniform(-4, 4, size=3)
+        exact = euler_matrix(*(sp.Float(x, 30) for x in a), convention)
+        np.testing.assert_allclose(euler_matrix(*a, convention), np.array(exact.evalf(20), dtype=float), rtol=0,
+                                   atol=6e-16)
 
 
 def test_from_quaternion_symbolic_is_orthogonal_on_the_unit_sphere():

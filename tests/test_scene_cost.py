@@ -182,22 +182,23 @@ want = ["omega"]
 
 
 def test_a_model_scene_beyond_2_52_rad_is_refused_before_deriving(tmp_path, cache, capsys):
-    """The spin alone turns it 2**53 rad: refused naming t_end before the kernel is derived (the cache stays empty)."""
+    """The spin alone turns it 2**53 rad: refused naming the end time as the file writes it, when the scene is read
+    (nothing derived: the cache stays empty)."""
     path = _toml(tmp_path / "spin.toml", GYROSTAT.format(end=2.0 ** 53))
     err = _cli_error(capsys, path)
-    assert "t_end=" in err and "2**52 rad" in err and "phase" in err
+    assert "time.end=" in err and "2**52 rad" in err and "phase" in err
     assert not cache.exists() or not any(cache.rglob("*.py"))
 
 
-def test_a_model_scene_beyond_2_52_rad_by_its_rotor_is_refused_once_its_body_is_known(tmp_path, cache):
-    """Spin 1 × 2e15 < 2**52 rad, but the rotor's |h| / I_min = 2 adds 4e15: refused with the body's rate."""
-    scene = Scene.from_toml(_toml(tmp_path / "rotor.toml", GYROSTAT.format(end=2e15)))
-    assert cost.rate_bound(scene) * scene.t_end < cost.PHASE_LIMIT  # not known without the kernel
+def test_a_model_scene_beyond_2_52_rad_by_its_rotor_is_refused_from_its_facts(tmp_path, cache):
+    """Spin 1 × 2e15 < 2**52 rad, but the rotor's |h| / I_min = 2 adds 4e15: the model's facts (NumPy, nothing
+    derived) know it when the scene is read."""
     with pytest.raises(InvalidInput) as info:
-        simulate(scene)
-    assert info.value.argument == "t_end" and "|ω| ≈ 3 ×" in str(info.value)
-    assert cost.rate_bound(scene, scene.cached_model_facts()) == 3.0
+        Scene.from_toml(_toml(tmp_path / "rotor.toml", GYROSTAT.format(end=2e15)))
+    assert info.value.argument == "time.end" and "|ω| ≈ 3 ×" in str(info.value)
+    assert not cache.exists() or not any(cache.rglob("*.py"))
     small = Scene.from_toml(_toml(tmp_path / "ok.toml", GYROSTAT.format(end=2.0)))
+    assert cost.rate_bound(small) == 3.0
     assert np.all(np.isfinite(simulate(small).omega))
 
 
@@ -214,16 +215,16 @@ def test_a_model_sweep_too_big_is_refused_before_deriving_or_allocating(tmp_path
     finally:
         tracemalloc.stop()
     assert peak < 50 * 2**20, peak
-    assert "1000000000 members" in str(info.value) and "a lower bound" in str(info.value)
+    assert "1000000000 members" in str(info.value)
     assert not cache.exists() or not any(cache.rglob("*.py"))  # nothing derived
 
 
 def test_an_endless_torqued_model_is_refused_before_deriving(tmp_path, cache, capsys):
-    """A torque means the model's own kernel is integrated (certain from its sections): 1e12 time units are
-    refused for their work before anything is derived."""
+    """A torque that names the state means the model's own kernel is integrated (its facts say so): 1e12 time units
+    are refused for their work before anything is derived."""
     path = _damped_file(tmp_path / "endless.toml", 'endless-damped', '0.1', '1e12')
     err = _cli_error(capsys, path)
-    assert "work budget of 1e+09" in err and "a lower bound" in err and "scene=" in err
+    assert "work budget of 1e+09" in err and "scene=" in err
     assert not cache.exists() or not any(cache.rglob("*.py"))
 
 
@@ -238,10 +239,10 @@ def test_explain_of_an_uncached_model_says_what_it_will_do_without_sympy(tmp_pat
     out = run.stdout
     assert "sympy imported: False" in out
     assert "the model's equations of motion" in out and str(cache) in out  # what is derived, where it goes
-    assert "then the engine" in out and "batched DOP853 (a sweep of 3 members)" in out and "a torque" in out
-    assert "a lower bound" in out and out.count("cost:") == 1
+    assert "3 members in one vectorised pass" in out and "its state, once emitted" in out and "a torque" in out
+    assert out.count("cost:") == 1
     assert not cache.exists() or not any(cache.rglob("*.py"))  # nothing derived
-    simulate(Scene.from_toml(path))  # now cached: --explain names the engine and the full estimate
+    simulate(Scene.from_toml(path))  # now cached: --explain names the kernel's state too
     assert main(["simulate", path, "--explain"]) == 0
 
 
@@ -250,7 +251,7 @@ def test_explain_of_a_cached_model_names_its_engine(tmp_path, cache, capsys):
     simulate(Scene.from_toml(path))
     assert main(["simulate", path, "--explain"]) == 0
     out = capsys.readouterr().out
-    assert "solve_ivp DOP853 on the kernel's rhs" in out and "a lower bound" not in out and "then the engine" not in out
+    assert "solve_ivp DOP853 on the kernel's rhs (omega1, omega2, omega3, q0" in out and "cached for digest" in out
 
 
 # ---- model sweeps in chunks --------------------------------------------------------------------------------------
@@ -267,10 +268,9 @@ def _damped(n, **output):
 
 
 def _chunked_budget(scene, plan, members_per_chunk):
-    facts = scene.cached_model_facts()
-    e = cost.estimate(scene, plan, facts=facts)
+    e = cost.estimate(scene, plan)
     budget = e.output_bytes + e.per_member_working * members_per_chunk * cost.threads(plan)
-    assert cost.check(scene, plan, memory=budget, facts=facts).chunk < scene.batch
+    assert cost.check(scene, plan, memory=budget).chunk < scene.batch
     return budget
 
 
@@ -322,13 +322,10 @@ def test_a_streamed_model_sweep_holds_its_outputs_and_a_chunk(cache):
     below what the single pass would hold."""
     scene = _damped(3 * 4096, want=["summary"])
     simulate(_damped(5, want=["summary"]))  # the kernel, imports: not the sweep's memory
-    from eulersym.scene.plan import make_plan
-
-    facts = scene.cached_model_facts()
-    plan = make_plan(scene, model=facts)
+    plan = scene.plan()
     budget = _chunked_budget(scene, plan, 4096)
-    e = cost.check(scene, plan, memory=budget, facts=facts)
-    whole = cost.estimate(scene, plan, facts=facts, chunk=scene.batch)
+    e = cost.check(scene, plan, memory=budget)
+    whole = cost.estimate(scene, plan, chunk=scene.batch)
     tracemalloc.start()
     try:
         result = simulate(scene, memory=budget)
@@ -340,12 +337,15 @@ def test_a_streamed_model_sweep_holds_its_outputs_and_a_chunk(cache):
     assert peak < whole.peak_bytes / 2, (peak, str(whole))
 
 
-def test_model_facts_travel_by_their_kernel_path(cache):
+def test_a_model_kernel_travels_by_its_path(cache):
+    from eulersym.scene import model_kernel
+
     scene = _damped(3)
     simulate(scene)
-    facts = scene.cached_model_facts()
-    back = pickle.loads(pickle.dumps(facts.take(1, 3)))
-    assert back.module is facts.module and back.params[0].tolist() == facts.params[0][1:].tolist()
+    module, path, emitted = model_kernel.ensure(scene.model, [])
+    kernel = model_kernel.kernel(scene.model, module, path, emitted, scene.parameter_values(), scene.batch)
+    back = pickle.loads(pickle.dumps(kernel.take(1, 3)))
+    assert not emitted and back.module is kernel.module and back.params[0].tolist() == kernel.params[0][1:].tolist()
 
 
 def test_a_model_sweep_on_dask_workers_is_the_in_process_one(cache):
@@ -421,21 +421,21 @@ def test_only_the_members_the_closed_form_refuses_are_integrated(monkeypatch):
     """The mechanism, whatever the closed form refuses: an engine that refuses members with ω1 = 0.25 (as the
     heavy top's does at the separatrix) leaves those to DOP853, the others bit for bit its own, in order, in chunks."""
     from eulersym.errors import SingularConfiguration
-    from eulersym.scene.engines import heavy_top_exact as engine
+    from eulersym.numerics.methods import LagrangeTopClosedForm
 
-    original = engine.run
+    original = LagrangeTopClosedForm.run
 
-    def picky(problem, *, progress=None):
+    def picky(self, problem, *, progress=None):
         if np.any(problem.omega0[:, 0] == 0.25):
             raise SingularConfiguration("omega0", problem.omega0.tolist(), "a start the closed form can represent")
-        return original(problem, progress=progress)
+        return original(self, problem, progress=progress)
 
     kw = dict(moments=(1.0, 1.0, 0.5), mass=1.0, l=0.1, euler=(0.0, 0.4, 0.0), t_end=0.5, points=6, accuracy=1e-10)
     values = [0.1, 0.25, 0.2, 0.3, 0.25, 0.0, 0.25]
     scene = Scene(**kw, omega=(values, 0.0, 20.0))
     clean = simulate(scene)
     assert not any("singular" in n for n in clean.notes) and clean.n_rhs_calls == 0
-    monkeypatch.setattr(engine, "run", picky)
+    monkeypatch.setattr(LagrangeTopClosedForm, "run", picky)
     mixed = simulate(scene)
     e = cost.estimate(scene, mixed.plan)
     chunked = simulate(scene, memory=e.output_bytes + e.per_member_working * 2 * cost.threads(mixed.plan))

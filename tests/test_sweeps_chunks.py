@@ -14,7 +14,7 @@ from eulersym.errors import InvalidInput
 from eulersym.generated import heavy_top_euler_poisson as kernel
 from eulersym.sweeps import chunks, cost, summary
 
-from eulersym.scene.dop853 import dop853_batched
+from eulersym.numerics.methods._batched_dop853 import dop853_batched
 
 GRAIN = cost.ENGINES["dop853"].grain
 PARAMS = (1.2e-3, 1.2e-3, 4e-4, 0.5, 9.81, 0.04)  # the bundled sleeping top: I1, I2, I3, M, g, l

@@ -59,7 +59,7 @@ def test_the_dop853_step_estimate_is_within_a_factor_of_a_measured_run():
 
     from eulersym.generated import heavy_top_euler_poisson as kernel
 
-    from eulersym.scene.dop853 import dop853_batched
+    from eulersym.numerics.methods._batched_dop853 import dop853_batched
     b = 64
     y0 = np.zeros((10, b))
     y0[2] = np.linspace(60, 95, b)

@@ -1,4 +1,4 @@
-"""The compiled per-member DOP853 (:mod:`eulersym.sweeps.members_dop853`, the plan's default for heavy-top sweeps
+"""The compiled per-member DOP853 (:mod:`eulersym.numerics.methods._members_dop853`, the plan's default for heavy-top sweeps
 without a closed form): every member against an independent scipy DOP853 run at rtol 1e-12, members independent of
 one another (bit for bit), and the failure codes. numba is in the ``test`` extra: these run in CI, none skip."""
 
@@ -11,7 +11,7 @@ from scipy.integrate import solve_ivp
 
 from eulersym.generated import heavy_top_euler_poisson as kernel
 from eulersym.scene.plan import ivp_tolerances
-from eulersym.sweeps.members_dop853 import members
+from eulersym.numerics.methods._members_dop853 import members
 
 ACCURACY = 1e-6
 
@@ -117,7 +117,7 @@ def test_the_start_is_returned_exactly_and_the_invariants_hold(spin, tilt, momen
 _SWEEP = """
 import hashlib
 import numpy as np
-from eulersym.sweeps.members_dop853 import members
+from eulersym.numerics.methods._members_dop853 import members
 rng = np.random.default_rng(7)
 n = 3000
 w = rng.uniform(-3, 3, (n, 3)); w[:, 2] += 20

@@ -12,9 +12,8 @@ import pytest
 from eulersym.errors import InvalidInput
 from eulersym.scene import Scene, cli, simulate
 from eulersym.scene import cost as scene_cost
-from eulersym.scene.chunked import take
-from eulersym.scene.problem import member_moments, prepare
-from eulersym.scene import engines
+from eulersym.numerics import methods
+from eulersym.scene.problem import prepare
 from eulersym.sweeps import distributed
 
 TOP = dict(moments=(1.2e-3, 1.2e-3, 4.0e-4), mass=0.5, l=0.04, g=9.81, t_end=0.3, points=11, accuracy=1e-6)
@@ -149,8 +148,8 @@ def _reference(scene, b):
     """Member ``b`` by solve_ivp DOP853 at rtol 1e-13 (ω, Γ at the output times)."""
     tight = Scene(**{**ASYMMETRIC, "accuracy": 1e-12, "method": "DOP853"}, omega=(1.0, 0.0, [20.0, 40.0]),
                   euler=(0.0, [0.1, 0.6], 0.0))
-    problem = prepare(tight, tight.plan(), member_moments(tight), np.eye(3))
-    traj = engines.get("ivp").run(take(problem, b, b + 1))
+    problem = prepare(tight, tight.plan())
+    traj = methods.get("ivp").run(problem.take(b, b + 1))
     return traj.omega[0], traj.gamma[0]
 
 
@@ -171,7 +170,7 @@ def test_the_compiled_engine_equals_solve_ivp_step_for_step():
     from scipy.integrate import solve_ivp
 
     from eulersym.generated import heavy_top_euler_poisson as kernel
-    from eulersym.sweeps.members_dop853 import members
+    from eulersym.numerics.methods._members_dop853 import members
 
     y0 = np.array([[0.0, 0.0, 60.0, 0.0, np.sin(0.05), np.cos(0.05), np.cos(0.025), np.sin(0.025), 0.0, 0.0]])
     p = np.array([[1.2e-3, 1.2e-3, 4e-4, 0.5, 9.81, 0.04]])

@@ -8,7 +8,7 @@ import os
 from eulersym.animation import html, raster, video
 from eulersym.animation.stage import stage
 from eulersym.errors import InvalidInput
-from eulersym.scene.io import check_target
+from eulersym.files import check_target
 
 __all__ = ["animate", "FORMATS", "check_path"]
 

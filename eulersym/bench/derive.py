@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import argparse
 import csv
-import importlib
 import subprocess
 import sys
 import time
@@ -141,7 +140,7 @@ def main(argv: list[str]) -> int:
     cold_check = min(_fresh_process_seconds("from eulersym.cli import main; main(['check'])") for _ in range(2))
     foundation = min(_fresh_process_seconds(
         "from eulersym import text\nfor s in ('4.1', '4.2', '4.3', 'Example 4.1'): text.check_all(s)") for _ in range(2))
-    importlib.import_module("sympy")
+    import sympy  # noqa: F401 — in this process too, so the rows below time eulersym beyond it
     rows = _rows(args.quick, args.repeat)
 
     width = max(len(r[0]) for r in rows)

@@ -47,9 +47,9 @@ def _reference(heavy_top_exact, I, M, g, l, w0, q0, t):
     switches to their Chebyshev series — so that the scene's cheaper evaluation at its accuracy (double phase, a
     cut series) is compared with another path, the one tests/test_numerics_heavy_top_exact.py holds to 1e-12 of
     the 40-digit mpmath reference."""
-    import importlib
+    from eulersym.numerics.heavy_top_exact import _SERIES_FROM
 
-    chunk = importlib.import_module("eulersym.numerics.heavy_top_exact")._SERIES_FROM - 1
+    chunk = _SERIES_FROM - 1
     parts = [heavy_top_exact(I, M, g, l, w0, q0, t[k:k + chunk], precise=True) for k in range(0, len(t), chunk)]
     return type(parts[0])(t=t, omega=np.concatenate([p.omega for p in parts]),
                           gamma=np.concatenate([p.gamma for p in parts]), q=np.concatenate([p.q for p in parts]),
@@ -69,8 +69,6 @@ def bench_nutation(repeat: int = 20, t_end: float | None = None) -> dict:
 
     bundled = load("heavy-top-nutation")
     fields = {f.name: getattr(bundled, f.name) for f in dataclasses.fields(bundled) if f.init}
-    if fields.get("dimensions") is not None:
-        fields["dimensions"] = dict(fields["dimensions"])
     fields["accuracy"] = 1e-11
     if t_end is not None:
         fields["t_end"] = t_end

@@ -92,10 +92,7 @@ STANDARD_FREE_BODY = dict(name="free-body-1e4", moments=(1.0, 2.0, 3.0), omega=(
 def _kwargs(scene) -> dict:
     import dataclasses
 
-    out = {f.name: getattr(scene, f.name) for f in dataclasses.fields(scene)}
-    if out["dimensions"] is not None:
-        out["dimensions"] = dict(out["dimensions"])
-    return out
+    return {f.name: getattr(scene, f.name) for f in dataclasses.fields(scene) if f.init}
 
 
 def bench_sweep(members: int = 100_000, loop: int = 40, accuracy: float = 1e-6, t_end: float = 0.5) -> dict:

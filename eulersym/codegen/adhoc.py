@@ -22,13 +22,13 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 
 from eulersym.codegen.emitter import Argument, FunctionSpec, ModuleSpec, check_expressions, emit_module, local_name
-from eulersym.codegen.runtime import RUNTIME_SOURCE
 from eulersym.errors import InvalidInput
 
 __all__ = ["compile_expressions", "freeze"]
 
 #: Names the compiled module's namespace uses: a function of that name would shadow them.
-_TAKEN = frozenset({"np", "math", "out", "extra"} | {n for n in dir(math) if not n.startswith("_")})
+_TAKEN = frozenset({"np", "math", "out", "extra", "STATE", "PARAMETERS", "DEFAULTS", "INVARIANTS"}
+                   | {n for n in dir(math) if not n.startswith("_")})
 
 
 def freeze(objects):
@@ -184,9 +184,8 @@ def compile_expressions(expressions, arguments, *, flavour: str = "scalar", name
     function = FunctionSpec(name, tuple(specs), matrix)
     module = ModuleSpec(name, f"Compiled on the fly by eulersym.codegen.compile_expressions ({name}).",
                         "compile_expressions", (function,))
-    source = emit_module(module, versions={"eulersym": "ad hoc", "sympy": sp.__version__}, runtime_import="")
+    source = emit_module(module, versions={"eulersym": "ad hoc", "sympy": sp.__version__})
     namespace: dict = {}
-    exec(compile(RUNTIME_SOURCE, "<eulersym runtime>", "exec"), namespace)  # our own fixed text
     exec(compile(source, f"<eulersym.codegen {name}>", "exec"), namespace)  # text we just emitted
     func = namespace[name if flavour == "scalar" else name + "_batched"]
     func.source = source

@@ -17,6 +17,9 @@ module                      y                                               para
 ``kinematics``              attitude_matrix(phi, theta, psi), omega_body(phi, theta, psi, phidot, thetadot, psidot)
 ==========================  ==============================================  ======================================
 
+Each ODE entry also names a body to start from (``DEFAULTS``: the moments of a body with I1 : I2 : I3 = 1 : 2 : 3,
+or the symmetric top I1 = I2 = 1, I3 = 0.5, M = 1, g = 9.81, l = 0.1; no torque): example inputs, not results.
+
 An entry whose derivation is not importable (a module or function not yet in the package) stays registered but
 is *unavailable*: :func:`available` says why, and ``eulersym generate`` skips it with that message.
 
@@ -31,13 +34,14 @@ Examples
 from __future__ import annotations
 
 import functools
-import importlib
 from dataclasses import dataclass
 from typing import Callable
 
 import sympy as sp
 
+from eulersym import dynamics, kinematics, rotation
 from eulersym import symbols as S
+from eulersym import top as top_module
 from eulersym.codegen.emitter import Argument, FunctionSpec, ModuleSpec
 from eulersym.errors import InvalidInput
 
@@ -181,13 +185,20 @@ def _full_tensor():
     return sp.Matrix([[I11, I12, I13], [I12, I22, I23], [I13, I23, I33]])
 
 
+#: The derivation modules the catalogue draws on, by name (imported as themselves, so the graph shows them).
+_DERIVATIONS = {"eulersym.dynamics": dynamics, "eulersym.kinematics": kinematics, "eulersym.rotation": rotation,
+                "eulersym.top": top_module}
+
+
 def _call(target: str):
     module, name = target.split(":")
-    return getattr(importlib.import_module(module), name)
+    return getattr(_DERIVATIONS[module], name)
 
 
-def _ode(name, description, source, state, params, rhs, invariants=None, invariant_names=(), notes=(), singular=()):
-    """A ModuleSpec with rhs, jac (and invariants) of (t, y, *params)."""
+def _ode(name, description, source, state, params, rhs, invariants=None, invariant_names=(), notes=(), singular=(),
+         defaults=()):
+    """A ModuleSpec with rhs, jac (and invariants) of (t, y, *params); ``defaults``: a body to start from (the
+    module's ``DEFAULTS``, one float per parameter)."""
     args = (Argument("t", (S.t,), doc="time"),
             Argument("y", tuple(state), vector=True, doc="state"),
             *(Argument(p.name, (p,)) for p in params))
@@ -199,7 +210,8 @@ def _ode(name, description, source, state, params, rhs, invariants=None, invaria
     if invariants is not None:
         functions.append(FunctionSpec("invariants", args, sp.Matrix(invariants),
                                       "the invariants " + ", ".join(invariant_names), tuple(invariant_names)))
-    return ModuleSpec(name, description, source, tuple(functions), tuple(notes), tuple(singular))
+    return ModuleSpec(name, description, source, tuple(functions), tuple(notes), tuple(singular),
+                      tuple(float(v) for v in defaults))
 
 
 def _freeze_all(exprs):
@@ -231,6 +243,7 @@ def _build_euler_principal() -> ModuleSpec:
         OMEGA, (*S.moments, *S.torques), _euler_rhs(I, tuple(S.torques)),
         _euler_invariants(I), ("E", "L2"),
         ("Invariants: E = ½ ω·Iω and L² = |Iω|² (conserved only without torque).",),
+        defaults=(1.0, 2.0, 3.0, 0.0, 0.0, 0.0),
     )
 
 
@@ -244,6 +257,7 @@ def _build_euler_full() -> ModuleSpec:
         OMEGA, (*FULL_INERTIA, *S.torques), _euler_rhs(I, tuple(S.torques)),
         _euler_invariants(I), ("E", "L2"),
         ("Invariants: E = ½ ω·Iω and L² = |Iω|² (conserved only without torque).",),
+        defaults=(1.0, 0.0, 0.0, 2.0, 0.0, 3.0, 0.0, 0.0, 0.0),
     )
 
 
@@ -263,11 +277,12 @@ def _build_free_body_quaternion() -> ModuleSpec:
         "eulersym.dynamics.euler_equations(I=(I1, I2, I3), torque=(0, 0, 0)) and "
         "eulersym.kinematics.quaternion_rate(q, omega)",
         (*OMEGA, *QUAT), S.moments, list(omega_dot) + list(q_dot), invariants, ("E", "L2", "q_norm2"),
+        defaults=(1.0, 2.0, 3.0),
     )
 
 
 def _build_heavy_top_euler_angles() -> ModuleSpec:
-    top = importlib.import_module("eulersym.top")
+    top = top_module
     eqs = [freeze_state(_residual(e), _ANGLES) for e in top.equations_of_motion()]
     accelerations = first_order(eqs, ACCELERATIONS)
     p_phi, p_psi = top.conserved_momenta()
@@ -284,11 +299,11 @@ def _build_heavy_top_euler_angles() -> ModuleSpec:
         singular=("theta", "sin(theta) == 0",
                   "sin(theta) != 0 (theta strictly between 0 and pi, modulo pi): the Euler-angle equations are "
                   "singular at theta = 0 and pi (the sleeping top); use heavy_top_euler_poisson there"),
+        defaults=(1.0, 0.5, 1.0, 9.81, 0.1),
     )
 
 
 def _build_heavy_top_euler_poisson() -> ModuleSpec:
-    dynamics = importlib.import_module("eulersym.dynamics")
     omega_dot, gamma_dot = dynamics.euler_poisson_equations()
     frozen = {**_OMEGA, **_GAMMA}
     rates = [freeze_state(e, frozen) for m in (omega_dot, gamma_dot) for e in m]
@@ -304,6 +319,7 @@ def _build_heavy_top_euler_poisson() -> ModuleSpec:
         "eulersym.kinematics.quaternion_rate(q, omega)",
         (*OMEGA, *GAMMA, *QUAT), (*S.moments, S.M, S.g, S.l), list(rates) + list(q_dot), invariants,
         ("E", "Gamma_norm2", "L_dot_Gamma", "q_norm2"),
+        defaults=(1.0, 1.0, 0.5, 1.0, 9.81, 0.1),
     )
 
 
@@ -366,11 +382,8 @@ def available(name: str) -> tuple[bool, str]:
         raise InvalidInput("name", name, "one of " + ", ".join(CATALOGUE))
     for target in CATALOGUE[name].requires:
         module, func = target.split(":")
-        try:
-            mod = importlib.import_module(module)
-        except ImportError as exc:
-            return False, f"its derivation {module}.{func} is not available ({exc})"
-        if not hasattr(mod, func):
+        mod = _DERIVATIONS.get(module)
+        if mod is None or not hasattr(mod, func):
             return False, f"its derivation {module}.{func} is not available (not defined yet)"
     return True, ""
 

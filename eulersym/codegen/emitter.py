@@ -27,9 +27,16 @@ Flavours
     statements is indexed once, ``row = out[i, ...]``; a square goes in as ``np.multiply(x, x, out=row)``);
     the wrapper's checks cost little in the common case (floats and arrays of one batch shape: no
     ``np.broadcast_shapes``, no ``np.shape`` conversions, floats not asked for overlap); a long 1-d batch
-    runs in blocks of ``_runtime._BLOCK`` columns (``_f_block``) so that every temporary stays in cache and each
+    runs in blocks of ``_BLOCK`` columns (``_f_block``) so that every temporary stays in cache and each
     input and output crosses memory once; *loop* ``f_loop(t, y, *params, out)``: ``f_flat`` looped over the
     columns, the source :func:`eulersym.numerics._fast.batched` compiles with numba.
+
+Standalone
+    A module imports ``numpy`` and ``math`` and nothing else: its helpers (shape checks, errors) are written into
+    it (:mod:`eulersym.codegen.runtime`), so a copied file runs in any NumPy environment. Where eulersym is
+    installed its errors are ``eulersym.errors`` types; elsewhere ``ValueError`` with the same message. Every
+    module states its contract as literal tuples: ``STATE``, ``PARAMETERS``, ``DEFAULTS``, ``INVARIANTS``
+    (:func:`contract_lines`).
 
 Refusals
     Before anything is printed, :func:`check_expressions` refuses, by name, any ``Derivative``, undefined
@@ -56,6 +63,7 @@ from sympy.core.function import AppliedUndef
 from sympy.printing.precedence import PRECEDENCE, precedence
 from sympy.printing.pycode import PythonCodePrinter
 
+from eulersym.codegen.runtime import RUNTIME_NAMES, RUNTIME_SOURCE
 from eulersym.errors import InvalidInput
 from eulersym.validation import GENERATED_CODE_NAMES, comment_text, docstring_text
 
@@ -71,12 +79,13 @@ __all__ = [
     "emit_loop",
     "emit_module",
     "input_hash",
+    "contract_lines",
     "SCALAR_FUNCTIONS",
     "BATCHED_FUNCTIONS",
 ]
 
 #: Bumped whenever the emitted text changes for the same input, so that ``generate --check`` notices.
-EMITTER_VERSION = "3"
+EMITTER_VERSION = "4"
 
 #: SymPy function name → name in the ``math`` module (scalar flavour, imported by bare name).
 SCALAR_FUNCTIONS: dict[str, str] = {
@@ -96,7 +105,7 @@ BATCHED_FUNCTIONS: dict[str, str] = {
 
 #: Names an argument may not take in emitted code (Python's keywords and built-ins, ``math``'s names, the helpers
 #: and tables of the generated modules): a local of that name would shadow what the code calls.
-_RESERVED = GENERATED_CODE_NAMES
+_RESERVED = GENERATED_CODE_NAMES | RUNTIME_NAMES
 #: The local view of one output row in a block (``row = out[i, ...]``) when the row takes several statements.
 _ROW = "row"
 _CSE_PREFIX = "x"
@@ -202,11 +211,46 @@ class ModuleSpec:
     #: zero where the Python ``condition`` holds into ``eulersym.errors.SingularConfiguration(name, value,
     #: expected)`` and the batched one refuses inf/nan the same way; the flat flavour stays unchecked. Empty: none.
     singular: tuple = field(default=())
+    #: Default values of the parameters (floats, in :attr:`parameters` order): the module's ``DEFAULTS``.
+    defaults: tuple = field(default=())
 
     @property
     def function_names(self) -> tuple[str, ...]:
         """The names of the scalar functions (each also has a ``_batched`` twin)."""
         return tuple(f.name for f in self.functions)
+
+    @property
+    def is_ode(self) -> bool:
+        """True when every function takes ``(t, y, *params)``: a scalar ``t``, a state vector ``y``, scalars after.
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> t, a, k = sp.symbols("t a k")
+        >>> args = (Argument("t", (t,)), Argument("y", (a,), vector=True), Argument("k", (k,)))
+        >>> ModuleSpec("m", "", "", (FunctionSpec("rhs", args, sp.Matrix([k * a])),)).is_ode
+        True
+        """
+        first = self.functions[0].arguments if self.functions else ()
+        return (len(first) >= 2 and first[0].name == "t" and not first[0].vector and first[1].name == "y"
+                and first[1].vector and not any(a.vector for a in first[2:])
+                and all(f.arguments == first for f in self.functions))
+
+    @property
+    def state(self) -> tuple[str, ...]:
+        """The state names, in the order of ``y`` (empty unless :attr:`is_ode`): the module's ``STATE``."""
+        return tuple(s.name for s in self.functions[0].arguments[1].symbols) if self.is_ode else ()
+
+    @property
+    def parameters(self) -> tuple[str, ...]:
+        """The parameter names after ``(t, y)`` (empty unless :attr:`is_ode`): the module's ``PARAMETERS``."""
+        return tuple(a.name for a in self.functions[0].arguments[2:]) if self.is_ode else ()
+
+    @property
+    def invariant_names(self) -> tuple[str, ...]:
+        """The rows of its ``invariants`` function, if it has one: the module's ``INVARIANTS``."""
+        f = next((f for f in self.functions if f.name == "invariants"), None)
+        return tuple(map(str, f.output_names)) if f is not None else ()
 
 
 def local_name(symbol) -> str:
@@ -370,6 +414,7 @@ class _Printer(PythonCodePrinter):
         super().__init__({"fully_qualified_modules": False, "standard": "python3"})
         self._table = table
         self._prefix = prefix
+        self._one = "1"  # the numerator of 1/x (a backend may want a floating literal)
         self.used_functions: set = set()
 
     def _print_Function(self, expr):
@@ -390,6 +435,10 @@ class _Printer(PythonCodePrinter):
     _print_atan2 = _print_sinh = _print_cosh = _print_tanh = _print_asinh = _print_acosh = _print_known
     _print_atanh = _print_exp = _print_log = _print_Abs = _print_floor = _print_ceiling = _print_known
     _print_erf = _print_erfc = _print_gamma = _print_loggamma = _print_known
+    # The rest of PythonCodePrinter's ``math`` functions (hypot, log10, expm1, ...): through the table too, so a
+    # function outside it is refused rather than printed as a name the module never imports.
+    _print_Sqrt = _print_expm1 = _print_factorial = _print_hypot = _print_isinf = _print_isnan = _print_known
+    _print_ln = _print_log10 = _print_log1p = _print_log2 = _print_known
 
     def _print_sign(self, expr):
         raise InvalidInput("function", "sign", "differentiable expressions (no sign)")
@@ -407,13 +456,17 @@ class _Printer(PythonCodePrinter):
         if exp == sp.S.Half:
             return self._sqrt(base)
         if exp == -sp.S.Half:
-            return f"1/{self._sqrt(base)}"
+            return f"{self._one}/{self._sqrt(base)}"
         if exp.is_Integer and base.is_Symbol and 1 < abs(int(exp)) <= 4:
             b = self.parenthesize(base, PRECEDENCE["Mul"], strict=True)
             product = "(" + "*".join([b] * abs(int(exp))) + ")"
-            return product if exp > 0 else f"1/{product}"
+            return product if exp > 0 else f"{self._one}/{product}"
         if exp == -1:
-            return f"1/{self.parenthesize(base, PRECEDENCE['Mul'], strict=True)}"
+            return f"{self._one}/{self.parenthesize(base, PRECEDENCE['Mul'], strict=True)}"
+        return self._power(base, exp)
+
+    def _power(self, base, exp) -> str:
+        """A power the cases above do not cover: ``b**e`` (a C backend writes ``pow(b, e)``)."""
         b = self.parenthesize(base, PRECEDENCE["Pow"], strict=True)
         e = self.parenthesize(exp, PRECEDENCE["Pow"], strict=True)
         return f"{b}**{e}"
@@ -786,6 +839,8 @@ def input_hash(spec: ModuleSpec) -> str:
     h.update(f"emitter {EMITTER_VERSION}\nmodule {spec.name}\nsource {spec.source}\n".encode())
     if spec.singular:
         h.update(f"singular {spec.singular!r}\n".encode())
+    if spec.defaults:
+        h.update(f"defaults {tuple(float(v) for v in spec.defaults)!r}\n".encode())
     for f in spec.functions:
         h.update(f"function {f.name}({_signature(f)})\n".encode())
         for a in f.arguments:
@@ -810,6 +865,8 @@ def check_module(spec: ModuleSpec) -> None:
     names = [f.name for f in spec.functions]
     if len(set(names)) != len(names):
         raise InvalidInput("functions", names, "distinct function names")
+    if spec.defaults and len(spec.defaults) != len(spec.parameters):
+        raise InvalidInput("defaults", spec.defaults, f"one float per parameter ({', '.join(spec.parameters)})")
     for f in spec.functions:
         symbols = f.symbols
         locals_ = [local_name(s) for s in symbols] + [a.name for a in f.arguments]
@@ -820,12 +877,39 @@ def check_module(spec: ModuleSpec) -> None:
         check_expressions(list(f.expressions), symbols, what=f"{spec.name}.{f.name}")
 
 
-_RUNTIME_IMPORT = ("from eulersym.generated._runtime import _as_vector, _blocked, _prepare_out, _shape, _too_many, "
-                   "_wrong_length")
+def contract_lines(spec: ModuleSpec) -> list[str]:
+    """The module's contract, as literal assignments: ``STATE``, ``PARAMETERS``, ``DEFAULTS``, ``INVARIANTS``.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> t, a, k = sp.symbols("t a k")
+    >>> args = (Argument("t", (t,)), Argument("y", (a,), vector=True), Argument("k", (k,)))
+    >>> spec = ModuleSpec("m", "", "", (FunctionSpec("rhs", args, sp.Matrix([k * a])),), defaults=(2,))
+    >>> print("\\n".join(contract_lines(spec)[1::2]))
+    STATE = ('a',)
+    PARAMETERS = ('k',)
+    DEFAULTS = (2.0,)
+    INVARIANTS = ()
+    """
+    return [
+        "#: State names, in the order of y (empty: the functions take no state vector).",
+        f"STATE = {spec.state!r}",
+        "#: Parameter names, in the order the functions take them after (t, y).",
+        f"PARAMETERS = {spec.parameters!r}",
+        "#: Default values of the parameters (floats), same order.",
+        f"DEFAULTS = {tuple(float(v) for v in spec.defaults)!r}",
+        "#: The rows of invariants(t, y, *params).",
+        f"INVARIANTS = {spec.invariant_names!r}",
+    ]
 
 
-def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_import: str | None = None) -> str:
-    """Full source of a generated module: header, docstring, imports, the scalar then the batched functions.
+def emit_module(spec: ModuleSpec, *, versions: dict | None = None) -> str:
+    """Full source of a generated module: header, docstring, imports, its helpers, ``__all__`` and the contract
+    (:func:`contract_lines`), then the scalar, flat, batched and loop functions.
+
+    The module imports NumPy and ``math`` only: its helpers (:mod:`eulersym.codegen.runtime`) are written into it,
+    so the file runs wherever NumPy does.
 
     Parameters
     ----------
@@ -833,8 +917,6 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
         What to emit.
     versions : dict, optional
         ``{"eulersym": ..., "sympy": ...}`` for the header (defaults to the installed versions).
-    runtime_import : str, optional
-        The import line of the shared helpers (the ad-hoc route inlines them instead).
 
     Examples
     --------
@@ -905,12 +987,10 @@ def emit_module(spec: ModuleSpec, *, versions: dict | None = None, runtime_impor
     imports = ["", "import numpy as np"]
     if used:
         imports.append(f"from math import {', '.join(sorted(used))}")
-    if runtime_import is None:
-        runtime_import = _RUNTIME_IMPORT + (", _singular" if spec.singular else "")
-    if runtime_import:
-        imports += ["", runtime_import]
     all_names = [f.name + suffix for suffix in ("", "_flat", "_batched", "_loop") for f in spec.functions]
-    parts = header + doc + imports + ["", f"__all__ = {all_names!r}", ""]
+    all_names += ["STATE", "PARAMETERS", "DEFAULTS", "INVARIANTS"]
+    parts = header + doc + imports + ["", f"__all__ = {all_names!r}", ""] + contract_lines(spec)
+    parts += ["", "", RUNTIME_SOURCE.rstrip("\n"), ""]
     for src in scalar + flat + batched + loops:
         parts += ["", src, ""]
     return "\n".join(parts).rstrip("\n") + "\n"

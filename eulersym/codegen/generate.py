@@ -1,4 +1,14 @@
-"""``eulersym generate [--check]``: write the catalogue's kernels to generated/, or check them against a fresh run.
+"""``eulersym generate [--check] [--target numpy|c|jax]``: write the catalogue's kernels, or check them against a
+fresh run.
+
+Targets
+    ``numpy`` (:mod:`eulersym.codegen.emitter`): one ``<name>.py`` per kernel, committed in generated/;
+    ``c`` (:mod:`eulersym.codegen.c`, :mod:`eulersym.codegen.c_library`): ``<name>.h``/``<name>.c`` per kernel in
+    double and float, plus the free body's exact propagator and the pivoted body's splitting step, committed in
+    generated/c/; ``jax`` (:mod:`eulersym.codegen.jax`): one ``<name>.py`` per kernel in ``jax.numpy``, written where
+    ``--dir`` says (not committed). ``eulersym generate`` without ``--target`` writes (or checks) the two committed
+    ones: NumPy into the folder and C into its ``c/`` subfolder. A user's model: :mod:`eulersym.model.targets`
+    (``eulersym generate --target c|jax --model FILE --dir DIR``).
 
 What ``--check`` compares
     A generated file records the SymPy version that printed it. Printing (and CSE) can change between SymPy
@@ -12,9 +22,10 @@ What ``--check`` compares
       derivation's expressions (``srepr``), argument order and emitter version — so a changed derivation still
       fails. A note says that the code was not compared.
 
-    A kernel file that is missing, or an extra file in the folder, fails either way. ``_runtime.py`` (the shared
-    shape checks) must always match exactly. An entry whose derivation is not available is skipped with its
-    reason (its committed file, if any, is left alone and reported).
+    A C file records the SymPy version in its header comment, under the same rule; the C library (no SymPy in it)
+    must match byte for byte. A kernel file that is missing, or an extra file in the folder, fails either way. An
+    entry whose derivation is not available is skipped with its reason (its committed file, if any, is left alone
+    and reported).
 
 Examples
 --------
@@ -41,26 +52,43 @@ import sympy as sp
 from eulersym._process import alive as _alive
 from eulersym.codegen.catalogue import CATALOGUE, available, build
 from eulersym.codegen.emitter import emit_module
-from eulersym.codegen.runtime import RUNTIME_NAME, RUNTIME_SOURCE
 from eulersym.errors import CheckFailed, InvalidInput
 
-__all__ = ["generate", "check", "render", "default_directory", "CheckReport", "cli"]
+__all__ = ["generate", "check", "render", "default_directory", "CheckReport", "cli", "TARGETS"]
 
-_SYMPY_LINE = "# SymPy version: "
+#: What ``--target`` accepts.
+TARGETS = ("numpy", "c", "jax")
+_SYMPY_LINE = "SymPy version: "
 _KEEP = {"__init__.py"}
+#: Subfolders a target's folder may hold (the committed NumPy folder holds the C target's ``c/``); kept as they are.
+_SUBFOLDERS = {"numpy": {"c"}, "c": set(), "jax": set()}
+#: Files an earlier eulersym wrote into the folder and this one no longer does: ``generate`` removes them.
+_OBSOLETE = {"_runtime.py"}
 
 
-def default_directory() -> Path:
-    """The folder of the installed ``eulersym.generated`` package (the repository's generated/ when editable).
+def default_directory(target: str = "numpy") -> Path:
+    """The folder of the installed ``eulersym.generated`` package (the repository's generated/ when editable), or
+    its ``c/`` subfolder for the C target.
 
     Examples
     --------
-    >>> default_directory().name in ("generated",)
-    True
+    >>> default_directory().name, default_directory("c").name
+    ('generated', 'c')
     """
     import eulersym.generated
 
-    return Path(eulersym.generated.__path__[0])
+    folder = Path(eulersym.generated.__path__[0])
+    if _target(target) == "c":
+        return folder / "c"
+    if target == "jax":
+        raise InvalidInput("--dir", None, "a folder for the JAX kernels (they are not committed: say where, --dir DIR)")
+    return folder
+
+
+def _target(target) -> str:
+    if target not in TARGETS:
+        raise InvalidInput("--target", target, "one of " + ", ".join(TARGETS))
+    return target
 
 
 def _names(names) -> list[str]:
@@ -73,34 +101,64 @@ def _names(names) -> list[str]:
     return names
 
 
-def render(names=None) -> tuple[dict[str, str], dict[str, str]]:
-    """Emit the sources: ``({file name: text}, {skipped kernel: reason})``, the runtime helpers included.
+def render(names=None, *, target: str = "numpy") -> tuple[dict[str, str], dict[str, str]]:
+    """Emit the sources of a target: ``({file name: text}, {skipped kernel: reason})``.
 
     Examples
     --------
     >>> files, skipped = render(["kinematics"])
     >>> sorted(files)
-    ['_runtime.py', 'kinematics.py']
+    ['kinematics.py']
+    >>> sorted(render(["kinematics"], target="c")[0])[-2:]
+    ['kinematics.c', 'kinematics.h']
     """
-    files = {RUNTIME_NAME + ".py": RUNTIME_SOURCE}
+    target = _target(target)
+    files = {}
     skipped = {}
+    if target == "c":
+        from eulersym.codegen.c_library import library_files
+
+        files.update(library_files())
     for name in _names(names):
         ok, why = available(name)
         if not ok:
             skipped[name] = why
             continue
-        files[name + ".py"] = _source(name)
+        files.update(_sources(name, target))
     return files, skipped
 
 
+def _file_names(name: str, target: str) -> tuple[str, ...]:
+    return (name + ".h", name + ".c") if target == "c" else (name + ".py",)
+
+
 @functools.lru_cache(maxsize=None)
-def _source(name: str) -> str:
-    """The emitted text of one catalogue entry (pure: derived and emitted once per process)."""
-    return emit_module(build(name))
+def _sources(name: str, target: str) -> dict:
+    """The emitted files of one catalogue entry for a target (pure: derived and emitted once per process)."""
+    spec = build(name)
+    if target == "c":
+        from eulersym.codegen.c import emit_c
+
+        return emit_c(spec)
+    if target == "jax":
+        from eulersym.codegen.jax import emit_jax
+
+        return {name + ".py": emit_jax(spec)}
+    return {name + ".py": emit_module(spec)}
 
 
-def generate(directory=None, names=None, *, verbose: bool = False) -> list[Path]:
-    """Write the kernels (and ``_runtime.py``) to ``directory``; return the paths written.
+def _known(target: str) -> set:
+    """Every file name the target writes for some catalogue entry (a folder of them may be replaced)."""
+    known = {f for name in CATALOGUE for f in _file_names(name, target)}
+    if target == "c":
+        from eulersym.codegen.c_library import LIBRARY_NAMES
+
+        known |= {stem + ext for stem in LIBRARY_NAMES for ext in (".h", ".c")}
+    return known
+
+
+def generate(directory=None, names=None, *, target: str = "numpy", verbose: bool = False) -> list[Path]:
+    """Write a target's kernels to ``directory``; return the paths written.
 
     The set of files is replaced as a whole: when anything changes, the new folder is built beside the target
     (``.<name>.eulersym-new-<pid>``, holding the new files and links to the others: ``__init__.py``, kernels not
@@ -112,10 +170,13 @@ def generate(directory=None, names=None, *, verbose: bool = False) -> list[Path]
     Parameters
     ----------
     directory : path, optional
-        Default: :func:`default_directory`. Created if missing; it must be a folder (or not exist yet) whose
-        parents are folders, holding nothing but generated kernels and ``__init__.py`` (it is replaced whole).
+        Default: :func:`default_directory` of the target. Created if missing; it must be a folder (or not exist
+        yet) whose parents are folders, holding nothing but generated kernels and ``__init__.py`` (it is replaced
+        whole; the NumPy folder's ``c/`` subfolder is kept as it is).
     names : list of str, optional
         Catalogue entries (default: all). Unavailable ones are skipped with a message on stderr.
+    target : {"numpy", "c", "jax"}
+        The kernels' language (see the module docstring).
 
     Raises
     ------
@@ -128,18 +189,19 @@ def generate(directory=None, names=None, *, verbose: bool = False) -> list[Path]
     >>> import tempfile
     >>> with tempfile.TemporaryDirectory() as d:
     ...     sorted(p.name for p in generate(d, names=["kinematics"]))
-    ['_runtime.py', 'kinematics.py']
+    ['kinematics.py']
     """
-    directory = _target_directory(default_directory() if directory is None else directory, "directory")
-    files, skipped = render(names)
+    target = _target(target)
+    directory = _target_directory(default_directory(target) if directory is None else directory, "directory")
+    files, skipped = render(names, target=target)
     for name, why in skipped.items():
         sys.stderr.write(f"eulersym generate: skipped {name}: {why}\n")
     _recover(directory)
-    unchanged = directory.is_dir() and all(
+    unchanged = directory.is_dir() and not any((directory / file).exists() for file in _OBSOLETE) and all(
         (directory / file).is_file() and (directory / file).read_bytes() == text.encode()
         for file, text in files.items())
     if not unchanged:
-        _only_kernels(directory, files)
+        _only_kernels(directory, files, target)
         try:
             _replace_folder(directory, {file: text.encode() for file, text in files.items()})
         except OSError as exc:
@@ -173,13 +235,15 @@ def _target_directory(directory, argument: str) -> Path:
     return path
 
 
-def _only_kernels(directory: Path, files: dict) -> None:
+def _only_kernels(directory: Path, files: dict, target: str) -> None:
     """Refuse a folder that holds anything but generated kernels: the whole folder is replaced."""
     if not directory.is_dir():
         return
-    allowed = set(files) | _KEEP | {"__pycache__"} | {name + ".py" for name in CATALOGUE}
+    folders = {"__pycache__"} | _SUBFOLDERS[target]
+    allowed = set(files) | _KEEP | _OBSOLETE | _known(target)
     foreign = sorted(entry.name for entry in directory.iterdir()
-                     if entry.name not in allowed or (entry.is_dir() and entry.name != "__pycache__"))
+                     if not (entry.name in folders and entry.is_dir() and not entry.is_symlink())
+                     and (entry.name not in allowed or not entry.is_file()))
     if foreign:
         shown = ", ".join(foreign[:5]) + (f" and {len(foreign) - 5} more" if len(foreign) > 5 else "")
         raise InvalidInput("directory", str(directory), "a new or empty folder, or a folder of generated kernels "
@@ -217,14 +281,14 @@ def _replace_folder(directory: Path, files: dict[str, bytes]) -> None:
     shutil.rmtree(new, ignore_errors=True)
     new.mkdir()
     try:
-        if directory.is_dir():  # only kernels, __init__.py and __pycache__ (checked): keep the files not rewritten
+        if directory.is_dir():  # only kernels, __init__.py, __pycache__ and c/ (checked): keep what is not rewritten
             for entry in directory.iterdir():
-                if entry.name in files or not entry.is_file():
+                if entry.is_dir() and not entry.is_symlink() and entry.name != "__pycache__":
+                    shutil.copytree(entry, new / entry.name, copy_function=_link_or_copy)  # the C target's c/
                     continue
-                try:
-                    os.link(entry, new / entry.name)
-                except OSError:
-                    shutil.copy2(entry, new / entry.name)
+                if entry.name in files or entry.name in _OBSOLETE or not entry.is_file():
+                    continue
+                _link_or_copy(entry, new / entry.name)
         for file, data in files.items():
             with open(new / file, "wb") as handle:
                 handle.write(data)
@@ -243,6 +307,14 @@ def _replace_folder(directory: Path, files: dict[str, bytes]) -> None:
     finally:
         if new.exists():
             shutil.rmtree(new, ignore_errors=True)
+
+
+def _link_or_copy(source, target) -> None:
+    """A hard link of ``source`` at ``target`` (no copy of the bytes), or a copy where links are not possible."""
+    try:
+        os.link(source, target)
+    except OSError:
+        shutil.copy2(source, target)
 
 
 def _exchange(a: Path, b: Path) -> bool:
@@ -283,24 +355,29 @@ class CheckReport:
 
 
 def _header(text: str) -> list[str]:
-    lines = []
-    for line in text.splitlines():
+    """The leading comment of a generated file: its ``#`` lines (Python) or its first block comment (C)."""
+    lines = text.splitlines()
+    if lines and lines[0].startswith("/*"):
+        end = next((i for i, line in enumerate(lines) if "*/" in line), len(lines) - 1)
+        return lines[:end + 1]
+    out = []
+    for line in lines:
         if not line.startswith("#"):
             break
-        lines.append(line)
-    return lines
+        out.append(line)
+    return out
 
 
 def _compare(file: str, fresh: str, committed: str, report: CheckReport) -> None:
     if fresh == committed:
         return
-    old = [line for line in _header(committed) if line.startswith(_SYMPY_LINE)]
-    recorded = old[0][len(_SYMPY_LINE):] if old else None
-    if recorded is None or recorded == sp.__version__ or file == RUNTIME_NAME + ".py":
+    old = [line for line in _header(committed) if _SYMPY_LINE in line]
+    recorded = old[0].split(_SYMPY_LINE, 1)[1] if old else None
+    if recorded is None or recorded == sp.__version__:
         report.problems.append(f"{file} differs from a fresh generation; run `eulersym generate`")
         return
-    strip = [line for line in _header(fresh) if not line.startswith(_SYMPY_LINE)]
-    strip_old = [line for line in _header(committed) if not line.startswith(_SYMPY_LINE)]
+    strip = [line for line in _header(fresh) if _SYMPY_LINE not in line]
+    strip_old = [line for line in _header(committed) if _SYMPY_LINE not in line]
     if strip != strip_old:
         report.problems.append(f"{file}: the derivation or its inputs changed (header/input hash differ); "
                                "run `eulersym generate`")
@@ -309,8 +386,8 @@ def _compare(file: str, fresh: str, committed: str, report: CheckReport) -> None
                             "matches; code not compared byte for byte")
 
 
-def check(directory=None, names=None) -> CheckReport:
-    """Compare ``directory`` with a fresh generation (see the module docstring for the rule).
+def check(directory=None, names=None, *, target: str = "numpy") -> CheckReport:
+    """Compare ``directory`` with a fresh generation of a target (see the module docstring for the rule).
 
     Extra files are looked for only when ``names`` is None (the whole catalogue).
 
@@ -319,46 +396,65 @@ def check(directory=None, names=None) -> CheckReport:
     >>> import tempfile
     >>> with tempfile.TemporaryDirectory() as d:
     ...     check(d, names=["kinematics"]).problems
-    ['_runtime.py is missing; run `eulersym generate`', 'kinematics.py is missing; run `eulersym generate`']
+    ['kinematics.py is missing; run `eulersym generate`']
     """
-    directory = _target_directory(default_directory() if directory is None else directory, "directory")
+    target = _target(target)
+    directory = _target_directory(default_directory(target) if directory is None else directory, "directory")
     report = CheckReport()
-    files, skipped = render(names)
+    files, skipped = render(names, target=target)
+    shown = "c/" if target == "c" and directory.name == "c" else ""
     for name, why in skipped.items():
         report.notes.append(f"skipped {name}: {why}")
     for file, fresh in files.items():
         path = directory / file
         if not path.is_file():
-            report.problems.append(f"{file} is missing; run `eulersym generate`")
+            report.problems.append(f"{shown}{file} is missing; run `eulersym generate`")
             continue
-        _compare(file, fresh, path.read_text(encoding="utf-8"), report)
+        _compare(shown + file, fresh, path.read_text(encoding="utf-8"), report)
     if names is None and directory.is_dir():
-        expected = set(files) | _KEEP | {name + ".py" for name in skipped}
+        expected = set(files) | _KEEP | {f for name in skipped for f in _file_names(name, target)}
         for path in sorted(directory.iterdir()):
-            if path.name == "__pycache__":
+            if path.name == "__pycache__" or (path.name in _SUBFOLDERS[target] and path.is_dir()):
                 continue
             if path.name not in expected:
-                report.problems.append(f"{path.name} is extra: no catalogue entry writes it")
+                report.problems.append(f"{shown}{path.name} is extra: no catalogue entry writes it")
     return report
 
 
+# ----------------------------------------------------------------------------------------------------------------
+# The command line
+
+
+def _plural(n: int, word: str) -> str:
+    return f"{n} {word}" + ("" if n == 1 else "s")
+
+
 def cli(argv: list[str]) -> int:
-    """``eulersym generate [--check] [--dir DIR] [NAME ...]``; 0 ok, 1 check failed (stale/missing/extra).
+    """``eulersym generate [--check] [--target numpy|c|jax] [--dir DIR] [NAME ...]``; 0 ok, 1 check failed
+    (stale/missing/extra), 2 bad input. (With ``--model FILE``, :mod:`eulersym.cli` routes to the model's command.)
+
+    Without ``--target``: the committed kernels, NumPy in DIR (default generated/) and C in DIR/c.
 
     Examples
     --------
     >>> import tempfile
     >>> with tempfile.TemporaryDirectory() as d:
     ...     cli(["--dir", d, "kinematics"]), cli(["--check", "--dir", d, "kinematics"])
-    generated 2 files in ...
-    check passed: 2 files ...
+    generated 1 file in ... and 6 files in .../c (...)
+    check passed: 7 files match a fresh generation (...)
     (0, 0)
     """
     parser = argparse.ArgumentParser(prog="eulersym generate",
-                                     description="Write the NumPy kernels (default: into generated/).")
+                                     description="Write the kernels: NumPy into generated/ and C into generated/c/ "
+                                                 "(or one --target; JAX needs --dir).",
+                                     epilog="A model of your own: eulersym generate --model FILE [--target c|jax] "
+                                            "[--dir DIR] [--name NAME] [--check].")
     parser.add_argument("--check", action="store_true",
                         help="do not write; exit 1 if a file is stale, missing or extra")
-    parser.add_argument("--dir", default=None, help="output folder (default: the eulersym.generated package)")
+    parser.add_argument("--target", choices=TARGETS, default=None,
+                        help="numpy, c or jax (default: numpy and c, the committed kernels)")
+    parser.add_argument("--dir", default=None, help="output folder (default: the eulersym.generated package; its c/ "
+                                                    "subfolder for --target c)")
     parser.add_argument("names", nargs="*", help=f"kernels (default: all): {', '.join(CATALOGUE)}")
     try:
         args = parser.parse_args(argv)
@@ -367,21 +463,47 @@ def cli(argv: list[str]) -> int:
     names = args.names or None
     if args.dir is not None:
         _target_directory(args.dir, "--dir")
+    if args.target == "jax" and args.dir is None:
+        raise InvalidInput("--dir", None, "a folder for the JAX kernels (they are not committed: --dir DIR)")
+    if args.target is None:
+        root = Path(args.dir) if args.dir is not None else None
+        runs = [("numpy", root), ("c", None if root is None else root / "c")]
+    else:
+        runs = [(args.target, args.dir)]
+    # The committed artefacts as a whole: every kernel in its default place (then the shapes' file too).
+    committed = args.target is None and args.dir is None and names is None
     start = time.perf_counter()
     if args.check:
-        report = check(args.dir, names)
-        for note in report.notes:
-            print(f"note: {note}")
-        if not report.ok:
-            raise CheckFailed("; ".join(report.problems))
-        count = len(render(names)[0])
-        print(f"check passed: {count} files match a fresh generation ({time.perf_counter() - start:.1f} s)")
+        problems, count = [], 0
+        for target, directory in runs:
+            report = check(directory, names, target=target)
+            for note in report.notes:
+                print(f"note: {note}")
+            problems += report.problems
+            count += len(render(names, target=target)[0])
+        if committed:  # the shapes' closed forms, derived by eulersym.inertia, are committed beside the kernels
+            from eulersym import shapes
+
+            count += 1
+            if shapes.write(check=True):
+                problems.append(f"eulersym/{shapes.MODULE} is stale; run `eulersym generate`")
+        if problems:
+            raise CheckFailed("; ".join(problems))
+        print(f"check passed: {_plural(count, 'file')} match a fresh generation ({time.perf_counter() - start:.1f} s)")
         return 0
-    try:
-        written = generate(args.dir, names)
-    except InvalidInput as exc:
-        if exc.argument != "directory":
-            raise
-        raise InvalidInput("--dir", exc.value, exc.expected) from None
-    print(f"generated {len(written)} files in {Path(written[0]).parent} ({time.perf_counter() - start:.1f} s)")
+    done = []
+    for target, directory in runs:
+        try:
+            written = generate(directory, names, target=target)
+        except InvalidInput as exc:
+            if exc.argument != "directory":
+                raise
+            raise InvalidInput("--dir", exc.value, exc.expected) from None
+        done.append(f"{_plural(len(written), 'file')} in {Path(written[0]).parent}")
+    if committed:
+        from eulersym import shapes
+
+        shapes.write()
+        done.append(f"eulersym/{shapes.MODULE}")
+    print(f"generated {' and '.join(done)} ({time.perf_counter() - start:.1f} s)")
     return 0

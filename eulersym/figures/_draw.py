@@ -12,7 +12,7 @@ import os
 import numpy as np
 
 from eulersym.errors import InvalidInput
-from eulersym.scene.io import check_target, clean_leftovers
+from eulersym.files import check_target, clean_leftovers
 
 #: The formats a figure is written in, by suffix.
 SUFFIXES = (".png", ".pdf", ".svg")
@@ -64,7 +64,7 @@ def save(fig, path: str, argument: str = "--plot") -> str:
 
 def check_path(path: str, argument: str = "--plot") -> None:
     """Refuse, before any work, a figure path with another suffix, in a missing folder, or where nothing can be
-    written (:func:`eulersym.scene.io.check_target`)."""
+    written (:func:`eulersym.files.check_target`)."""
     check_target(argument, path, SUFFIXES)
 
 

@@ -12,6 +12,7 @@ import os
 from eulersym.errors import InvalidInput
 from eulersym.figures import axis_path, panels, poinsot, polhodes, sweep_map
 from eulersym.figures._draw import check_path, save
+from eulersym.figures.motion import scene_of
 
 __all__ = ["FIGURES", "figure", "fitting", "plot"]
 
@@ -50,6 +51,7 @@ def fitting(result, scene=None) -> list:
     >>> fitting(simulate(load("sleeping-top-map")))
     ['map', 'panels']
     """
+    scene = scene_of(result, scene)
     return [name for name, (module, _) in FIGURES.items() if module.fits(result, scene) is None]
 
 
@@ -68,6 +70,7 @@ def figure(result, name: str, scene=None):
 
 
 def _drawn(result, name: str, scene=None):
+    scene = scene_of(result, scene)
     if name not in FIGURES:
         raise InvalidInput("--figure", name, "one of " + ", ".join(FIGURES))
     module = FIGURES[name][0]
@@ -114,6 +117,7 @@ def plot(result, path: str, *, figure: str | None = None, scene=None) -> list:
     b'\\x89PNG'
     """
     check_path(path)
+    scene = scene_of(result, scene)
     if figure is not None:
         names = [figure]
         figures = [_drawn(result, figure, scene)]

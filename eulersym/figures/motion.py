@@ -95,6 +95,11 @@ def member(array, k: int = 0):
     return array[k] if array.ndim == 3 else array
 
 
+def scene_of(result, scene=None):
+    """The scene that ran: ``scene`` where given, else the one the result keeps (``Result.scene``), else None."""
+    return scene if scene is not None else getattr(result, "scene", None)
+
+
 def facts_of(result, scene=None, k: int = 0) -> Facts:
     """The :class:`Facts` of member ``k`` of ``result``; ``scene`` (the :class:`~eulersym.scene.Scene` that ran)
     supplies ``M g l`` where the result does not carry it.
@@ -107,6 +112,7 @@ def facts_of(result, scene=None, k: int = 0) -> Facts:
     >>> f.gravity, round(f.mgl, 6), f.symmetric
     (True, 0.1962, True)
     """
+    scene = scene_of(result, scene)
     plan = result.plan
     moments = np.asarray(result.moments, dtype=float)
     moments = moments[k] if moments.ndim == 2 else moments

@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from eulersym.figures._draw import pyplot
-from eulersym.figures.motion import (axis_in_space, facts_of, member, oscillations, precession_rates,
+from eulersym.figures.motion import (axis_in_space, facts_of, member, oscillations, precession_rates, scene_of,
                                      unfolded_tilt, turning_points)
 
 __all__ = ["panels", "figure", "unfold_euler"]
@@ -75,6 +75,7 @@ def _along_L(result, facts) -> bool:
 def _asked(result, scene, output: str) -> bool:
     """Whether the scene asked for ``output``: its own list where the scene is given; else the attitude counts as
     asked where no Euler angles were (a run that needed q for its angles did not ask for q)."""
+    scene = scene_of(result, scene)
     if scene is not None and getattr(scene, "outputs", None) is not None:
         return output in scene.outputs
     return result.euler_angles is None

@@ -20,7 +20,7 @@ import numpy as np
 from eulersym.errors import InvalidInput
 from eulersym.figures._draw import pyplot
 from eulersym.figures.motion import facts_of
-from eulersym.scene.io import quantity_label
+from eulersym.labels import quantity_label
 
 __all__ = ["figure", "fits", "measure", "sleeping_threshold"]
 

@@ -1,8 +1,11 @@
-"""A user's own rigid body: specification (``Model``), derivations by two routes, integrals, kernels.
+"""A rigid body — the one description of a body in eulersym: specification (``Model``), its numbers per member
+(``Model.facts``, NumPy), derivations by two routes, integrals, kernels.
 
-``import eulersym.model`` is light (no SymPy): :class:`Model` validates a model SymPy-free, and SymPy comes in
-when its mechanics is first used. See :mod:`eulersym.model.spec` for the model's sections,
-:mod:`eulersym.model.mechanics` for the symbolic contract between the specification and the derivations.
+``import eulersym.model`` is light (no SymPy): :class:`Model` validates a model SymPy-free, its facts
+(:mod:`eulersym.model.facts`) need no SymPy for numbers, parameters and named shapes, and SymPy comes in when its
+mechanics is first used. See :mod:`eulersym.model.spec` for the model's sections, :mod:`eulersym.model.mechanics`
+for the symbolic contract between the specification and the derivations. Every scene holds one
+(:class:`eulersym.scene.Scene`).
 
 Examples
 --------
@@ -13,9 +16,7 @@ Examples
 
 from __future__ import annotations
 
-import importlib
-
-__all__ = ["Model", "Mechanics"]
+__all__ = ["Model", "Mechanics", "Facts"]
 
 
 def __getattr__(name: str):
@@ -23,8 +24,14 @@ def __getattr__(name: str):
         from eulersym.model.spec import Model
 
         return Model
-    if name == "Mechanics":
-        return importlib.import_module("eulersym.model.mechanics").Mechanics
+    if name == "Mechanics":  # imports SymPy
+        from eulersym.model.mechanics import Mechanics
+
+        return Mechanics
+    if name == "Facts":
+        from eulersym.model.facts import Facts
+
+        return Facts
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 

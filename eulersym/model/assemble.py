@@ -37,6 +37,7 @@ import sympy as sp
 
 from eulersym import inertia
 from eulersym.errors import InvalidInput
+from eulersym.validation import inertia_tensor
 from eulersym.model.expressions import namespace, parse, to_body
 from eulersym.model.mechanics import Mechanics
 from eulersym.rotation import euler_matrix, from_axis_angle, from_quaternion, to_quaternion
@@ -121,16 +122,12 @@ class _Values:
         arr = arr.real
         if raw is None:  # a derived tensor: show it
             raw = [[float(f"{x:.6g}") for x in row] for row in arr]
-        scale = float(np.max(np.abs(arr))) or 1.0
-        eig = np.linalg.eigvalsh((arr + arr.T) / 2)
-        shown = [float(f"{e:.6g}") for e in eig]
-        if eig[0] <= 1e-14 * scale:
-            raise InvalidInput(key, raw, f"a positive-definite tensor (its principal moments are {shown} at the "
-                               "parameters' defaults; a thin rod, or point masses on one line, have no moment "
-                               "about that line, and the equations of motion need all three)")
-        if eig[0] + eig[1] < eig[2] * (1 - 1e-12):
-            raise InvalidInput(key, raw, f"the tensor of a body: its principal moments {shown} must satisfy "
-                               "I1 + I2 >= I3 (the triangle inequality), at the parameters' defaults")
+        try:
+            inertia_tensor(key, (arr + arr.T) / 2, shown=raw)
+        except InvalidInput as exc:
+            raise InvalidInput(key, raw, exc.expected + " at the parameters' defaults" + (
+                "; a thin rod, or point masses on one line, have no moment about that line, and the equations of "
+                "motion need all three" if "positive-definite" in exc.expected else "")) from None
 
 
 def _show(v: complex) -> str:

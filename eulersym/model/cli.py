@@ -9,9 +9,10 @@ candidate is conserved), 1 a check failed (``verify``: not conserved), 2 bad usa
   adds the proof that Lagrange's equations equal them;
 - ``eulersym generate --model FILE [--dir DIR] [--name NAME] [--check]`` — write the model's kernel module
   (``--check``: compare the file in DIR with a fresh generation instead);
-- ``eulersym verify --model FILE --integral EXPR [--json]`` — is ``EXPR`` (the model's names: ``omega1..3``,
-  ``gamma1..3``, ``q0..q3``, ``t``, the parameters, ``omega``/``gamma``/``inertia`` with ``dot``, ``norm``...)
-  conserved? Its rate ``dH/dt`` and a counterexample when not.
+- ``eulersym verify --model FILE --integral EXPR [--on "NAME = VALUE, ..."] [--json]`` — is ``EXPR`` (the model's
+  names: ``omega1..3``, ``gamma1..3``, ``q0..q3``, ``t``, the parameters, ``omega``/``gamma``/``inertia`` with
+  ``dot``, ``norm``...) conserved — everywhere, or on the level set of the model's integrals given by ``--on``? Its
+  rate ``dH/dt`` and a counterexample when not.
 
 Examples
 --------
@@ -207,10 +208,16 @@ def generate(argv) -> int:
 
 
 def verify(argv) -> int:
-    """``eulersym verify --model FILE --integral EXPR [--json]``: 0 conserved, 1 not, 2 bad input.
+    """``eulersym verify --model FILE --integral EXPR [--on "NAME = VALUE, ..."] [--json]``: 0 conserved, 1 not, 2 bad
+    input.
 
     Examples
     --------
+    >>> verify(["--model", "top-goryachev-chaplygin", "--on", "L_dot_Gamma = 0",
+    ...         "--integral", "omega3*(omega1**2 + omega2**2) - M*g*a/C*omega1*gamma3"])  # doctest: +ELLIPSIS
+    model top-goryachev-chaplygin: omega3*(omega1**2 + omega2**2) - M*g*a/C*omega1*gamma3 (on L_dot_Gamma = 0)
+      conserved: dH/dt = 0 (exact (Gröbner normal form), on the level set |Gamma|^2 = 1, |q|^2 = 1, L_dot_Gamma = 0 ...)
+    0
     >>> verify(["--model", "damped", "--integral", "dot(omega, inertia*omega)/2"])  # doctest: +ELLIPSIS
     model damped: dot(omega, inertia*omega)/2
       NOT conserved: dH/dt = -c*(omega1**2 + omega2**2 + omega3**2)
@@ -225,6 +232,8 @@ def verify(argv) -> int:
                                      description="Prove whether an expression is an integral of a model's motion.")
     parser.add_argument("--model", required=True, help="a model TOML file or a bundled model's name")
     parser.add_argument("--integral", required=True, help="the candidate, in the model's names")
+    parser.add_argument("--on", default=None, metavar="NAME=VALUE[,...]",
+                        help="prove it on a level set of the model's integrals, e.g. 'L_dot_Gamma = 0'")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     args, status = _parse(parser, argv)
     if args is None:
@@ -232,11 +241,16 @@ def verify(argv) -> int:
     model = load(args.model)
     mech = model.mechanics
     candidate = parse(args.integral, mech, argument="--integral", shape="scalar")
-    verdict = integrals.prove(mech, candidate, name=args.integral)
+    on = None
+    if args.on is not None:
+        on = integrals.level_set(mech, args.on)
+        on = {key: value for key, _, value in on}
+    verdict = integrals.prove(mech, candidate, name=args.integral, on=on)
     if args.json:
         print(json.dumps({"model": model.name, **_verdict_dict(verdict)}, indent=2, ensure_ascii=False))
     else:
-        print(f"model {model.name}: {args.integral}")
+        where = f" (on {args.on.strip()})" if args.on is not None else ""
+        print(f"model {model.name}: {args.integral}{where}")
         if verdict.conserved:
             print(f"  conserved: dH/dt = 0 ({verdict.how})")
         else:

@@ -55,7 +55,6 @@ import sympy as sp
 from eulersym.errors import InvalidInput
 from eulersym.kinematics import euler_rate_matrix, omega_body, quaternion_rate
 from eulersym.model.mechanics import GAMMA, OMEGA, Q, Mechanics, t
-from eulersym.quaternion import hamilton
 from eulersym.rotation import CONVENTIONS, _convention, euler_matrix, from_quaternion
 from eulersym.symbols import euler_angles
 
@@ -312,6 +311,8 @@ _UNIT = {"x": (1, 0, 0), "y": (0, 1, 0), "z": (0, 0, 1)}
 
 @functools.lru_cache(maxsize=16)
 def _angle_map(convention: str) -> tuple:
+    from eulersym.quaternion import hamilton  # NumPy-backed module: imported only where the Lagrangian needs it
+
     phi, theta, psi = euler_angles
     w = omega_body(convention)
     A = euler_matrix(phi, theta, psi, convention=convention)

@@ -25,6 +25,15 @@ Candidates (:func:`invariants`), as the model's structure implies them:
   ``e₃ = e``, ``e₂ = e₃ × e₁`` (``p = ω·e₁``, ``q = ω·e₂``, ``γ_k = Γ·e_k``) — so it holds in whatever axes the
   model uses, not only with ``c`` along x.
 
+On a level set (``on=``)
+    Some integrals hold only where others take given values: Goryachev–Chaplygin's ``r (p² + q²) − (M g a/C) p γ₃``
+    of a top with ``A = B = 4C`` is conserved on ``L·Γ = 0`` only. ``prove(..., on="L_dot_Gamma = 0")`` names
+    integrals of the model (:func:`candidates`, each proven conserved first, so the set is invariant) and their
+    values; the rate is reduced modulo the ideal of the constraints and of ``C_i − value_i`` (a Gröbner basis over
+    the rational functions of the parameters): a zero normal form proves the candidate conserved on that set. A
+    counterexample is a rational state on the set (the constraints solved for a component they are linear in)
+    where the rate is not zero.
+
 Examples
 --------
 >>> import sympy as sp
@@ -49,7 +58,7 @@ from eulersym.errors import InvalidInput
 from eulersym.model.derive import equations, total_potential
 from eulersym.model.mechanics import GAMMA, OMEGA, Q, STATE_SYMBOLS, Mechanics, t
 
-__all__ = ["Verdict", "prove", "invariants", "candidates", "symmetry_axis", "kovalevskaya_integral"]
+__all__ = ["Verdict", "prove", "invariants", "candidates", "symmetry_axis", "kovalevskaya_integral", "level_set"]
 
 _COUNTEREXAMPLE_POINTS = 8
 
@@ -241,19 +250,23 @@ def _check_candidate(mech: Mechanics, expr) -> sp.Expr:
     return expr
 
 
-def prove(mech: Mechanics, expr, *, name: str = "H", seed: int = 0) -> Verdict:
+def prove(mech: Mechanics, expr, *, name: str | None = None, seed: int = 0, on=None) -> Verdict:
     """Whether ``expr`` is conserved along the model's flow: ``dH/dt`` derived, tested for zero, and simplified.
 
     Parameters
     ----------
-    mech : Mechanics
-    expr : sympy.Expr
-        The candidate, in the model's names (``omega1..3``, ``gamma1..3``, ``q0..q3``, ``t``, parameters). A
+    mech : Mechanics or eulersym.model.Model
+    expr : sympy.Expr or str
+        The candidate, in the model's names (``omega1..3``, ``gamma1..3``, ``q0..q3``, ``t``, parameters; a
+        string is read by the whitelist parser, with ``omega``, ``gamma``, ``inertia``, ``dot``, ...). A
         candidate in ``gamma`` for a model whose state has no Γ uses ``Γ = A(q) ẑ``, the vertical of the attitude.
     name : str
-        For the report.
+        For the report (default: the string given, else ``"H"``).
     seed : int
         Seeds the numeric test and the search for a counterexample.
+    on : str or mapping, optional
+        A level set of the model's integrals: ``"L_dot_Gamma = 0"`` (several joined by commas), or
+        ``{"L_dot_Gamma": 0}``; values are numbers or expressions of the parameters (see :func:`level_set`).
 
     Returns
     -------
@@ -275,12 +288,27 @@ def prove(mech: Mechanics, expr, *, name: str = "H", seed: int = 0) -> Verdict:
     >>> v = prove(free, w3)
     >>> v.conserved, v.rate, v.counterexample is not None
     (False, -omega1*omega2/3, True)
+
+    Goryachev–Chaplygin's integral, on the level set ``L·Γ = 0`` only:
+
+    >>> from eulersym.model.cli import load
+    >>> top = load("top-goryachev-chaplygin")
+    >>> gc = "omega3*(omega1**2 + omega2**2) - M*g*a/C*omega1*gamma3"
+    >>> prove(top, gc).conserved, prove(top, gc, on="L_dot_Gamma = 0").conserved
+    (False, True)
     """
     from eulersym.compare import compare
 
-    if not isinstance(mech, Mechanics):
-        raise InvalidInput("mech", mech, "an eulersym.model.mechanics.Mechanics")
+    mech = _as_mechanics(mech)
+    if isinstance(expr, str):
+        from eulersym.model.expressions import parse
+
+        name = expr if name is None else name
+        expr = parse(expr, mech, argument="candidate", shape="scalar")
+    name = "H" if name is None else name
     expr = _check_candidate(mech, sp.sympify(expr))
+    if on is not None:
+        return _prove_on(mech, expr, level_set(mech, on), name=name, seed=seed)
     state, _ = _flow(mech)
     notes = []
     H = _rational(expr)
@@ -316,6 +344,179 @@ def prove(mech: Mechanics, expr, *, name: str = "H", seed: int = 0) -> Verdict:
                        constraints)
     how = f"undecided: {first.method}; not claimed conserved"
     return Verdict(name, expr, False, _tidy(rate), "; ".join([how, *notes]), None, False, constraints)
+
+
+def _as_mechanics(mech, argument: str = "mech") -> Mechanics:
+    """A model's :class:`Mechanics` (``mech`` itself, or a ``Model``'s)."""
+    if isinstance(mech, Mechanics):
+        return mech
+    inner = getattr(mech, "mechanics", None)
+    if isinstance(inner, Mechanics):
+        return inner
+    raise InvalidInput(argument, mech, "an eulersym.model.Model or its Mechanics")
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# Level sets
+
+
+def level_set(mech, on) -> tuple:
+    """The level set named by ``on``: ``((name, H, value), ...)`` with each ``H`` an integral of the model, proven
+    conserved (so the set is invariant), and ``value`` a number or an expression of the parameters.
+
+    Parameters
+    ----------
+    mech : Mechanics or Model
+    on : str or mapping
+        ``"L_dot_Gamma = 0"``, ``"L_dot_Gamma = 0, E = 2*M*g*a"``, or ``{"L_dot_Gamma": 0}``; names from
+        :func:`candidates`.
+
+    Raises
+    ------
+    eulersym.errors.InvalidInput
+        An unknown name (did-you-mean), a name whose integral is not conserved (its level set is not invariant),
+        a malformed entry, or a value that is not an expression of the parameters.
+
+    Examples
+    --------
+    >>> from eulersym.model.cli import load
+    >>> [(n, str(v)) for n, _, v in level_set(load("kovalevskaya"), "L_dot_Gamma = 0")]
+    [('L_dot_Gamma', '0')]
+    >>> level_set(load("kovalevskaya"), "L_dot_Gama = 0")
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: on='L_dot_Gama' is not valid: expected an integral of the model: E, Gamma_norm2, L_dot_Gamma, L_axis, q_norm2, K (did you mean 'L_dot_Gamma'?)
+    """
+    import difflib
+
+    from eulersym.parsing import parse as parse_formula
+
+    mech = _as_mechanics(mech)
+    if isinstance(on, str):
+        entries = []
+        for part in on.split(","):
+            if not part.strip():
+                continue
+            if part.count("=") != 1:
+                raise InvalidInput("on", part.strip(), "NAME = VALUE, e.g. 'L_dot_Gamma = 0' (several joined by "
+                                   "commas)")
+            key, value = (x.strip() for x in part.split("="))
+            entries.append((key, value))
+    elif isinstance(on, dict):
+        entries = list(on.items())
+    else:
+        raise InvalidInput("on", on, "a string 'NAME = VALUE, ...' or a mapping {name: value}")
+    if not entries:
+        raise InvalidInput("on", on, "at least one integral and its value, e.g. 'L_dot_Gamma = 0'")
+    known = candidates(mech)
+    verdicts = invariants(mech)
+    params = {s.name: s for s in mech.parameter_symbols}
+    out = []
+    for key, value in entries:
+        if key not in known:
+            close = difflib.get_close_matches(str(key), list(known), n=1, cutoff=0.5)
+            raise InvalidInput("on", key, "an integral of the model: " + ", ".join(known)
+                               + (f" (did you mean {close[0]!r}?)" if close else ""))
+        if not verdicts[key].conserved:
+            raise InvalidInput("on", key, f"an integral the model conserves ({key} is not: dH/dt = "
+                               f"{verdicts[key].rate}), so that its level set is invariant")
+        if isinstance(value, str):
+            value = parse_formula(value, names=dict(params), strict=True, argument=f"on.{key}")
+        elif isinstance(value, bool) or not isinstance(value, (int, float, sp.Basic)):
+            raise InvalidInput(f"on.{key}", value, "a number or an expression of the parameters")
+        value = sp.sympify(value)
+        extra = value.free_symbols - set(mech.parameter_symbols)
+        if extra or isinstance(value, sp.MatrixBase):
+            raise InvalidInput(f"on.{key}", str(value), "a number or an expression of the parameters ("
+                               + (", ".join(params) or "none") + ")")
+        if value.is_number and not value.is_finite:
+            raise InvalidInput(f"on.{key}", str(value), "a finite value")
+        out.append((key, known[key], value))
+    return tuple(out)
+
+
+def _prove_on(mech: Mechanics, expr, level, *, name: str, seed: int) -> Verdict:
+    """``dH/dt`` reduced modulo the constraints and ``C_i − value_i`` (Gröbner basis over QQ(parameters))."""
+    from eulersym.compare import compare
+
+    state, _ = _flow(mech)
+    H = _rational(expr)
+    rate = _rate(mech, H)
+    num, den = sp.fraction(sp.together(sp.expand(rate)))
+    num = sp.expand(num)
+    gens = [s for s in state if s in (*OMEGA, *GAMMA, *Q)]
+    ideal = []
+    used = []
+    if GAMMA[0] in state:
+        ideal.append(sum(g ** 2 for g in GAMMA) - 1)
+        used.append("|Gamma|^2 = 1")
+    ideal.append(sum(q ** 2 for q in Q) - 1)
+    used.append("|q|^2 = 1")
+    for key, C, value in level:
+        ideal.append(sp.numer(sp.together(_rational(C) - _rational(value))))
+        used.append(f"{key} = {value}")
+    params = sorted((num.free_symbols | set().union(*[p.free_symbols for p in ideal])) - set(gens) - {t},
+                    key=str)
+    if num.has(t) or any(p.has(t) for p in ideal):
+        gens = gens + [t]
+        params = [p for p in params if p is not t]
+    domain = sp.QQ.frac_field(*params) if params else sp.QQ
+    surface = ", ".join(used)
+    G = sp.groebner(ideal, *gens, order="grevlex", domain=domain)
+    remainder = sp.expand(G.reduce(num)[1]) if num != 0 else sp.Integer(0)
+    if remainder == 0:
+        how = (f"exact (Gröbner normal form), on the level set {surface} (the rate's numerator reduced modulo the "
+               "ideal of the set: remainder zero)")
+        return Verdict(name, expr, True, sp.Integer(0), how, None, True, tuple(used))
+    cx = _counterexample_on(mech, remainder / den, ideal, gens, level, seed)
+    shown = _tidy(remainder / den)
+    if cx is not None:
+        how = f"dH/dt is not zero on the level set {surface}: exact evaluation at a rational state on it"
+        return Verdict(name, expr, False, shown, how, cx, True, tuple(used))
+    check = compare(remainder, sp.Integer(0), seed=seed)
+    how = (f"dH/dt reduced modulo the level set {surface} is not zero ({check.method}); no rational state on the "
+           "set was found for a counterexample")
+    return Verdict(name, expr, False, shown, how, None, check.exact is False, tuple(used))
+
+
+def _counterexample_on(mech, rate, ideal, gens, level, seed: int) -> dict | None:
+    """A rational state on the level set (each constraint solved for a component it is linear in) where ``rate``
+    is not zero; parameters at their defaults, then at random values."""
+    rng = random.Random(seed)
+    defaults = [(s, sp.Rational(str(v))) for s, v in mech.parameters]
+    state, _ = _flow(mech)
+    for attempt in range(2 * _COUNTEREXAMPLE_POINTS):
+        point = dict(defaults) if attempt < _COUNTEREXAMPLE_POINTS else {
+            s: sp.Rational(rng.randint(5, 20), 10) for s, _ in defaults}
+        point.update({w: sp.Rational(rng.randint(-30, 30), 10) for w in OMEGA})
+        if GAMMA[0] in state:
+            point.update(zip(GAMMA, _unit_point(rng, 3)))
+        point.update(zip(Q, _unit_point(rng, 4)))
+        point[t] = sp.Rational(rng.randint(0, 30), 10)
+        ok = True
+        for key, C, value in level:
+            relation = sp.expand(_rational(C) - _rational(value))
+            for w in (*OMEGA[::-1], *Q):
+                if w not in state:
+                    continue
+                p = sp.Poly(relation, w)
+                if p.degree() == 1:
+                    others = {k: v for k, v in point.items() if k is not w}
+                    a, b = (c.xreplace(others) for c in p.all_coeffs())
+                    if a != 0:
+                        point[w] = -b / a
+                        break
+            else:
+                ok = False
+        if not ok or any(sp.expand(p.xreplace(point)) != 0 for p in ideal):
+            continue
+        value = sp.sympify(rate).xreplace(point)
+        if value.free_symbols:
+            continue
+        low = value.evalf(30)
+        if low.is_number and low.is_finite and abs(low) > 1e-20:
+            return {str(k): float(v) for k, v in sorted(point.items(), key=lambda kv: sp.default_sort_key(kv[0]))}
+    return None
 
 
 # ----------------------------------------------------------------------------------------------------------------

@@ -46,7 +46,7 @@ from eulersym.model.derive import equations
 from eulersym.model.integrals import invariants as _invariants
 from eulersym.model.mechanics import Mechanics, t
 
-__all__ = ["module_name", "module_spec", "source", "generate", "check", "compile", "flags", "body_values"]
+__all__ = ["module_name", "module_spec", "source", "files", "generate", "check", "compile", "flags", "body_values"]
 
 _RESERVED_ARGUMENTS = {"t", "y", "params", "body"}
 _SYMPY_LINE = "# SymPy version: "
@@ -138,7 +138,8 @@ def _spec(mech: Mechanics, name: str) -> tuple:
     notes = tuple(f"{n} = {sp.sstr(e)}" for n, e in conserved if sp.count_ops(e) <= 60)
     spec = ModuleSpec(name, description,
                       f"eulersym.model.derive.equations({mech.name!r}) (Newton–Euler); invariants proven by "
-                      "eulersym.model.integrals.invariants", functions, notes)
+                      "eulersym.model.integrals.invariants", functions, notes,
+                      defaults=tuple(float(v) for _, v in mech.parameters))
     return spec, tuple(n for n, _ in conserved)
 
 
@@ -187,26 +188,14 @@ def _body_source(mech: Mechanics) -> tuple[str, set]:
     return "\n".join(lines), set(printer.used_functions)
 
 
-def _contract_block(mech: Mechanics, state, invariant_names) -> str:
-    defaults = tuple(float(v) for _, v in mech.parameters)
+def _flags_block(mech: Mechanics) -> str:
     flag_items = ", ".join(f"{k!r}: {v!r}" for k, v in flags(mech).items())
-    return "\n".join([
-        "#: State names, in the order of y.",
-        f"STATE = {tuple(s.name for s in state)!r}",
-        "#: Parameter names, in the order the functions take them after (t, y).",
-        f"PARAMETERS = {tuple(s.name for s, _ in mech.parameters)!r}",
-        "#: Default values of the parameters (floats), same order.",
-        f"DEFAULTS = {defaults!r}",
-        "#: The integrals proven conserved: the rows of invariants(t, y, *params).",
-        f"INVARIANTS = {tuple(invariant_names)!r}",
-        "#: What the model has.",
-        f"FLAGS = {{{flag_items}}}",
-    ])
+    return "\n".join(["#: What the model has.", f"FLAGS = {{{flag_items}}}"])
 
 
 @functools.lru_cache(maxsize=32)
 def _source(mech: Mechanics, name: str, digest: str | None, versions: tuple | None) -> str:
-    spec, invariant_names = _spec(mech, name)
+    spec, _ = _spec(mech, name)
     text = emit_module(spec, versions=dict(versions) if versions else None)
     body, used = _body_source(mech)
     lines = text.split("\n")
@@ -223,12 +212,13 @@ def _source(mech: Mechanics, name: str, digest: str | None, versions: tuple | No
         else:
             have = set(lines[k][len("from math import "):].split(", "))
             lines[k] = f"from math import {', '.join(sorted(have | used))}"
-    # __all__ and the contract block.
+    # __all__ and FLAGS after the emitter's contract (STATE, PARAMETERS, DEFAULTS, INVARIANTS).
     k = next(i for i, line in enumerate(lines) if line.startswith("__all__ = "))
     names = _all_names(lines[k][len("__all__ = "):])
-    names += ["STATE", "PARAMETERS", "DEFAULTS", "INVARIANTS", "FLAGS", "body"]
+    names += ["FLAGS", "body"]
     lines[k] = f"__all__ = {names!r}"
-    lines[k + 1:k + 1] = ["", _contract_block(mech, equations(mech).state, invariant_names)]
+    k = next(i for i, line in enumerate(lines) if line.startswith("INVARIANTS = "))
+    lines[k + 1:k + 1] = [_flags_block(mech)]
     text = "\n".join(lines).rstrip("\n")
     return text + "\n\n\n" + body + "\n"
 
@@ -269,6 +259,35 @@ def source(mech: Mechanics, *, digest: str | None = None, name: str | None = Non
         raise InvalidInput("digest", digest, "a lower-case hex digest")
     frozen = tuple(sorted(versions.items())) if versions else None
     return _source(mech, module_name(mech, name), digest, frozen)
+
+
+def files(mech: Mechanics, target: str = "numpy", *, digest: str | None = None, name: str | None = None) -> dict:
+    """``{file name: text}`` of the model's kernels in a target: ``"numpy"`` (:func:`source`), ``"c"``
+    (:func:`eulersym.codegen.c.emit_c`: ``<name>.h`` and ``<name>.c``) or ``"jax"``
+    (:func:`eulersym.codegen.jax.emit_jax`); one :func:`module_spec`, the model's digest in every header.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from eulersym.model.mechanics import Mechanics
+    >>> sorted(files(Mechanics(name="free", inertia=sp.ImmutableMatrix(sp.eye(3)), mass=sp.Integer(1)), "c"))
+    ['free.c', 'free.h']
+    """
+    if target == "numpy":
+        return {module_name(mech, name) + ".py": source(mech, digest=digest, name=name)}
+    if target not in ("c", "jax"):
+        raise InvalidInput("--target", target, "one of numpy, c, jax")
+    if digest is not None and (not isinstance(digest, str) or not re.fullmatch(r"[0-9a-f]{8,128}", digest)):
+        raise InvalidInput("digest", digest, "a lower-case hex digest")
+    spec = module_spec(mech, name=name)
+    header = (f"Model digest: sha256:{digest}",) if digest else ()
+    if target == "c":
+        from eulersym.codegen.c import emit_c
+
+        return emit_c(spec, header=header)
+    from eulersym.codegen.jax import emit_jax
+
+    return {spec.name + ".py": emit_jax(spec, header=header)}
 
 
 def generate(mech: Mechanics, directory, *, digest: str | None = None, name: str | None = None) -> Path:

@@ -27,16 +27,16 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from eulersym.symbols import t
+from eulersym.symbols import STATE_GAMMA, STATE_OMEGA, STATE_Q, t
 
 __all__ = ["Mechanics", "OMEGA", "GAMMA", "Q", "t", "STATE_SYMBOLS"]
 
-#: Body components of the angular velocity.
-OMEGA: tuple[sp.Symbol, sp.Symbol, sp.Symbol] = sp.symbols("omega1:4", real=True)
-#: The upward vertical (space z) in body components.
-GAMMA: tuple[sp.Symbol, sp.Symbol, sp.Symbol] = sp.symbols("gamma1:4", real=True)
-#: The attitude quaternion, scalar first, ``v_space = R(q) v_body``.
-Q: tuple[sp.Symbol, sp.Symbol, sp.Symbol, sp.Symbol] = sp.symbols("q0:4", real=True)
+#: Body components of the angular velocity (:data:`eulersym.symbols.STATE_OMEGA`).
+OMEGA: tuple[sp.Symbol, sp.Symbol, sp.Symbol] = STATE_OMEGA
+#: The upward vertical (space z) in body components (:data:`eulersym.symbols.STATE_GAMMA`).
+GAMMA: tuple[sp.Symbol, sp.Symbol, sp.Symbol] = STATE_GAMMA
+#: The attitude quaternion, scalar first, ``v_space = R(q) v_body`` (:data:`eulersym.symbols.STATE_Q`).
+Q: tuple[sp.Symbol, sp.Symbol, sp.Symbol, sp.Symbol] = STATE_Q
 #: Every state name an expression may use, by name.
 STATE_SYMBOLS: dict[str, sp.Symbol] = {s.name: s for s in (*OMEGA, *GAMMA, *Q)}
 

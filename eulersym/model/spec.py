@@ -60,16 +60,15 @@ eulersym.errors.InvalidInput: pivot.g='gg' is not valid: expected an expression 
 from __future__ import annotations
 
 import difflib
-import hashlib
 import json
 import math
 import numbers
 import tomllib
 from functools import cached_property
-from importlib import metadata
 from pathlib import Path
 from typing import Any, Mapping
 
+from eulersym.attitude import SEQUENCES
 from eulersym.errors import InvalidInput
 from eulersym.validation import GENERATED_CODE_NAMES
 from eulersym.model import names as N
@@ -85,7 +84,7 @@ SCENE_KEYS = ("description", "initial", "time", "output")
 #: Gravity when a ``[pivot]`` gives no ``g``.
 DEFAULT_G = 9.81
 #: Euler / Tait–Bryan sequences an orientation may name (as :func:`eulersym.rotation.euler_matrix`).
-CONVENTIONS = ("zxz", "xyx", "yzy", "zyz", "xzx", "yxy", "xyz", "yzx", "zxy", "xzy", "zyx", "yxz")
+CONVENTIONS = SEQUENCES
 #: Limits that keep a model's work bounded.
 MAX_PARTS = 256
 MAX_PARAMETERS = 256
@@ -328,11 +327,15 @@ def _quaternion(key: str, value: Any, check: _Checker) -> list:
 
 
 def _moments(key: str, value: Any, check: _Checker) -> list:
-    moments = check.vector(key, value, sign="positive")
-    if all(isinstance(m, float) for m in moments):
+    moments = check.vector(key, value)
+    numbers = [m for m in moments if isinstance(m, float)]
+    if len(numbers) == 3:
         from eulersym.validation import moments as valid_moments
 
-        valid_moments(key, moments)
+        valid_moments(key, moments, shown=value)
+    elif any(m <= 0 for m in numbers):
+        raise InvalidInput(key, value, "positive principal moments (an expression is checked at the parameters' "
+                           "values)")
     return moments
 
 
@@ -356,19 +359,9 @@ def _tensor(key: str, value: Any, check: _Checker) -> list:
 
 def _check_tensor(key: str, raw: Any, rows: list) -> None:
     """Positive definite, and its principal moments obey the triangle inequalities (numbers: NumPy)."""
-    import numpy as np
+    from eulersym.validation import inertia_tensor
 
-    from eulersym.validation import TRIANGLE_SLACK
-
-    arr = np.array(rows, dtype=float)
-    scale = float(np.max(np.abs(arr))) or 1.0
-    eig = np.linalg.eigvalsh((arr + arr.T) / 2)
-    if eig[0] <= 1e-14 * scale:
-        raise InvalidInput(key, raw, f"a positive-definite tensor (its principal moments are "
-                           f"{[float(f'{e:.6g}') for e in eig]})")
-    if eig[0] + eig[1] < eig[2] * (1 - TRIANGLE_SLACK):
-        raise InvalidInput(key, raw, f"the tensor of a body: its principal moments {[float(f'{e:.6g}') for e in eig]}"
-                           " must satisfy I1 + I2 >= I3 (the triangle inequality)")
+    inertia_tensor(key, rows, shown=raw)
 
 
 def _body(value: Any, check: _Checker, weighed: bool) -> dict:
@@ -399,7 +392,7 @@ def _body(value: Any, check: _Checker, weighed: bool) -> dict:
             out["mass"] = check.number("body.mass", table["mass"], sign="positive")
         elif weighed:
             raise InvalidInput("body.mass", None, "the body's mass M: a pivoted body under gravity feels the torque "
-                               "M g c × gamma (or pivot.g = 0)")
+                               "M g l (M g c × gamma; or pivot.g = 0)")
         else:
             out["mass"] = None
         return out
@@ -501,6 +494,8 @@ def _drop_none(table: dict) -> dict:
 
 
 def _distribution_version(name: str) -> str:
+    from importlib import metadata  # only for a digest: not paid by a scene that needs none
+
     try:
         return metadata.version(name)
     except metadata.PackageNotFoundError:
@@ -535,7 +530,7 @@ class Model:
     name : str
     parameters : dict name → float (file order)
     digest : str
-        Hex SHA-256 of the normalised model, the eulersym and SymPy versions (SymPy-free).
+        Hex SHA-256 of the normalised model, eulersym.__version__ and SymPy's version (SymPy-free).
     pivoted : bool
     mechanics : Mechanics
         The symbolic content (built on first use; imports SymPy).
@@ -558,7 +553,7 @@ class Model:
     >>> Model(body={"moments": [1, 1, 3]})
     Traceback (most recent call last):
     ...
-    eulersym.errors.InvalidInput: body.moments=[1.0, 1.0, 3.0] is not valid: expected principal moments of a body: ...
+    eulersym.errors.InvalidInput: body.moments=[1, 1, 3] is not valid: expected principal moments of a body: ...
     """
 
     def __init__(self, **kwargs: Any):
@@ -590,7 +585,7 @@ class Model:
             "rotor": _rotor(kwargs.get("rotor"), check),
         }
         if pivot is not None and pivot["centre_of_mass"] is not None and ("shape" in body or "parts" in body):
-            self.mechanics  # a shape's centre of mass is derived: a contradictory one is refused now
+            self._check_centre()  # a shape's centre of mass is derived: a contradictory one is refused now
 
     # ---- construction ---------------------------------------------------------------------------------------
     @classmethod
@@ -688,6 +683,21 @@ class Model:
         """
         return self._data["pivot"] is not None
 
+    @property
+    def normalised(self) -> Mapping:
+        """The validated sections as the model keeps them (read-only view): ``name``, ``parameters`` (``[[name,
+        default], ...]``), ``body``, ``pivot`` (None, or ``centre_of_mass``/``l``/``g``), ``torque`` (``body``,
+        ``space``, ``potential``), ``rotor`` — numbers as floats, formulas as strings; what :meth:`facts` reads.
+
+        Examples
+        --------
+        >>> Model(body={"moments": [1, 2, 3]}, pivot={"l": 0.1, "g": 0}).normalised["pivot"]
+        {'centre_of_mass': [0.0, 0.0, 0.1], 'l': True, 'g': 0.0}
+        """
+        from types import MappingProxyType
+
+        return MappingProxyType(self._data)
+
     def to_dict(self) -> dict:
         """The normalised model as a mapping :meth:`from_dict` reads back (numbers as floats, expressions as
         stripped strings, defaults filled in): what :attr:`digest` hashes.
@@ -723,7 +733,8 @@ class Model:
 
     @cached_property
     def digest(self) -> str:
-        """Hex SHA-256 of the normalised model and the eulersym and SymPy distribution versions.
+        """Hex SHA-256 of the normalised model, eulersym's version (``eulersym.__version__``: the same however it is
+        installed) and SymPy's distribution version (read without importing SymPy).
 
         Examples
         --------
@@ -734,9 +745,12 @@ class Model:
         data = json.loads(json.dumps(self._data))
         if data["pivot"] is not None:
             del data["pivot"]["l"]  # l = 0.1 is centre_of_mass = [0, 0, 0.1]; the flag only names the key
-        payload = {"model": data, "eulersym": _distribution_version("eulersym"),
-                   "sympy": _distribution_version("sympy")}
+        from eulersym import __version__  # the package's own: the same for an editable and an installed copy
+
+        payload = {"model": data, "eulersym": __version__, "sympy": _distribution_version("sympy")}
         text = json.dumps(payload, sort_keys=True, separators=(",", ":"), ensure_ascii=True)
+        import hashlib
+
         return hashlib.sha256(text.encode("ascii")).hexdigest()
 
     def __repr__(self) -> str:
@@ -745,8 +759,59 @@ class Model:
     def __eq__(self, other: object) -> bool:
         return isinstance(other, Model) and other._data == self._data
 
-    def __hash__(self) -> int:
-        return hash(self.digest)
+    def __hash__(self) -> int:  # of the data alone (the digest also reads installed versions: slower)
+        return hash(json.dumps(self._data, sort_keys=True))
+
+    # ---- numbers (NumPy) -------------------------------------------------------------------------------------
+    def facts(self, values: Mapping | None = None, *, batch: int | None = None):
+        """The body's numbers for parameter ``values``, every member at once, in NumPy
+        (:class:`~eulersym.model.facts.Facts`: mass, centre of mass, tensor, rotor, g, the constant torques, flags).
+
+        Parameters
+        ----------
+        values : mapping name → float or ndarray (batch,), optional
+            Parameter values (the defaults fill the others); arrays give one member per entry.
+        batch : int, optional
+            The number of members (default: the arrays' length, 1 without arrays).
+
+        Numbers and entries that name a parameter need no SymPy; a named shape's tensor and centre come from the
+        committed closed forms (:mod:`eulersym.shapes`); only a formula such as ``"2*C"`` is parsed (SymPy).
+        Every member is validated (:mod:`eulersym.validation`), errors naming the TOML key.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> m = Model(parameters={"I3": 1.0}, body={"moments": [2, 2, "I3"]})
+        >>> m.facts({"I3": np.array([1.0, 3.0])}).tensor[:, 2, 2].tolist()
+        [1.0, 3.0]
+        >>> m.facts({"I3": np.array([1.0, 5.0])})
+        Traceback (most recent call last):
+        ...
+        eulersym.errors.InvalidInput: body.moments=[2.0, 2.0, 'I3'] is not valid: expected principal moments of a body: positive and I1 + I2 >= I3, I2 + I3 >= I1, I3 + I1 >= I2 (here I1 + I2 = 4 < I3 = 5, member 1)
+        """
+        from eulersym.model.facts import facts
+
+        return facts(self._data, values, batch)
+
+    def _check_centre(self) -> None:
+        """A centre of mass given for a shape or parts must be the one they derive (at the defaults, NumPy)."""
+        import numpy as np
+
+        pivot = self._data["pivot"]
+        key = "pivot.l" if pivot.get("l") else "pivot.centre_of_mass"
+        derived = self.facts(batch=1)
+        given = dict(self._data, body={"moments": [1.0, 1.0, 1.0]})
+        from eulersym.model.facts import facts
+
+        stated = facts(given, batch=1).centre_of_mass[0]
+        centre = derived.centre_of_mass[0]
+        scale = max(float(np.max(np.abs(centre))), float(np.max(np.abs(stated))), 1e-300)
+        if np.max(np.abs(stated - centre)) > 1e-9 * scale:
+            raw = pivot["centre_of_mass"][2] if pivot.get("l") else pivot["centre_of_mass"]
+            along = f"l = {centre[2]:.6g}, " if pivot.get("l") and centre[0] == 0 and centre[1] == 0 else ""
+            raise InvalidInput(key, raw, f"the centre of mass the body derives, {along}"
+                               f"{[float(f'{c:.6g}') for c in centre]} from the pivot (a shape's or the parts' centre "
+                               f"of mass is derived: leave {key} out)")
 
     def __getstate__(self) -> dict:  # pickles (Dask, multiprocessing) carry the data, not the derived SymPy
         return {"_data": self._data}
@@ -869,9 +934,9 @@ class Model:
 
         return integrals.invariants(self.mechanics)
 
-    def prove(self, candidate: str):
-        """Whether ``candidate`` (a string in the model's names) is conserved
-        (:func:`eulersym.model.integrals.prove`).
+    def prove(self, candidate: str, on=None):
+        """Whether ``candidate`` (a string in the model's names) is conserved — everywhere, or on the level set
+        ``on`` of the model's integrals (``"L_dot_Gamma = 0"``) — (:func:`eulersym.model.integrals.prove`).
 
         Examples
         --------
@@ -887,7 +952,19 @@ class Model:
         from eulersym.model.expressions import parse
 
         mech = self.mechanics
-        return integrals.prove(mech, parse(candidate, mech, argument="candidate", shape="scalar"))
+        return integrals.prove(mech, parse(candidate, mech, argument="candidate", shape="scalar"), on=on)
+
+    def steady_motions(self, **options):
+        """Its steady motions, each family with its stability (:func:`eulersym.model.steady.steady_motions`).
+
+        Examples
+        --------
+        >>> [f.name for f in Model(body={"moments": [1, 2, 3]}).steady_motions()]
+        ['rotation about e1', 'rotation about e2', 'rotation about e3']
+        """
+        from eulersym.model.steady import steady_motions
+
+        return steady_motions(self, **options)
 
     def generate(self, directory):
         """Write the model's kernel module into ``directory`` (:func:`eulersym.model.kernels.generate`).

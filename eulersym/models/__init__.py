@@ -9,7 +9,12 @@ Every model here comes with a test (tests/test_models_bundled.py) that proves wh
 - ``damped`` — linear damping ``N = −c ω``: the energy decays at the proven rate ``−c |ω|²``;
 - ``satellite`` — gravity-gradient torque on a circular orbit: pitch libration at ``n √(3 (I2 − I1)/I3)``;
 - ``spin-up`` — a constant axial torque from rest: ``ω3 = N t / I3`` exactly;
-- ``gyroscope`` — a disc on an axle, built from parts, pivoted at the axle's end: steady precession.
+- ``gyroscope`` — a disc on an axle, built from parts, pivoted at the axle's end: steady precession;
+- ``torque-free`` — Example 4.2's asymmetric body: its permanent rotations and the intermediate axis's growth rate
+  (``eulersym stability``);
+- ``satellite-dual-spin`` — a dual-spin satellite (rotor and nutation damper): spin about the minor axis
+  asymptotically stable when the rotor's momentum is large enough;
+- ``top-goryachev-chaplygin`` — ``I1 = I2 = 4 I3``: Goryachev–Chaplygin's integral, conserved on ``L·Γ = 0`` only.
 
 Examples
 --------

@@ -9,7 +9,11 @@
   many members (NumPy or numba), a step per member from the accuracy asked; :func:`integrate_torqued` — any torque,
   a Lie-group method that keeps |q| = 1.
 * :func:`integrate_ivp` — ``solve_ivp`` over a generated kernel module.
-* :class:`Trajectory` — what the integrators return; :mod:`eulersym.numerics.invariants` — conserved quantities.
+* :class:`Trajectory` — what every integrator and method returns (one motion, or batch-first for many);
+  :mod:`eulersym.numerics.invariants` — conserved quantities.
+* :mod:`eulersym.numerics.methods` — the ways of getting a motion as one family (a class each: whether it applies to
+  a problem, what it costs, its run), in one registry in order of preference, with one driver: what a scene's plan
+  loops over. The functions above are what the methods call.
 
 Nothing here imports SymPy; the generated kernels it uses are plain NumPy modules. Each name loads its own module on
 first use (PEP 562), so ``free_rigid_body_exact`` costs neither SciPy nor the integrators' imports.
@@ -29,10 +33,11 @@ import importlib
 #: public name → the submodule of eulersym.numerics that defines it (loaded on first access).
 _WHERE = {
     "invariants": None,
+    "methods": None,
     "free_rigid_body_exact": "exact",
     "free_rigid_body_attitude_exact": "exact",
-    "jacobi_sncndn": "exact",
-    "complete_elliptic_k": "exact",
+    "jacobi_sncndn": "elliptic",
+    "complete_elliptic_k": "elliptic",
     "quaternion_multiply": "exact",
     "integrate_heavy_top": "heavy_top",
     "sleeping_top_threshold_numeric": "heavy_top",

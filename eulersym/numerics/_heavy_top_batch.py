@@ -1,5 +1,5 @@
 """The heavy top's closed form vectorised over the members of a sweep: constants in double precision, all members
-at once (NumPy and SciPy's vectorised Carlson integrals and Jacobi functions).
+at once (the vectorised Carlson integrals and Jacobi functions of :mod:`eulersym.numerics.elliptic`).
 
 Same formulas as :mod:`eulersym.numerics.heavy_top_exact`, but the constants of each motion (roots, λ, K, τ0, the
 rates) are computed in double rather than 36-digit decimal arithmetic and the phase is not reduced in
@@ -15,16 +15,15 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.special import elliprf, elliprj
 
-from eulersym.numerics.exact import _sncndn
+from eulersym.numerics.elliptic import _rf, _rj, _sncndn, _third_kind
 
 __all__ = ["batch_motion"]
 
 
 def _jacobi(u, mc):
     """sn, cn, dn of u (B, n) for complementary parameters mc (B, 1), 1e-12 ≤ mc ≤ 1: the algorithm of
-    :func:`eulersym.numerics.exact.jacobi_sncndn` (descending Landen from √m_c, quarter-period reflection), with a
+    :func:`eulersym.numerics.elliptic.jacobi_sncndn` (descending Landen from √m_c, quarter-period reflection), with a
     fixed number of AGM levels so that every member runs the same array operations."""
     rootmc = np.sqrt(mc)
     a, b = np.ones_like(rootmc), rootmc
@@ -53,8 +52,7 @@ def _cubic(A, B, C, D, x):
 def _W(s, c, n, one_minus_n, mc):
     """∫₀ˣ dy/(1 − n sn² y) from s = |sn x|, c = |cn x| (0 ≤ x ≤ K), vectorised."""
     c2 = c * c
-    d2 = c2 + mc * s * s
-    return s * elliprf(c2, d2, 1.0) + (n / 3.0) * s * s * s * elliprj(c2, d2, 1.0, one_minus_n + n * c2)
+    return _third_kind(s, c2, c2 + mc * s * s, n, one_minus_n + n * c2)
 
 
 def batch_motion(I1, I3, mgl, omega, q, t):
@@ -129,20 +127,20 @@ def _batch_motion(I1, I3, mgl, omega, q, t):
     delta, span, mc, m = (np.where(fill, v, x) for v, x in ((1.0, delta), (2.0, span), (0.5, mc), (0.5, m)))
     y2, z1 = np.where(fill, 0.5, y2), np.where(fill, 0.5, z1)
     lam = np.sqrt(A * span) / 2
-    K = elliprf(0.0, mc, 1.0)
+    K = _rf(0.0, mc, 1.0)
     s_sq, c_sq, d_sq = np.clip(-x1 / delta, 0, 1), np.clip(x2 / delta, 0, 1), x3 / span
     d_sq = np.where(fill, 0.5, d_sq)
-    F = np.sqrt(s_sq) * elliprf(c_sq, d_sq, 1.0)
+    F = np.sqrt(s_sq) * _rf(c_sq, d_sq, 1.0)
     tau0 = np.where(sigma * wperp < 0, -F, F)
     n_n, n_n1 = delta / (y2 + delta), y2 / (y2 + delta)
     coef_n = Bn / (lam * (y2 + delta))
-    half_n = elliprf(0.0, mc, 1.0) + n_n / 3 * elliprj(0.0, mc, 1.0, n_n1)
+    half_n = _rf(0.0, mc, 1.0) + n_n / 3 * _rj(0.0, mc, 1.0, n_n1)
     per_n = coef_n * 2 * half_n
     n_f, n_f1 = (z1 * m + delta) / (z1 + delta), z1 * mc / (z1 + delta)
     m_over_n = m * (z1 + delta) / (z1 * m + delta)
     rate_f = nu_far + Bf * m_over_n / (z1 + delta)
     coef_f = Bf * delta * mc / (z1 * m + delta) / (lam * (z1 + delta))
-    half_f = elliprf(0.0, mc, 1.0) + n_f / 3 * elliprj(0.0, mc, 1.0, n_f1)
+    half_f = _rf(0.0, mc, 1.0) + n_f / 3 * _rj(0.0, mc, 1.0, n_f1)
     per_f = coef_f * 2 * half_f
     W0n = np.sign(tau0) * _W(np.sqrt(s_sq), np.sqrt(c_sq), n_n, n_n1, mc)
     # τ0 − K: sn² = cd² τ0, cn² = k′² sd² τ0; in [−2K, 0], wrapped by 2K (one half period back) when τ0 < 0

@@ -13,7 +13,7 @@ functions: the attitude's pairs ``(q_c + i q_s) e^{−ih}`` (near and far pole, 
 far slower: they, and Γ, are taken from the unit q instead, so that they describe it exactly.)
 
 The series, per call (no cache): at M equispaced phases from the start's (M = 32, then 64, 128) sn, cn, dn
-(SciPy's ``ellipj`` where m_c ≥ 1e-3, else Landen's recurrence in m_c) give the pole distances
+(Landen's recurrence in m_c, :mod:`eulersym.numerics.elliptic`) give the pole distances
 ``R² = base + Δ·(cn², sn²)``, the rates ``χ̇ = rate + coef·λ/((1 − n) + n cn²(x))`` (the derivative of the
 motion's third-kind term coef·W(x): no elliptic integral) and ω's components as the direct evaluation forms them.
 A fixed matrix integrates χ̇ spectrally (``c_k/(i k)``) from the start, where ``χ = χ0``; another gives the real
@@ -48,7 +48,8 @@ import math
 
 import numpy as np
 
-from eulersym.numerics.exact import _agm_landen, _phase, _sncndn
+from eulersym.numerics._doubledouble import PI
+from eulersym.numerics.elliptic import _agm_landen, _reduce_secular, _sncndn_reduced, reduce_phase
 
 #: From this many output times on (at an accuracy asked) the series is used: its fixed cost (the samples) is below
 #: the direct evaluation's already at two times.
@@ -58,7 +59,6 @@ _EPS = float(np.finfo(float).eps)
 _SIZES = (32, 64, 128)
 _MARGIN = 4  # the last orders below M/2 that must be at the aliasing floor
 _ANGLE = 60.0  # radians: a generous scale of the angles' periodic parts, to extrapolate their aliasing
-_MC_ELLIPJ = 1e-3  # from this m_c on, SciPy's ellipj(u, 1 − m_c) samples sn, cn, dn to a few ulp
 _CHUNK = 2048  # output times evaluated at once: larger pieces fall out of the cache (~1.7× slower a time at 4000)
 # Beyond _ORDERS_PAY orders each order costs ~14 ns a time, the direct evaluation ~0.1 µs a time above a fixed cost
 # ~0.2 ms above the series': past t.size·(H − _ORDERS_PAY) > _ORDERS_BUDGET the direct evaluation is the cheaper.
@@ -137,11 +137,11 @@ def _in_double(mo, secular, tolerance, tmax):
     return max(phase_bound, half_bound) <= 0.5 * tolerance
 
 
-def _angles(mo, t, lines, dd_linear, four_pi):
+def _angles(mo, t, lines):
     """Half of the secular half angles (near, far) and of θ at t (rows of (3, n), for :func:`_cos_sin`):
     ``slope·t + offset`` in double from ``lines`` (:func:`_quarter` of :func:`_secular`) where :func:`_in_double`
-    (else None); else from the phase reduced in double-double and the half angles' ``rate·t + per·j`` by
-    ``dd_linear``."""
+    (else None); else from the phase reduced in double-double and the half angles' ``rate·t + per·j`` reduced
+    modulo 2π in double-double (:mod:`eulersym.numerics.elliptic`)."""
     out = np.empty((3,) + t.shape)
     if lines is not None:
         for row, (slope, offset) in zip(out, lines):
@@ -150,11 +150,11 @@ def _angles(mo, t, lines, dd_linear, four_pi):
                 row += offset
         return out
     poles = (mo.near, mo.far)
-    r, j = _phase(mo, t)
-    r0, _ = _phase(mo, np.zeros(1))
+    r, j = reduce_phase(t, *mo.phase)
+    r0, _ = reduce_phase(np.zeros(1), *mo.phase)
     half = [np.array([[0.5 * p.rate[i]] for p in poles]) for i in (0, 1)]
     per = [np.array([[0.5 * p.per[i]] for p in poles]) for i in (0, 1)]
-    out[0:2] = dd_linear(half, t, per, j, (0.5 * four_pi[0], 0.5 * four_pi[1]))
+    out[0:2] = _reduce_secular(half, t, per, j, (2.0 * PI[0], 2.0 * PI[1]))
     out[0:2] += np.array([[0.5 * p.per[0] / mo.period] for p in poles]) * r
     np.subtract(r, r0[0], out=out[2])
     out[2] *= math.pi / mo.K
@@ -163,14 +163,14 @@ def _angles(mo, t, lines, dd_linear, four_pi):
 
 
 def _grid_jacobi(r, mo, landen):
-    """sn, cn, dn at the sample phases: SciPy's ``ellipj`` (one compiled loop) where ``m_c ≥`` :data:`_MC_ELLIPJ`
-    (its parameter ``m = 1 − m_c`` then loses nothing that matters: a few ulp), else Landen's recurrence in
-    ``m_c`` (:func:`eulersym.numerics.exact._sncndn`)."""
-    if mo.mc >= _MC_ELLIPJ:
-        from scipy.special import ellipj  # on first use: importing this module stays light
-
-        return ellipj(r, 1.0 - mo.mc)[:3]
-    return _sncndn(r, mo.rootmc, landen)
+    """sn, cn, dn at the sample phases ``r ∈ [−K, 3K)`` (one half period on from the start's), each moved back by 2K
+    where it is beyond K — sn and cn change sign there, which none of the products the series take (sn², cn²,
+    sn cn dn) sees — by Landen's recurrence in m_c on |r| ≤ K (:mod:`eulersym.numerics.elliptic`) without the
+    quarter-period reflection: ~2 ulp absolute, the accuracy these samples need (the series decline a pole that is
+    a turning point, where cn near K would be needed to relative accuracy)."""
+    r -= mo.period * (r > mo.K)
+    sn, cn, dn = _sncndn_reduced(np.abs(r), *landen)
+    return np.copysign(sn, r, out=sn), cn, dn
 
 
 def _series(mo, tolerance, half0):
@@ -184,7 +184,7 @@ def _series(mo, tolerance, half0):
     means = [p.rate[0] + p.per[0] * mo.lam / mo.period for p in (near, far)]
     start = np.array([[0.5 * near.chi0 - half0[0]], [0.5 * far.chi0 - half0[1]]])
     r0 = mo.u0 - mo.period * round(mo.u0 / mo.period)  # the start's phase, modulo the half period 2K
-    landen = None if mo.mc >= _MC_ELLIPJ else _agm_landen(mo.rootmc)
+    landen = _agm_landen(mo.rootmc)
     bases, ns, one_minus_ns, coefs, rates0 = np.array(
         [[near.base, far.base], [near.n, far.n], [near.one_minus_n, far.one_minus_n],
          [near.coef * mo.lam, far.coef * mo.lam], [near.rate[0], far.rate[0]]])[:, :, None]
@@ -270,10 +270,10 @@ def _basis(cos1, sin1, H):
     return B
 
 
-def fourier_rows(mo, t, accuracy, dd_linear, four_pi):
+def fourier_rows(mo, t, accuracy):
     """ω, Γ, q and the Euler angles of one motion at the times t as the (13, n) block of
     :func:`heavy_top_exact._evaluate`, from Fourier series in the phase (see the module docstring), or None where
-    the series is declined. ``dd_linear`` and ``four_pi``: that module's double-double reduction and 4π."""
+    the series is declined."""
     if (accuracy is None or t.size < FROM or mo.steady or mo.near.signed or mo.far.signed
             or not 0.0 < accuracy < 1.0):
         return None
@@ -288,14 +288,14 @@ def fourier_rows(mo, t, accuracy, dd_linear, four_pi):
     lines = _quarter(secular) if _in_double(mo, secular, tolerance, max(float(t.max()), -float(t.min()))) else None
     for start in range(0, t.size, _CHUNK):  # pieces whose temporaries stay in the cache
         part = slice(start, start + _CHUNK) if t.size > _CHUNK else slice(None)
-        _rows_at(mo, t[part], coefficients, lines, dd_linear, four_pi, block[:, part])
+        _rows_at(mo, t[part], coefficients, lines, block[:, part])
     return block
 
 
-def _rows_at(mo, t, coefficients, lines, dd_linear, four_pi, block):
+def _rows_at(mo, t, coefficients, lines, block):
     """:func:`fourier_rows` at the times t, written into ``block`` (13, n); ``lines``: as :func:`_angles`."""
     H = coefficients.shape[1] // 2
-    cos, sin = _cos_sin(_angles(mo, t, lines, dd_linear, four_pi))
+    cos, sin = _cos_sin(_angles(mo, t, lines))
     Y = coefficients @ _basis(cos[2], sin[2], H)  # turned back: q near, q far, ω1 + iω2 (re); (im)
     # the attitude's pairs turned by e^{ih}, (x + iy)(c + is), written where they belong, then |q| = 1
     (n0, n1), (f0, f1) = (6 + k for k in _pairs(mo.sigma)[0]), (6 + k for k in _pairs(mo.sigma)[1])

@@ -21,12 +21,12 @@ beyond ``max_bytes`` the call is refused before anything is allocated, with the 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
-from eulersym.errors import InvalidInput
+from eulersym.errors import IntegrationFailed, InvalidInput
 from eulersym.numerics import _fast
+from eulersym.numerics.trajectory import Trajectory
 from eulersym.numerics.pivoted import (
     COMPOSITIONS,
     PIVOTED_METHODS,
@@ -59,9 +59,10 @@ PARALLEL_MIN_MEMBERS = 1024
 _BYTES_PER_MEMBER_POINT = 3 * 10 * 8
 
 
-@dataclass(frozen=True)
-class BatchTrajectory:
-    """Sampled solutions of B members.
+def BatchTrajectory(t, omega, gamma, q, steps, n_kicks, method) -> Trajectory:
+    """The batched splittings' result: a batch-first :class:`~eulersym.numerics.trajectory.Trajectory` (the one
+    trajectory type) with ``steps`` (the largest step of each member) and ``n_rhs_calls`` = ``n_kicks`` (potential
+    kicks over all members; also readable as ``.n_kicks``).
 
     Attributes
     ----------
@@ -78,20 +79,12 @@ class BatchTrajectory:
 
     Examples
     --------
-    >>> import numpy as np
     >>> bt = BatchTrajectory(np.zeros(1), np.zeros((2, 1, 3)), np.zeros((2, 1, 3)), np.zeros((2, 1, 4)),
     ...                      np.ones(2), 0, "none")
-    >>> bt.omega.shape
-    (2, 1, 3)
+    >>> bt.omega.shape, bt.batch, bt.n_kicks
+    ((2, 1, 3), 2, 0)
     """
-
-    t: np.ndarray
-    omega: np.ndarray
-    gamma: np.ndarray
-    q: np.ndarray
-    steps: np.ndarray
-    n_kicks: int
-    method: str
+    return Trajectory(t=t, omega=omega, q=q, gamma=gamma, n_rhs_calls=int(n_kicks), method=method, steps=steps)
 
 
 def _counts(t, h):
@@ -157,6 +150,8 @@ def integrate_pivoted_batch(inertia, M, g, c, omega0, q0, t, *, rotor=(0.0, 0.0,
     ------
     eulersym.errors.InvalidInput
         Bad shapes or values (named), or an output larger than ``max_bytes``.
+    eulersym.errors.IntegrationFailed
+        A member left the finite numbers (its step too long for its motion): the member and the step are named.
 
     Examples
     --------
@@ -210,9 +205,10 @@ def integrate_pivoted_batch(inertia, M, g, c, omega0, q0, t, *, rotor=(0.0, 0.0,
     else:
         with np.errstate(all="ignore"):  # an overflowing member becomes NaN, refused below by name
             out = _run_numpy(state, par, hs, tt, subs, kind)
-    if not np.all(np.isfinite(out)):
+    if not np.all(np.isfinite(out)):  # a run that failed (valid input: the step was too long for this motion)
         bad = int(np.argmax(~np.all(np.isfinite(out), axis=(1, 2))))
-        raise InvalidInput("h", float(hs[bad]), f"a step small enough for a finite solution (member {bad})")
+        raise IntegrationFailed("integrate_pivoted_batch", f"member {bad} left the finite numbers with the step "
+                                f"h = {float(hs[bad]):g}", "a smaller step h, or an accuracy")
     omega, gamma, q = _to_body(out, par, frame)
     kicks = sum(sum(_counts(tt, float(hv))) * int(np.sum(hs == hv)) for hv in np.unique(hs)) * 2 * len(subs)
     return BatchTrajectory(t=tt, omega=omega, gamma=gamma, q=q, steps=hs, n_kicks=int(kicks), method=f"pivoted:{method}")

@@ -23,7 +23,7 @@ denominators), then rounded once, so ``m_c`` has full relative accuracy however 
 separatrix (``m_c`` is never formed as ``1 − m``). The phase ``u = λ t + u0`` is reduced modulo the period 4K in
 double-double arithmetic, with λ and 4K = 2π / AGM(1, √m_c) as double-doubles (:mod:`._doubledouble`), so the
 error does not grow with the number of periods; no mpmath, no ``Fraction``. ``sn, cn, dn`` are evaluated by
-:func:`jacobi_sncndn`, which takes ``m_c`` as its input, and uses Bulirsch's descending Landen (AGM) recurrence on
+:func:`eulersym.numerics.elliptic.jacobi_sncndn` (the elliptic core every closed form shares), which takes ``m_c`` as its input, and uses Bulirsch's descending Landen (AGM) recurrence on
 [0, K/2] and the exact quarter-period reflection (``sn(K − y) = cd y`` …) on [K/2, K], in blocks of a few
 thousand points (flat cost per point). The phase ``u0`` comes from Carlson's ``R_F`` in double precision: directly
 (``u0 = sn0 · R_F(cn0², dn0², 1)``) below K/2, and as ``K − y``, ``y = cn0 · R_F(m_c sn0², m_c, dn0²) = O(1)``,
@@ -37,7 +37,7 @@ Attitude: Euler angles (φ, θ, ψ) of the (a, b, c) frame relative to the invar
     φ̇ = |L| / Ic + |L| (Ic − Ia) / (Ia Ic) · 1 / (1 + n sn²u),   n = Ic (Ib − Ia) / (Ia (Ic − Ib)),
 
 whose integral is an elliptic integral of the third kind, evaluated in closed form with Carlson's ``R_F`` and
-``R_J`` (``scipy.special.elliprf``/``elliprj``) plus its quasi-periodicity over half-periods 2K. Only the
+``R_J`` (:mod:`eulersym.numerics.elliptic`, NumPy only) plus its quasi-periodicity over half-periods 2K. Only the
 *product* of the three rotations is used, as a quaternion, so nothing is singular at θ = 0. The space attitude
 is ``q(t) = q_fix ⊗ q_inv(t) ⊗ q_perm``, where ``q_fix`` is fixed by ``q(0) = q0``; hence the space direction of L
 is constant to round-off for all t.
@@ -50,242 +50,36 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from eulersym import quaternion as _quaternion
+from eulersym.attitude import _from_matrices, rotate, rotvec_to_quaternion
+from eulersym.quaternion import conjugate as _quat_conj, multiply as quaternion_multiply
 from eulersym.numerics import _doubledouble as _dd
+from eulersym.numerics.elliptic import (_agm_landen, _carlson_rf, _reduce_phase_scalar, _sncndn, _sncndn_scalar,
+                                        _third_kind, complete_elliptic_k, jacobi_sncndn, reduce_phase)
 from eulersym.errors import InvalidInput
 from eulersym.validation import finite_array, moments
 
 __all__ = [
     "free_rigid_body_exact",
     "free_rigid_body_attitude_exact",
-    "jacobi_sncndn",
-    "complete_elliptic_k",
-    "quaternion_multiply",
+    "jacobi_sncndn",  # defined in eulersym.numerics.elliptic, kept here for the names that import it from exact
+    "complete_elliptic_k",  # (the same)
+    "quaternion_multiply",  # eulersym.quaternion.multiply (the Hamilton product of eulersym.attitude), the same
 ]
 
 
 # ----------------------------------------------------------------------------------------------------------------
-# Jacobi elliptic functions with the complementary parameter as input
+# Quaternions (scalar first): eulersym.attitude's, on rows
 # ----------------------------------------------------------------------------------------------------------------
-def _agm_landen(rootmc: float) -> tuple[tuple[float, ...], tuple[float, ...], float]:
-    """AGM sequence a₀ = 1, b₀ = √m_c; returns (a's, b's, AGM). Requires 0 < √m_c ≤ 1."""
-    a, b = 1.0, rootmc
-    avals, bvals = [], []
-    for _ in range(64):
-        avals.append(a)
-        bvals.append(b)
-        if abs(a - b) <= 1e-9 * a:
-            break
-        a, b = 0.5 * (a + b), math.sqrt(a * b)
-    return tuple(avals), tuple(bvals), 0.5 * (a + b)
-
-
-def complete_elliptic_k(mc: float) -> float:
-    """Complete elliptic integral of the first kind K as a function of the complementary parameter m_c = 1 − m.
-
-    ``K = π / (2 AGM(1, √m_c))``, accurate to a few ulp for every ``0 < m_c ≤ 1`` (``K → ∞`` as ``m_c → 0``).
-
-    Parameters
-    ----------
-    mc : float
-        Complementary parameter, ``0 < mc <= 1``.
-
-    Examples
-    --------
-    >>> round(complete_elliptic_k(1.0), 15) == round(math.pi / 2, 15)
-    True
-    >>> import mpmath
-    >>> with mpmath.workdps(30):
-    ...     want = float(mpmath.ellipk(1 - mpmath.mpf(1e-16)))
-    >>> abs(complete_elliptic_k(1e-16) - want) < 1e-14
-    True
-    """
-    mc = float(mc)
-    if not (0.0 < mc <= 1.0):
-        raise InvalidInput("mc", mc, "a complementary parameter 0 < mc <= 1")
-    return math.pi / (2.0 * _agm_landen(math.sqrt(mc))[2])
-
-
-def _sncndn_reduced(x: np.ndarray, avals, bvals, agm: float):
-    """sn, cn, dn for 0 ≤ x ≤ K/2 by Bulirsch's descending Landen recurrence (x scaled by AGM ≤ π/4).
-
-    The recurrence starts from ``cot v = 1/tan v`` (NumPy's tan is vectorised where its sin and cos are not: five
-    times faster) and runs into a few temporaries; the Landen values may be arrays broadcasting against x."""
-    v = x * agm
-    tan = np.tan(v)
-    zero = v < 1e-150  # sn x = x, cn x = dn x = 1 to within x² (and cot v would overflow)
-    anyzero = bool(zero.any())
-    if anyzero:
-        tan = np.where(zero, 1.0, tan)
-    a = np.divide(1.0, tan, out=tan)
-    c = a * agm
-    dn = None
-    tmp = np.empty_like(c)
-    for ai, bi in zip(reversed(avals), reversed(bvals)):
-        a *= c
-        if dn is not None:
-            c *= dn
-        else:
-            dn = np.empty_like(c)
-        np.add(a, bi, out=dn)
-        np.add(a, ai, out=tmp)
-        dn /= tmp
-        np.divide(c, ai, out=a)
-    if dn is None:
-        dn = np.ones_like(c)
-    np.multiply(c, c, out=tmp)
-    tmp += 1.0
-    np.sqrt(tmp, out=tmp)
-    sn = np.divide(1.0, tmp, out=tmp)
-    cn = c * sn
-    if anyzero:
-        sn, cn, dn = np.where(zero, x, sn), np.where(zero, 1.0, cn), np.where(zero, 1.0, dn)
-    return sn, cn, dn
-
-
-def jacobi_sncndn(u, mc, *, rootmc=None):
-    """Jacobi elliptic functions ``sn(u|m), cn(u|m), dn(u|m)`` with the complementary parameter ``mc = 1 − m``.
-
-    Accurate to a few ulp (absolute) for every ``0 ≤ mc ≤ 1`` including ``mc`` down to 1e-300 and ``mc = 0``
-    (``tanh, sech, sech``), unlike routines that take m and so lose ``1 − m`` to rounding.
-
-    Algorithm: reduce u modulo 4K (K from the AGM on √m_c) to x ∈ [0, K] with the symmetries
-    ``sn(u + 2K) = −sn u``, ``cn(u + 2K) = −cn u``, ``sn(2K − x) = sn x``, ``cn(2K − x) = −cn x``; Bulirsch's
-    descending Landen recurrence (Numerical Recipes' ``sncndn``) on [0, K/2]; and on (K/2, K] the reflection
-    ``sn(K − y) = cn y / dn y``, ``cn(K − y) = √m_c sn y / dn y``, ``dn(K − y) = √m_c / dn y``.
-
-    Parameters
-    ----------
-    u : array_like
-        Arguments.
-    mc : float
-        Complementary parameter ``0 <= mc <= 1``.
-    rootmc : float, optional
-        ``√m_c`` when known more precisely than ``mc`` itself (m_c below the smallest double, ~1e-308).
-
-    Returns
-    -------
-    sn, cn, dn : ndarray
-        Same shape as ``u``.
-
-    Examples
-    --------
-    >>> import mpmath
-    >>> sn, cn, dn = jacobi_sncndn([0.5, 30.0], 1e-12)
-    >>> with mpmath.workdps(30):
-    ...     want = float(mpmath.ellipfun("sn", 30, 1 - mpmath.mpf(1e-12)))
-    >>> bool(abs(sn[1] - want) < 1e-14)
-    True
-    >>> [float(v) for v in jacobi_sncndn(0.0, 0.3)]
-    [0.0, 1.0, 1.0]
-    """
-    u = np.asarray(u, dtype=np.float64)
-    mc = float(mc)
-    if not (0.0 <= mc <= 1.0) or not math.isfinite(mc):
-        raise InvalidInput("mc", mc, "a complementary parameter 0 <= mc <= 1")
-    if not np.all(np.isfinite(u)):
-        raise InvalidInput("u", u, "finite arguments")
-    rootmc = math.sqrt(mc) if rootmc is None else float(rootmc)
-    if rootmc == 0.0:
-        return np.tanh(u), 1.0 / np.cosh(u), 1.0 / np.cosh(u)
-    shape = u.shape
-    sn, cn, dn = _sncndn(u.ravel(), rootmc, _agm_landen(rootmc))
-    return sn.reshape(shape), cn.reshape(shape), dn.reshape(shape)
-
-
-def _sncndn(u: np.ndarray, rootmc: float, landen):
-    """sn, cn, dn of a float array (checked by the caller), ``0 < √m_c ≤ 1``, Landen sequence given; ``rootmc`` and
-    the sequence may be arrays broadcasting against ``u`` (one modulus per member of a batch)."""
-    avals, bvals, agm = landen
-    K = math.pi / (2.0 * agm)
-    r = np.mod(np.abs(u), 4.0 * K)  # sn is odd, cn and dn even: reduce |u| so small arguments stay exact
-    upper = r >= 2.0 * K
-    r = np.where(upper, r - 2.0 * K, r)
-    sign = np.where(upper, -1.0, 1.0)
-    sign_sn = np.where(u < 0, -sign, sign)
-    back = r > K
-    x = np.where(back, 2.0 * K - r, r)
-    sign_cn = np.where(back, -sign, sign)
-    near = x > 0.5 * K
-    z = np.where(near, K - x, x)
-    z = np.maximum(z, 0.0)
-    sz, cz, dz = _sncndn_reduced(z, avals, bvals, agm)
-    sn = np.where(near, cz / dz, sz)
-    cn = np.where(near, rootmc * sz / dz, cz)
-    dn = np.where(near, rootmc / dz, dz)
-    return sign_sn * sn, sign_cn * cn, dn
-
-
-def _sncndn_scalar(u: float, rootmc: float, landen):
-    """:func:`_sncndn` for one float, in ``math`` (the same steps; for a handful of points NumPy's per-call
-    overhead would dominate)."""
-    avals, bvals, agm = landen
-    K = math.pi / (2.0 * agm)
-    r = math.fmod(abs(u), 4.0 * K)
-    sign = 1.0
-    if r >= 2.0 * K:
-        r -= 2.0 * K
-        sign = -1.0
-    sign_sn = -sign if u < 0 else sign
-    sign_cn = sign
-    if r > K:
-        r = 2.0 * K - r
-        sign_cn = -sign
-    near = r > 0.5 * K
-    z = max(K - r, 0.0) if near else r
-    v = z * agm
-    if v < 1e-150:
-        sz, cz, dz = z, 1.0, 1.0
-    else:
-        a = math.cos(v) / math.sin(v)
-        c = agm * a
-        dz = 1.0
-        for ai, bi in zip(reversed(avals), reversed(bvals)):
-            a = a * c
-            c = c * dz
-            dz = (bi + a) / (ai + a)
-            a = c / ai
-        sz = 1.0 / math.sqrt(c * c + 1.0)
-        cz = c * sz
-    if near:
-        return sign_sn * cz / dz, sign_cn * rootmc * sz / dz, rootmc / dz
-    return sign_sn * sz, sign_cn * cz, dz
-
-
-# ----------------------------------------------------------------------------------------------------------------
-# Quaternions (scalar first)
-# ----------------------------------------------------------------------------------------------------------------
-def quaternion_multiply(p, q):
-    """Hamilton product ``p ⊗ q`` of quaternions (scalar first), broadcasting over leading axes
-    (:func:`eulersym.quaternion.multiply`).
-
-    Examples
-    --------
-    >>> quaternion_multiply([0, 1, 0, 0], [0, 0, 1, 0])   # i j = k
-    array([0., 0., 0., 1.])
-    """
-    return _quaternion.multiply(p, q)
-
-
-_quat_conj = _quaternion.conjugate
-
-
 def _quat_exp(v):
-    """Unit quaternion of the rotation vector ``v`` (rows), ``(cos |v|/2, sin(|v|/2) v/|v|)``."""
+    """Unit quaternions of the rotation vectors ``v`` (rows): :func:`eulersym.attitude.rotvec_to_quaternion`."""
     v = np.asarray(v, dtype=np.float64)
-    angle = np.sqrt(np.sum(v * v, axis=-1))
-    half = 0.5 * angle
-    # sin(half)/angle, with its limit 1/2 at 0
-    small = angle < 1e-8
-    safe = np.where(small, 1.0, angle)
-    factor = np.where(small, 0.5 - angle * angle / 48.0, np.sin(half) / safe)
-    return np.concatenate([np.cos(half)[..., None], factor[..., None] * v], axis=-1)
+    return np.stack(rotvec_to_quaternion(v[..., 0], v[..., 1], v[..., 2], np.cos, np.sin), axis=-1)
 
 
 def _rotate(q, v):
-    """R(q) v for unit quaternion(s) q."""
-    qv = np.concatenate([np.zeros(np.shape(v)[:-1] + (1,)), v], axis=-1)
-    return quaternion_multiply(quaternion_multiply(q, qv), _quat_conj(q))[..., 1:]
+    """R(q) v for unit quaternion(s) q (rows, broadcasting): :func:`eulersym.attitude.rotate`."""
+    q, v = np.asarray(q, dtype=np.float64), np.asarray(v, dtype=np.float64)
+    return np.stack(np.broadcast_arrays(*rotate(*np.moveaxis(q, -1, 0), *np.moveaxis(v, -1, 0))), axis=-1)
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -310,6 +104,11 @@ class _Elliptic:
     n: float  # characteristic of the φ integral
     landen: tuple = ()  # (a's, b's, AGM) of the descending Landen sequence on √m_c (empty on the separatrix)
 
+    @property
+    def phase(self) -> tuple:
+        """(λ, u0, 4K) as double-doubles: the arguments of :func:`~eulersym.numerics.elliptic.reduce_phase`."""
+        return (self.lam, self.lam_lo), (self.u0, self.u0_lo), (self.period, self.period_lo)
+
 
 @dataclass(frozen=True)
 class _Symmetric:
@@ -321,25 +120,6 @@ class _Symmetric:
 @dataclass(frozen=True)
 class _Constant:
     pass
-
-
-def _carlson_rf(x: float, y: float, z: float) -> float:
-    """Carlson's symmetric ``R_F(x, y, z)`` of non-negative doubles (at most one zero), to a few ulp.
-
-    Duplication ``x ← (x + λ)/4`` with ``λ = √x√y + √y√z + √z√x`` until the spread is below 10⁻³, then the
-    fifth-order series (Carlson 1995; DLMF 19.36.1): relative truncation error below 10⁻¹⁸.
-    """
-    for _ in range(200):
-        mu = (x + y + z) / 3.0
-        dx, dy, dz = 1.0 - x / mu, 1.0 - y / mu, 1.0 - z / mu
-        if max(abs(dx), abs(dy), abs(dz)) < 1e-3:
-            break
-        sx, sy, sz = math.sqrt(x), math.sqrt(y), math.sqrt(z)
-        lam = sx * (sy + sz) + sy * sz
-        x, y, z = 0.25 * (x + lam), 0.25 * (y + lam), 0.25 * (z + lam)
-    e2 = dx * dy - dz * dz
-    e3 = dx * dy * dz
-    return (1.0 + (e2 / 24.0 - 0.1 - 3.0 * e3 / 44.0) * e2 + e3 / 14.0) / math.sqrt(mu)
 
 
 def _integers(values) -> tuple[list[int], int]:
@@ -446,47 +226,6 @@ def _setup(I: tuple[float, float, float], w: np.ndarray):
     )
 
 
-def _two_prod(a, b):
-    """Dekker's error-free product: a·b = p + e exactly (no FMA needed)."""
-    p = a * b
-    ca = 134217729.0 * a
-    ah = ca - (ca - a)
-    al = a - ah
-    cb = 134217729.0 * b
-    bh = cb - (cb - b)
-    bl = b - bh
-    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
-
-
-def _phase(sol, t):
-    """The reduced phase: u = λ t + u0 = j·4K + r with |r| ≤ 2K, in double-double arithmetic.
-
-    Returns (r, j). The rounding of λ·t and of 4K would otherwise cost ~ε·u in r, i.e. grow with the number
-    of periods.
-    """
-    p_hi, p_lo = _two_prod(sol.lam, t)
-    p_lo = p_lo + sol.lam_lo * t
-    u_hi = p_hi + sol.u0
-    u_lo = ((sol.u0 - (u_hi - p_hi)) + (p_hi - (u_hi - (u_hi - p_hi)))) + p_lo + sol.u0_lo  # two-sum error
-    if math.isinf(sol.period):
-        return u_hi + u_lo, np.zeros_like(t)
-    j = np.round((u_hi + u_lo) / sol.period)
-    e_hi, e_lo = _two_prod(j, sol.period)
-    r = ((u_hi - e_hi) - e_lo) + (u_lo - j * sol.period_lo)
-    return r, j
-
-
-def _phase_scalar(sol, t: float) -> float:
-    """:func:`_phase`'s reduced phase r for one float t (finite period)."""
-    p_hi, p_lo = _two_prod(sol.lam, t)
-    p_lo = p_lo + sol.lam_lo * t
-    u_hi = p_hi + sol.u0
-    u_lo = ((sol.u0 - (u_hi - p_hi)) + (p_hi - (u_hi - (u_hi - p_hi)))) + p_lo + sol.u0_lo
-    j = float(round((u_hi + u_lo) / sol.period))
-    e_hi, e_lo = _two_prod(j, sol.period)
-    return ((u_hi - e_hi) - e_lo) + (u_lo - j * sol.period_lo)
-
-
 def _rescale(w, tt):
     """Map a huge or tiny ω0 to order one: Euler's equations are homogeneous, ω(t) = s·ω̂(s t) with ω̂(0) = ω0/s.
 
@@ -538,13 +277,14 @@ def _omega(sol, w, t):
     sa, sb, sc = sol.signs[0] * A, sol.signs[1] * B, sol.signs[2] * C
     out = np.empty((t.size, 3))
     if t.size <= _SMALL and sol.landen:
+        rate, start, period = sol.phase
         for k, tk in enumerate(t.tolist()):
-            sn, cn, dn = _sncndn_scalar(_phase_scalar(sol, tk), sol.rootmc, sol.landen)
+            sn, cn, dn = _sncndn_scalar(_reduce_phase_scalar(tk, rate, start, period)[0], sol.rootmc, sol.landen)
             out[k, a], out[k, b], out[k, c] = sa * cn, sb * sn, sc * dn
         return out
     for start in range(0, t.size, _BLOCK):
         block = slice(start, start + _BLOCK)
-        r, _ = _phase(sol, t[block])
+        r, _ = reduce_phase(t[block], *sol.phase)
         if sol.landen:
             sn, cn, dn = _sncndn(r, sol.rootmc, sol.landen)
         else:  # the separatrix
@@ -612,28 +352,25 @@ def _unit_quaternion(q0):
 
 
 def _perm_quaternion(idx, signs):
-    """Unit quaternion of the proper rotation P with (P v)[k] = signs[k] v[idx[k]] (body → abc)."""
+    """Unit quaternion of the proper rotation P with (P v)[k] = signs[k] v[idx[k]] (body → abc): the active rotation
+    R = P, ``v_abc = R v_body`` (Shepperd's method, exact on a signed permutation)."""
     P = np.zeros((3, 3))
     for k in range(3):
         P[k, idx[k]] = signs[k]
-    # P maps body components to abc components; as an active rotation R with v_abc = R v_body, R = P.
-    tr = np.trace(P)
-    if tr > -0.5:
-        w = 0.5 * math.sqrt(1.0 + tr)
-        return np.array([w, (P[2, 1] - P[1, 2]) / (4 * w), (P[0, 2] - P[2, 0]) / (4 * w), (P[1, 0] - P[0, 1]) / (4 * w)])
-    k = int(np.argmax(np.diag(P)))
-    i, j = (k + 1) % 3, (k + 2) % 3
-    x = 0.5 * math.sqrt(1.0 + P[k, k] - P[i, i] - P[j, j])
-    q = np.zeros(4)
-    q[1 + k] = x
-    q[0] = (P[j, i] - P[i, j]) / (4 * x)
-    q[1 + i] = (P[i, k] + P[k, i]) / (4 * x)
-    q[1 + j] = (P[j, k] + P[k, j]) / (4 * x)
-    return q
+    return _from_matrices(P[None])[0]
 
 
-def _phi_integral(sol, r, j):
-    """W(u) = ∫₀ᵘ ds / (1 + n sn² s) at u = j·4K + r, via Carlson R_F, R_J and quasi-periodicity over 2K."""
+def _phi_half_period(sol):
+    """∫₀ᴷ ds / (1 + n sn² s), the increment of :func:`_phi_integral` over each half period (None on or next to the
+    separatrix, where the m = 1 limit is used): once per motion."""
+    if math.isinf(sol.K) or sol.mc < 1e-280:
+        return None
+    return float(_third_kind(1.0, 0.0, sol.mc, -sol.n, 1.0 + sol.n))
+
+
+def _phi_integral(sol, r, j, whole):
+    """W(u) = ∫₀ᵘ ds / (1 + n sn² s) at u = j·4K + r, via Carlson R_F, R_J and quasi-periodicity over 2K (``whole``:
+    :func:`_phi_half_period`)."""
     n = sol.n
     rn = math.sqrt(n)
 
@@ -646,8 +383,6 @@ def _phi_integral(sol, r, j):
     k = np.round(r / (2.0 * K))
     r = r - 2.0 * K * k  # [-K, K]
     j = 2.0 * j + k  # half periods
-    from scipy.special import elliprf, elliprj  # the attitude only (ω needs no SciPy)
-
     if mc < 1e-280:  # m_c below double range: the m = 1 limit over each half period, error O(√m_c)
         return 2.0 * j * hyperbolic(K) + hyperbolic(r)
     s, c, _ = jacobi_sncndn(np.abs(r), mc)
@@ -655,14 +390,14 @@ def _phi_integral(sol, r, j):
     c2 = c * c
     d2 = c2 + mc * s * s
     s2 = s * s
-    part = s * elliprf(c2, d2, 1.0) - (n / 3.0) * s * s2 * elliprj(c2, d2, 1.0, 1.0 + n * s2)
-    whole = float(elliprf(0.0, mc, 1.0) - (n / 3.0) * elliprj(0.0, mc, 1.0, 1.0 + n))
+    part = _third_kind(s, c2, d2, -n, 1.0 + n * s2)  # ∫ du/(1 + n sn² u), 0 ≤ u ≤ K
     return 2.0 * j * whole + np.sign(r) * part
 
 
-def _invariable_quaternion(sol, t):
-    """q_inv(t): active rotation (a, b, c) frame → invariable frame (ẑ ∥ L), and ω_abc."""
-    r, j = _phase(sol, t)
+def _invariable_quaternion(sol, t, whole, W0):
+    """q_inv(t): active rotation (a, b, c) frame → invariable frame (ẑ ∥ L); ``whole`` (:func:`_phi_half_period`)
+    and ``W0`` (W at t = 0) are the motion's, computed once."""
+    r, j = reduce_phase(t, *sol.phase)
     sn, cn, dn = jacobi_sncndn(r, sol.mc, rootmc=sol.rootmc)
     A, B, C = sol.amp
     Ia, Ib, Ic = sol.moments
@@ -675,8 +410,7 @@ def _invariable_quaternion(sol, t):
     # ψ = π/2 − ψ' − 2π·sign(B)·j is continuous; qz(ψ) = (−1)^j qz(π/2 − ψ'), so keep ψ small (accurate)
     flip = np.where(np.mod(j, 2.0) == 0.0, 1.0, -1.0)
     psi = 0.5 * math.pi - psi_p
-    r0, j0 = _phase(sol, np.zeros(1))
-    W = _phi_integral(sol, r, j) - _phi_integral(sol, r0, j0)[0]
+    W = _phi_integral(sol, r, j, whole) - W0
     phi = (L / Ic) * t + (L * (Ic - Ia) / (Ia * Ic * sol.lam)) * W
     # half angles of θ without cancellation
     half_c = np.sqrt(np.maximum(0.5 * (1.0 + lc), 0.0))
@@ -746,11 +480,14 @@ def free_rigid_body_attitude_exact(I, omega0, q0, t, *, check_body=True):
         q = quaternion_multiply(quaternion_multiply(left, q0), right)
     else:
         q_perm = _perm_quaternion(sol.idx, sol.signs)
-        q_inv0 = _invariable_quaternion(sol, np.zeros(1))[0]
+        whole = _phi_half_period(sol)
+        W0 = _phi_integral(sol, *reduce_phase(np.zeros(1), *sol.phase), whole)[0]
+        q_inv0 = _invariable_quaternion(sol, np.zeros(1), whole, W0)[0]
         q_fix = quaternion_multiply(quaternion_multiply(q0, _quat_conj(q_perm)), _quat_conj(q_inv0))
         q = np.empty((tt.size, 4))
         for start in range(0, tt.size, _BLOCK):  # blocks: the temporaries stay in cache, the cost per point flat
             block = slice(start, start + _BLOCK)
-            q[block] = quaternion_multiply(quaternion_multiply(q_fix, _invariable_quaternion(sol, tt[block])), q_perm)
+            q_inv = _invariable_quaternion(sol, tt[block], whole, W0)
+            q[block] = quaternion_multiply(quaternion_multiply(q_fix, q_inv), q_perm)
     q = q / np.sqrt(np.sum(q * q, axis=-1, keepdims=True))
     return omega, q

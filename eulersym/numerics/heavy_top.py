@@ -31,7 +31,7 @@ from eulersym.numerics import _fast
 from eulersym.numerics.exact import _unit_quaternion
 from eulersym.numerics.splitting import YOSHIDA_GAMMA, output_steps
 from eulersym.numerics.trajectory import Trajectory
-from eulersym.quaternion import hamilton, rotate_back as _rotate_back
+from eulersym.attitude import hamilton, rotate, rotate_back as _rotate_back, rotvec_to_quaternion
 from eulersym.validation import choice, finite_array, moments, positive
 
 __all__ = ["integrate_heavy_top", "HEAVY_TOP_METHODS", "sleeping_top_threshold_numeric"]
@@ -40,21 +40,12 @@ HEAVY_TOP_METHODS = ("strang", "yoshida4")
 
 
 
-def _exp_half(tau, w0, w1, w2):
-    """Unit quaternion exp(τ ω / 2) = (cos(τ|ω|/2), sin(τ|ω|/2) ω/|ω|)."""
-    n = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
-    half = 0.5 * tau * n
-    if n == 0.0:
-        return 1.0, 0.0, 0.0, 0.0
-    s = math.sin(half) / n
-    return math.cos(half), s * w0, s * w1, s * w2
-
-
 def _free(s, tau, i1inv, nu_coef):
     """Exact flow of the free symmetric top for time τ."""
     m0, m1, m2, g0, g1, g2, q0, q1, q2, q3 = s
     # ω_a = m / I1: m is fixed, Γ and q turn
-    p = _exp_half(tau, m0 * i1inv, m1 * i1inv, m2 * i1inv)
+    k = tau * i1inv
+    p = rotvec_to_quaternion(k * m0, k * m1, k * m2, None, None)  # exp(τ ω_a / 2)
     g0, g1, g2 = _rotate_back(*p, g0, g1, g2)
     q0, q1, q2, q3 = hamilton((q0, q1, q2, q3), p)
     # ω_b = ν e3: m, Γ and q turn about e3
@@ -289,9 +280,7 @@ def _compiled_runner():
     import numba
     from numba.extending import register_jitable
 
-    from eulersym.quaternion import hamilton
-
-    for fn in (hamilton, _rotate_back, _exp_half, _free, _kick, _renormalise):
+    for fn in (hamilton, rotate, _rotate_back, rotvec_to_quaternion, _free, _kick, _renormalise):
         register_jitable(fn)
     run = numba.njit(cache=True)(_run_top)
 

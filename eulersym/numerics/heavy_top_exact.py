@@ -23,8 +23,8 @@ The distances to the poles never cancel: ``1 − w = y2 + Δ cn²τ`` and ``1 + 
 
 so each half of q needs one elliptic integral of the third kind, ``∫ dτ/(y2 + Δ cn²)`` (near pole, w = 1) or
 ``∫ dτ/(z1 + Δ sn²)`` (far pole, w = −1; written after τ → τ + K with a characteristic in [−1, 0] so that it does
-not cancel). Both are evaluated with Carlson's ``R_F`` and ``R_J`` (SciPy) on the reduced phase plus their
-quasi-periodicity over the nutation period 2K/λ. The body rates come from the same integrals:
+not cancel). Both are evaluated with Carlson's ``R_F`` and ``R_J`` (:mod:`eulersym.numerics.elliptic`) on the
+reduced phase plus their quasi-periodicity over the nutation period 2K/λ. The body rates come from the same integrals:
 ``ω1 + … = (b − a u)/sin θ``, ``u̇/sin θ``, both written as bounded ratios of the pole distances, and ``ω3`` is
 constant. When a pole is a turning point (``y2 = 0``: the top passes through the vertical) the half angle is
 taken with a sign (``S ∝ cn τ``) and its rate coefficient ``b − a`` vanishes, so q stays smooth.
@@ -38,7 +38,7 @@ Carlson's R_F in double where m_c > 1e-6 (to 36 digits nearer the separatrix), t
 the third-kind integrals, the rates — in double where their error bound allows: :func:`_setup_double`, ~0.11 ms).
 The phase ``λ t + τ0`` is reduced modulo ``2K`` and the secular angles modulo ``4π`` in
 double-double, so the error does not grow with t. A double root (steady precession, the sleeping top) is
-exact: the motion is then a uniform rotation of the Euler angles. For 48 output times or more the third-kind
+exact: the motion is then a uniform rotation of the Euler angles. For 4 output times or more the third-kind
 integrals come from an odd Chebyshev series of W on [−K, K], obtained per call by integrating the series of its
 derivative ``1/((1 − n) + n cn²)`` (32 values at the nodes, no elliptic integral) and cut at its noise floor;
 where that series does not reach round-off (a pass close to the vertical) W is evaluated directly (Carlson's
@@ -65,25 +65,15 @@ from decimal import Decimal
 
 import numpy as np
 
+from eulersym.attitude import hamilton
 from eulersym.errors import InvalidInput, SingularConfiguration
 from eulersym.numerics import _decimal_elliptic as _de
 from eulersym.numerics._odd_series import (POWERS_MAX as _MONOMIAL_MAX, clenshaw as _clenshaw_odd, horner as _horner_odd,
                                           to_powers as _odd_monomial)
-from eulersym.numerics.exact import (_agm_landen, _carlson_rf, _phase, _sncndn_reduced, _sncndn_scalar, _two_prod,
-                                     jacobi_sncndn)
+from eulersym.numerics._doubledouble import PI as _PI
+from eulersym.numerics.elliptic import (_agm_landen, _carlson_rf, _reduce_phase_scalar, _reduce_secular,
+                                        _sncndn_half, _sncndn_scalar, _third_kind, jacobi_sncndn, reduce_phase)
 from eulersym.validation import TRIANGLE_SLACK, finite_array, moments
-
-
-def elliprf(x, y, z):  # scipy.special on first use: importing this module (and eulersym.numerics) stays light
-    from scipy.special import elliprf as f
-
-    return f(x, y, z)
-
-
-def elliprj(x, y, z, p):
-    from scipy.special import elliprj as f
-
-    return f(x, y, z, p)
 
 
 __all__ = ["heavy_top_exact", "HeavyTopMotion", "euler_to_quaternion", "BATCH_PRECISE"]
@@ -142,25 +132,6 @@ def _dd(x) -> tuple[float, float]:
     return (hi, float(x - Decimal(hi))) if type(x) is Decimal else (hi, 0.0)
 
 
-def _two_sum(a, b):
-    s = a + b
-    bb = s - a
-    return s, (a - (s - bb)) + (b - bb)
-
-
-def _dd_linear(rate, t, per, j, modulus):
-    """``rate·t + per·j`` reduced modulo ``modulus`` (all constants double-double (hi, lo)), as a double."""
-    p_hi, p_lo = _two_prod(rate[0], t)
-    p_lo = p_lo + rate[1] * t
-    q_hi, q_lo = _two_prod(per[0], j)
-    q_lo = q_lo + per[1] * j
-    s_hi, s_lo = _two_sum(p_hi, q_hi)
-    s_lo = s_lo + p_lo + q_lo
-    k = np.round((s_hi + s_lo) / modulus[0])
-    e_hi, e_lo = _two_prod(k, modulus[0])
-    return ((s_hi - e_hi) - e_lo) + (s_lo - k * modulus[1])
-
-
 # ----------------------------------------------------------------------------------------------------------------
 # The constants of one motion, in decimal arithmetic
 # ----------------------------------------------------------------------------------------------------------------
@@ -194,7 +165,7 @@ class _Motion:
     K: float
     lam: float
     lam_lo: float
-    u0: float  # = τ0 (the phase at t = 0), named for exact._phase
+    u0: float  # = τ0 (the phase at t = 0)
     u0_lo: float
     period: float  # 2K in the phase variable
     period_lo: float
@@ -204,8 +175,12 @@ class _Motion:
     nutation_period: float
     turning: tuple
 
+    @property
+    def phase(self) -> tuple:
+        """(λ, τ0, 2K) as double-doubles: the arguments of :func:`~eulersym.numerics.elliptic.reduce_phase`."""
+        return (self.lam, self.lam_lo), (self.u0, self.u0_lo), (self.period, self.period_lo)
 
-_FOUR_PI = None
+
 _THROUGH = Decimal("1e-26")
 _AGM_FROM = Decimal("1e-20")  # 1 − n from which Π(n | m) is taken by the AGM (below: R_J)
 _MC_DOUBLE = Decimal("1e-6")  # above it, the start's phase τ0 in double  # 1 ∓ w below this at a turning point: the motion passes through the pole
@@ -217,12 +192,8 @@ _AGM_DOUBLE = 0.05
 
 
 def _four_pi():
-    global _FOUR_PI
-    if _FOUR_PI is None:
-        with decimal.localcontext() as ctx:
-            ctx.prec = _de.DIGITS
-            _FOUR_PI = _dd(4 * _de.pi())
-    return _FOUR_PI
+    """4π as a double-double (π's, scaled exactly)."""
+    return (4.0 * _PI[0], 4.0 * _PI[1])
 
 
 def _quadratic(A, B, C):
@@ -357,17 +328,12 @@ def _W_chebyshev(poles, c2, K, tolerance=0.0):
 
 
 def _W_direct(x, n, one_minus_n, mc, rootmc):
-    """W(x) = ∫₀ˣ dy/(1 − n sn² y) for |x| ≤ K (SciPy's Carlson R_F, R_J)."""
-    from scipy.special import elliprf, elliprj  # imported when used: `import eulersym.numerics` stays SciPy-free
+    """W(x) = ∫₀ˣ dy/(1 − n sn² y) for |x| ≤ K (Carlson's R_F, R_J: :mod:`eulersym.numerics.elliptic`)."""
     s, c, _ = jacobi_sncndn(np.abs(x), mc, rootmc=rootmc)
     s = np.abs(s)
     c2 = c * c
     d2 = c2 + mc * s * s
-    p = one_minus_n + n * c2
-    val = s * elliprf(c2, d2, 1.0)
-    if n != 0.0:
-        val = val + (n / 3.0) * s * s * s * elliprj(c2, d2, 1.0, p)
-    return np.sign(x) * val
+    return np.sign(x) * _third_kind(s, c2, d2, n, one_minus_n + n * c2)
 
 
 def _setup(I1, I3, M, g, l, omega, q, exact=True):
@@ -559,25 +525,15 @@ def _pairs(sigma):
 
 def _W_points(points, mc, rootmc, landen):
     """:func:`_W_direct` at a few floats: ``[W(x) for (x, n, 1 − n) in points]`` (|x| ≤ K), sn and cn in ``math``,
-    SciPy's Carlson integrals in one call for all of them."""
-    from scipy.special import elliprf, elliprj
-
+    Carlson's integrals in one call for all of them."""
     s, c2, d2, p, ns = (np.empty(len(points)) for _ in range(5))
     for k, (x, n, one_minus_n) in enumerate(points):
         sk, ck, _ = _sncndn_scalar(abs(x), rootmc, landen)
         s[k], c2[k], ns[k] = abs(sk), ck * ck, n
         d2[k] = c2[k] + mc * s[k] * s[k]
         p[k] = one_minus_n + n * c2[k]
-    val = s * elliprf(c2, d2, 1.0)
-    val += (ns / 3.0) * s * s * s * elliprj(c2, d2, 1.0, p)  # n = 0: R_J finite, the term 0
+    val = _third_kind(s, c2, d2, ns, p)  # n = 0: R_J finite, the term 0
     return [math.copysign(float(v), x) if x != 0.0 else 0.0 for v, (x, _, _) in zip(val, points)]
-
-
-def _phase0(u_hi, u_lo, period, period_lo):
-    """:func:`eulersym.numerics.exact._phase` at t = 0 for one motion, in floats: (r0, j0)."""
-    j = float(round((u_hi + u_lo) / period))
-    e_hi, e_lo = _two_prod(j, period)
-    return ((u_hi - e_hi) - e_lo) + (u_lo - j * period_lo), j
 
 
 def _finish(motion, near, far, omega, q, start=None, lazy=False):
@@ -588,14 +544,14 @@ def _finish(motion, near, far, omega, q, start=None, lazy=False):
     norm = math.sqrt(sum(v * v for v in qn))
     qn = [v / norm for v in qn]
     w1, w2, w3 = (float(v) for v in omega)
-    qdot = (0.5 * (-qn[1] * w1 - qn[2] * w2 - qn[3] * w3), 0.5 * (qn[0] * w1 - qn[3] * w2 + qn[2] * w3),
-            0.5 * (qn[3] * w1 + qn[0] * w2 - qn[1] * w3), 0.5 * (-qn[2] * w1 + qn[1] * w2 + qn[0] * w3))
+    qdot = [0.5 * c for c in hamilton(qn, (0.0, w1, w2, w3))]  # q̇0 = ½ q0 ⊗ (0, ω0)
     lazy = lazy and not (motion["steady"] or near["signed"] or far["signed"])
     landen = None
     if motion["steady"] or lazy:  # no signed amplitude: its sign at t = 0 does not enter
         amp_n, amp_f, dn_sign, df_sign = (math.sqrt(near["base"]), math.sqrt(far["base"]), 1.0, 1.0)
     else:  # the amplitudes at t = 0 as _amplitudes finds them
-        r0, j0 = _phase0(motion["u0"], motion["u0_lo"], motion["period"], motion["period_lo"])
+        r0, j0 = _reduce_phase_scalar(0.0, (motion["lam"], motion["lam_lo"]), (motion["u0"], motion["u0_lo"]),
+                                      (motion["period"], motion["period_lo"]))
         landen = _agm_landen(motion["rootmc"])
         sn, cn, _ = _sncndn_scalar(r0, motion["rootmc"], landen)
         parity = 1.0 - 2.0 * (j0 % 2.0)
@@ -631,7 +587,7 @@ def _start_W(K, period, mc, rootmc, r0, j0, landen, poles, start):
     """W at t = 0 and the half period it is reduced to, per pole ``(B, n, 1 − n, W(K))``: ``(W0n, j0n, W0f, j0f)``
     exactly as the evaluation will find them (the near pole's argument r0, the far pole's r0 − K wrapped into
     [−K, K]); ``start``: each pole's W(τ0) to 36 digits and its half period where it was computed so (near a pole),
-    else None (then in double, SciPy's Carlson integrals)."""
+    else None (then in double, Carlson's integrals)."""
     x0 = r0 - K
     j0n = j0
     j0f = j0n - 1.0 if x0 < -K else j0n
@@ -659,33 +615,17 @@ def _resolved(mo):
     """The motion with W and the half period at t = 0 found where :func:`_finish` left them (``lazy``)."""
     if mo.near.j0 is not None:
         return mo
-    r0, j0 = _phase0(mo.u0, mo.u0_lo, mo.period, mo.period_lo)
+    r0, j0 = _reduce_phase_scalar(0.0, *mo.phase)
     poles = [(p.B, p.n, p.one_minus_n, p.WK) for p in (mo.near, mo.far)]
     W0n, j0n, W0f, j0f = _start_W(mo.K, mo.period, mo.mc, mo.rootmc, r0, j0, _agm_landen(mo.rootmc), poles,
                                   {"near": (None, 0.0), "far": (None, 0.0)})
     return replace(mo, near=replace(mo.near, W0=W0n, j0=j0n), far=replace(mo.far, W0=W0f, j0=j0f))
 
 
-#: From this many output times on, W comes from its Chebyshev series (fitted per call at 32 nodes) rather than from
-#: Carlson's integrals at every time.
-_SERIES_FROM = 48
-
-
-def _sncndn_half(r, mo):
-    """sn, cn, dn of the reduced phase |r| ≤ K: :func:`eulersym.numerics.exact.jacobi_sncndn` without its
-    reduction modulo 4K (Landen on [0, K/2], the quarter-period reflection above), as new arrays."""
-    landen = _agm_landen(mo.rootmc)
-    K = mo.K
-    x = np.abs(r)
-    np.minimum(x, K, out=x)
-    near = x > 0.5 * K
-    z = np.where(near, K - x, x)
-    sz, cz, dz = _sncndn_reduced(z, *landen)
-    sn = np.where(near, cz / dz, sz)
-    np.copysign(sn, r, out=sn)
-    cn = np.where(near, (mo.rootmc * sz) / dz, cz)
-    dn = np.where(near, mo.rootmc / dz, dz)
-    return sn, cn, dn
+#: From this many output times on, W comes from its Chebyshev series (fitted per call at 32 nodes, both poles at once:
+#: ~40 array operations) rather than from Carlson's integrals at every time (~300 array operations for both poles in
+#: NumPy's duplication loop, or ~9 µs a time and pole one by one).
+_SERIES_FROM = 4
 
 
 def _phase_double(mo, t):
@@ -704,14 +644,14 @@ def _phase_and_jacobi(mo, t, tolerance, tmax):
     if 0.0 < 4.0 * eps * (abs(mo.lam) * tmax + abs(mo.u0) + mo.period) <= 0.5 * tolerance:
         r, j = _phase_double(mo, t)
     else:
-        r, j = _phase(mo, t)
+        r, j = reduce_phase(t, *mo.phase)
     nodes = t.size >= _SERIES_FROM and not (mo.near.B == 0.0 and mo.far.B == 0.0)
     if nodes:  # the Chebyshev nodes of W's series ride along (one Jacobi evaluation)
-        sn, cn, dn = _sncndn_half(np.concatenate([r, mo.K * _NODES]), mo)
+        sn, cn, dn = _sncndn_half(np.concatenate([r, mo.K * _NODES]), mo.K, mo.rootmc, _agm_landen(mo.rootmc))
         node_c2 = cn[t.size:] ** 2
         sn, cn, dn = sn[:t.size], cn[:t.size], dn[:t.size]
     else:
-        sn, cn, dn = _sncndn_half(r, mo)
+        sn, cn, dn = _sncndn_half(r, mo.K, mo.rootmc, _agm_landen(mo.rootmc))
         node_c2 = None
     odd = (j.astype(np.int64) & 1).astype(bool)  # sn and cn change sign over each half period 2K
     np.negative(sn, out=sn, where=odd)
@@ -744,7 +684,7 @@ def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0, node_c2=None):
             chi[k] += pole.rate[0] * t
         chi -= four_pi[0] * np.rint(chi * (1.0 / four_pi[0]))
     else:
-        chi = _dd_linear(rate, t, per, jj, four_pi)
+        chi = _reduce_secular(rate, t, per, jj, four_pi)
     if mo.steady:
         chi += col(near.chi0, far.chi0)
         return chi
@@ -779,10 +719,10 @@ def _chis(mo, t, r, j, tolerance=0.0, tmax=0.0, node_c2=None):
             chi[rows] += _horner_odd(y, b if len(series) == 2 else b[0])
         else:
             chi[rows] += _clenshaw_odd(y, list(a.T[:, :, None]) if len(series) == 2 else [float(v) for v in a[0]])
-    for k in active:
-        if fits[k] is None:
-            pole = poles[k]
-            chi[k] += pole.coef * _W_direct(x[k], pole.n, pole.one_minus_n, mo.mc, mo.rootmc)
+    direct = [k for k in active if fits[k] is None]
+    if direct:  # both poles' W at once (one pass of Carlson's duplication over both rows)
+        column = lambda name: np.array([[getattr(poles[k], name)] for k in direct])  # noqa: E731
+        chi[direct] += column("coef") * _W_direct(x[direct], column("n"), column("one_minus_n"), mo.mc, mo.rootmc)
     return chi
 
 
@@ -809,7 +749,7 @@ def _evaluate(mo, t, accuracy=None):
     if accuracy:  # at an accuracy asked: Fourier series in the phase, where they converge (else None: on below)
         from eulersym.numerics._heavy_top_fourier import fourier_rows
 
-        block = fourier_rows(mo, t, float(accuracy), _dd_linear, _four_pi())
+        block = fourier_rows(mo, t, float(accuracy))
         if block is not None:
             return block
     mo = _resolved(mo)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from eulersym.numerics.exact import _rotate
+from eulersym.attitude import _euler_angles, _matrices, rotate
 
 __all__ = [
     "energy",
@@ -61,8 +61,9 @@ def angular_momentum_space(I, omega, q):
     >>> angular_momentum_space((1.0, 2.0, 3.0), [[0.0, 0.0, 1.0]], [[0.0, 1.0, 0.0, 0.0]])  # half turn about x
     array([[ 0.,  0., -3.]])
     """
-    w = _rows(omega, 3)
-    return _rotate(_rows(q, 4), w * np.asarray(I, dtype=np.float64)) + 0.0
+    L = _rows(omega, 3) * np.asarray(I, dtype=np.float64)
+    q = _rows(q, 4)
+    return np.stack(np.broadcast_arrays(*rotate(*q.T, *L.T)), axis=-1) + 0.0
 
 
 def quaternion_norm_error(q):
@@ -88,16 +89,7 @@ def rotation_matrix(q):
            [ 0., -1.,  0.],
            [ 0.,  0.,  1.]])
     """
-    q = _rows(q, 4)
-    w, x, y, z = q.T
-    return np.stack(
-        [
-            np.stack([w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)], axis=-1),
-            np.stack([2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)], axis=-1),
-            np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z], axis=-1),
-        ],
-        axis=-2,
-    )
+    return _matrices(_rows(q, 4))
 
 
 def orthogonality_error(q):
@@ -148,19 +140,13 @@ def momentum_vertical(I, omega, gamma):
 def euler_angles(q):
     """Euler angles (φ, θ, ψ) of the text's zxz convention from attitude quaternions (rows), shape (n, 3).
 
-    The text's passive matrix is ``A = R(q)ᵀ = B(ψ) C(θ) D(φ)``, so ``A[2] = (sin θ sin φ, −sin θ cos φ, cos θ)``
-    and ``A[:, 2] = (sin ψ sin θ, cos ψ sin θ, cos θ)``. At sin θ = 0 only φ ± ψ is defined; there ψ = 0 is
-    returned. Output only: integrate with quaternions.
+    The text's passive matrix is ``A = R(q)ᵀ = B(ψ) C(θ) D(φ)``, ``q = qz(φ) ⊗ qx(θ) ⊗ qz(ψ)``:
+    :meth:`eulersym.attitude.Attitude.as_euler` (q need not be unit: the angles are ratios of its components).
+    Exactly at sin θ = 0 only φ ± ψ is defined; there ψ = 0 is returned. Output only: integrate with quaternions.
 
     Examples
     --------
     >>> euler_angles([[1.0, 0.0, 0.0, 0.0]])
     array([[0., 0., 0.]])
     """
-    A = np.swapaxes(rotation_matrix(q), 1, 2)
-    st = np.hypot(A[:, 0, 2], A[:, 1, 2])
-    theta = np.arctan2(st, A[:, 2, 2])
-    tiny = st < 1e-300
-    phi = np.where(tiny, np.arctan2(A[:, 0, 1], A[:, 0, 0]), np.arctan2(A[:, 2, 0], -A[:, 2, 1]))
-    psi = np.where(tiny, 0.0, np.arctan2(A[:, 0, 2], A[:, 1, 2]))
-    return np.stack([phi, theta, psi], axis=-1) + 0.0
+    return _euler_angles(_rows(q, 4), "zxz", False) + 0.0

@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from eulersym.errors import InvalidInput
+from eulersym.errors import IntegrationFailed, InvalidInput
 from eulersym.numerics.trajectory import Trajectory
 from eulersym.validation import choice, finite_array
 
@@ -77,13 +77,15 @@ def integrate_ivp(module, y0, t, params, *, method="DOP853", rtol=1e-10, atol=1e
     Returns
     -------
     Trajectory
-        With ``y`` holding the full state and ``n_rhs_calls`` every call of ``rhs`` (finite-difference Jacobians
-        included).
+        One motion (``omega`` of shape (n, 3)), with ``y`` holding the full state and ``n_rhs_calls`` every call of
+        ``rhs`` (finite-difference Jacobians included).
 
     Raises
     ------
     eulersym.errors.InvalidInput
-        Unknown method or layout, non-finite inputs, bad times, unreachable tolerances, a failed integration.
+        Unknown method or layout, non-finite inputs, bad times, tolerances no double-precision solver can honour.
+    eulersym.errors.IntegrationFailed
+        The integration itself failed (``solve_ivp``'s status, or a state that left the finite numbers).
 
     Examples
     --------
@@ -132,7 +134,7 @@ def integrate_ivp(module, y0, t, params, *, method="DOP853", rtol=1e-10, atol=1e
 
     sol = solve_ivp(f, (tt[0], tt[-1]), y0, method=method, t_eval=tt, rtol=rtol, atol=atol, **kwargs)
     if sol.status != 0 or not np.all(np.isfinite(sol.y)) or sol.y.shape[1] != tt.size:
-        raise InvalidInput("rtol", rtol, f"a tolerance {method} can reach on this problem ({sol.message})")
+        raise IntegrationFailed("ivp", f"{method} at rtol = {rtol:g}: {sol.message}", "a looser rtol")
     Y = sol.y.T.copy()
     omega = _omega_from_euler_angles(Y) if w_sl is None else Y[:, w_sl]
     return Trajectory(
@@ -143,4 +145,5 @@ def integrate_ivp(module, y0, t, params, *, method="DOP853", rtol=1e-10, atol=1e
         n_rhs_calls=calls,
         method=f"solve_ivp:{method}",
         y=Y,
+        message=str(sol.message),
     )

@@ -25,7 +25,7 @@ from eulersym.errors import InvalidInput
 from eulersym.numerics.batched import BatchTrajectory
 from eulersym.numerics.splitting import output_steps
 from eulersym.numerics.trajectory import Trajectory
-from eulersym.quaternion import hamilton
+from eulersym.attitude import hamilton, rotvec_to_quaternion
 from eulersym.validation import choice, finite_array
 
 __all__ = ["integrate_torqued", "TORQUED_METHODS"]
@@ -35,11 +35,8 @@ TORQUED_METHODS = ("cf4",)
 
 
 def _exp(xi):
-    """exp(ξ/2) as a unit quaternion, ξ (3, B): (cos(|ξ|/2), sin(|ξ|/2) ξ/|ξ|)."""
-    half = 0.5 * np.sqrt(np.sum(xi * xi, axis=0))
-    safe = np.where(half == 0.0, 1.0, half)
-    k = np.where(half == 0.0, 0.5, 0.5 * np.sin(safe) / safe)
-    return (np.cos(half), k * xi[0], k * xi[1], k * xi[2])
+    """exp(ξ/2) as a unit quaternion, ξ (3, B): (cos(|ξ|/2), sin(|ξ|/2) ξ/|ξ|), the rotation vector ξ's."""
+    return rotvec_to_quaternion(xi[0], xi[1], xi[2], np.cos, np.sin)
 
 
 def _times(q, xi):

@@ -47,7 +47,8 @@ from eulersym.numerics import _fast
 from eulersym.numerics.exact import _unit_quaternion
 from eulersym.numerics.splitting import YOSHIDA_GAMMA, output_steps
 from eulersym.numerics.trajectory import Trajectory
-from eulersym.quaternion import from_matrix as quaternion_from_matrix, hamilton, rotate_back as _rotate_back
+from eulersym.attitude import hamilton, rotate, rotate_back as _rotate_back, rotvec_to_quaternion
+from eulersym.quaternion import from_matrix as quaternion_from_matrix
 from eulersym.validation import choice, finite_array
 
 __all__ = [
@@ -139,16 +140,8 @@ def _free_symmetric(s, tau, par, cos, sin):
     two commuting rotations: about L at the rate |L|/I1, then about e3 at ν = (L3 − h3)/I3 − L3/I1."""
     L1, L2, L3, G1, G2, G3, q0, q1, q2, q3 = s
     i1 = par[0]
-    w0, w1, w2 = L1 * i1, L2 * i1, L3 * i1
-    half = 0.5 * tau * (w0 * w0 + w1 * w1 + w2 * w2) ** 0.5
-    zero = half == 0.0
-    safe = half + zero  # 1 where the angle is 0 (floats, arrays and numba alike)
-    if cos is None:
-        c, sn = math.cos(half), math.sin(safe)
-    else:
-        c, sn = cos(half), sin(safe)
-    k = 0.5 * tau * (sn / safe * (1.0 - zero) + zero)  # sin(half)/|ω|, → τ/2 as |ω| → 0
-    p0, p1, p2, p3 = c, k * w0, k * w1, k * w2
+    k = tau * i1
+    p0, p1, p2, p3 = rotvec_to_quaternion(k * L1, k * L2, k * L3, cos, sin)  # exp(τ ω / 2), ω = L/I1
     G1, G2, G3 = _rotate_back(p0, p1, p2, p3, G1, G2, G3)
     q0, q1, q2, q3 = hamilton((q0, q1, q2, q3), (p0, p1, p2, p3))
     s = (L1, L2, L3, G1, G2, G3, q0, q1, q2, q3)
@@ -531,6 +524,6 @@ def _compiled_runner(parallel=False):
     """The member loop compiled by numba (:mod:`eulersym.numerics._batched_fast`) over this module's sub-flows."""
     from eulersym.numerics import _batched_fast
 
-    jitable = (hamilton, _turn1, _turn2, _turn3, _free_axes, _rotate_back, _free_symmetric, _kick, _substep,
-               _renormalise)
+    jitable = (hamilton, _turn1, _turn2, _turn3, _free_axes, rotate, _rotate_back, rotvec_to_quaternion,
+               _free_symmetric, _kick, _substep, _renormalise)
     return _batched_fast.member_runner(_substep, _renormalise, jitable, parallel)

@@ -30,6 +30,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from eulersym.attitude import hamilton
 from eulersym.errors import InvalidInput
 from eulersym.numerics import _fast
 from eulersym.numerics.exact import _unit_quaternion
@@ -105,15 +106,9 @@ def _yoshida4(s, h, inv, par, cos, sin):
 def _rk4_rhs(s, inv):
     m1, m2, m3, q0, q1, q2, q3 = s
     w1, w2, w3 = m1 * inv[0], m2 * inv[1], m3 * inv[2]
-    return (
-        m2 * w3 - m3 * w2,
-        m3 * w1 - m1 * w3,
-        m1 * w2 - m2 * w1,
-        0.5 * (-q1 * w1 - q2 * w2 - q3 * w3),
-        0.5 * (q0 * w1 + q2 * w3 - q3 * w2),
-        0.5 * (q0 * w2 - q1 * w3 + q3 * w1),
-        0.5 * (q0 * w3 + q1 * w2 - q2 * w1),
-    )
+    qd = hamilton((q0, q1, q2, q3), (0.0, w1, w2, w3))  # q̇ = ½ q ⊗ (0, ω)
+    return (m2 * w3 - m3 * w2, m3 * w1 - m1 * w3, m1 * w2 - m2 * w1,
+            0.5 * qd[0], 0.5 * qd[1], 0.5 * qd[2], 0.5 * qd[3])
 
 
 def _rk4(s, h, inv, par, cos, sin):

@@ -1,22 +1,23 @@
 """A sweep a chunk of members at a time: bounded memory in-process, or the chunks as Dask tasks.
 
-The prepared :class:`~eulersym.scene.problem.Problem` is cut into chunks of members (:func:`take`); each chunk runs
-the plan's engine and turns its trajectory into the scene's outputs (:func:`run_chunk`) — trajectories, or
-per-member summaries when the scene asks for ``"summary"`` — and :mod:`eulersym.sweeps.chunks` writes them into
-preallocated outputs in member order. Peak memory: the outputs plus one chunk's working set, which
-:mod:`eulersym.scene.cost` sized to the budget. With a ``dask.distributed.Client`` the same chunks run on its
-workers (:mod:`eulersym.sweeps.distributed`): a chunk is a problem of a few arrays per member, the task imports
-the engine and the generated kernels (no SymPy), and the result is the same bits.
+The prepared :class:`~eulersym.numerics.methods.Problem` is cut into chunks of members
+(:meth:`~eulersym.numerics.methods.Problem.take`); each chunk runs the plan's method and turns its trajectory into
+the scene's outputs (:func:`run_chunk`) — trajectories, or per-member summaries when the scene asks for
+``"summary"`` — and :mod:`eulersym.sweeps.chunks` writes them into preallocated outputs in member order. Peak
+memory: the outputs plus one chunk's working set, which :mod:`eulersym.scene.cost` sized to the budget. With a
+``dask.distributed.Client`` the same chunks run on its workers (:mod:`eulersym.sweeps.distributed`): a chunk is a
+problem of a few arrays per member, the task imports the method and the generated kernels (no SymPy), and the
+result is the same bits.
 
-Engines whose members step together (the batched DOP853 shares a step size in groups of 4096) get chunks that are
-multiples of that group, so a chunked run is bitwise the single pass.
+Methods whose members step together (the batched DOP853 shares a step size in groups of 4096: its cost's
+``grain``) get chunks that are multiples of that group, so a chunked run is bitwise the single pass.
 
 Examples
 --------
 >>> from eulersym.scene.spec import Scene
->>> from eulersym.scene.problem import member_moments, prepare
+>>> from eulersym.scene.problem import prepare
 >>> scene = Scene(moments=(1, 1, 2), omega=(0.1, 0, [1.0, 2.0, 3.0]), t_end=1, points=3, outputs=("summary",))
->>> problem = prepare(scene, scene.plan(), member_moments(scene), np.eye(3))
+>>> problem = prepare(scene, scene.plan())
 >>> from eulersym.scene.cost import summary_layout
 >>> out = run(problem, scene.plan(), chunk=2, layout=summary_layout(scene, "torque-free"))
 >>> out["summary"]["omega3.final"].tolist()
@@ -25,106 +26,57 @@ Examples
 
 from __future__ import annotations
 
-import dataclasses
 
 import numpy as np
 
-from eulersym.errors import SingularConfiguration
-from eulersym.scene import engines
+from eulersym.numerics import methods
 from eulersym.scene.result import outputs, report_notes
-from eulersym.scene.trajectory import Trajectory
 from eulersym.sweeps import chunks
 from eulersym.sweeps.summary import drift, summarize
 
-__all__ = ["take", "motion", "singular_note", "run_chunk", "run"]
+__all__ = ["take", "motion", "singular_note", "run_chunk", "run", "SEPARATRIX"]
 
-#: Per-member fields of a Problem (batch-first arrays, or None).
-_MEMBER_FIELDS = ("moments", "omega0", "q0", "gamma0", "mass", "g", "l", "torque")
 _TRAJECTORIES = ("omega", "attitude", "euler_angles", "polhode")
 #: Invariants reported as their largest value rather than a drift (they start at zero by definition).
 _MAXIMA = ("L_space_deviation",)
 
 
 def take(problem, lo: int, hi: int):
-    """The members ``lo:hi`` of ``problem`` as a problem of their own (arrays sliced; times and settings shared).
+    """The members ``lo:hi`` of ``problem`` as a problem of their own (:meth:`Problem.take`).
 
     Examples
     --------
     >>> from eulersym.scene.spec import Scene
-    >>> from eulersym.scene.problem import member_moments, prepare
+    >>> from eulersym.scene.problem import prepare
     >>> s = Scene(moments=(1, 1, 2), omega=(0, 0, [1.0, 2.0, 3.0]), t_end=1, points=3)
-    >>> take(prepare(s, s.plan(), member_moments(s), np.eye(3)), 1, 3).omega0[:, 2].tolist()
+    >>> take(prepare(s, s.plan()), 1, 3).omega0[:, 2].tolist()
     [2.0, 3.0]
     """
-    sliced = {name: (None if getattr(problem, name) is None else getattr(problem, name)[lo:hi]) for name in _MEMBER_FIELDS}
-    members = {label: values[lo:hi] for label, values in problem.members.items()}
-    extras = {k: (v[lo:hi] if isinstance(v, np.ndarray) and v.shape[:1] == (problem.batch,) else v)
-              for k, v in problem.extras.items()}
-    model = None if problem.model is None else problem.model.take(lo, hi)  # a model's parameters and body numbers
-    return dataclasses.replace(problem, batch=hi - lo, members=members, extras=extras, model=model, **sliced)
+    return problem.take(lo, hi)
 
 
-#: Why a member leaves the heavy top's closed form (the only engine that refuses single members).
+#: Why a member leaves the heavy top's closed form (the only method that refuses single members).
 SEPARATRIX = ("a start on the separatrix of the upright top (m_c = 1 − m below 1e-150: it leaves or approaches the "
               "vertical asymptotically, with no periodic closed form in double precision)")
 
 
 def motion(problem, plan, *, progress=None) -> tuple:
-    """``(trajectory, singular)``: the plan's engine on ``problem``. Members the heavy top's closed form refuses
-    (:class:`~eulersym.errors.SingularConfiguration`: a start on the upright top's separatrix) are integrated by
-    DOP853 on the Euler–Poisson kernel instead, at the accuracy asked — the other members keep the closed form, and
-    ``singular`` lists the indices of those that did not (empty when none). Nothing is left as NaN.
+    """``(trajectory, singular)``: the plan's method on ``problem`` (:func:`eulersym.numerics.methods.solve`).
+    Members the heavy top's closed form refuses (:class:`~eulersym.errors.SingularConfiguration`: a start on the
+    upright top's separatrix) are integrated by DOP853 on the Euler–Poisson kernel instead, at the accuracy asked
+    — the other members keep the closed form, and ``singular`` lists the indices of those that did not (empty when
+    none). Nothing is left as NaN.
 
     Examples
     --------
     >>> from eulersym.scene.spec import Scene
-    >>> from eulersym.scene.problem import member_moments, prepare
+    >>> from eulersym.scene.problem import prepare
     >>> s = Scene(moments=(1, 1, 1), mass=1, l=0.3, omega=([0.0, 1e-80, 0.5], 0, 3), t_end=1, points=3)
-    >>> traj, singular = motion(prepare(s, s.plan(), member_moments(s), np.eye(3)), s.plan())
+    >>> traj, singular = motion(prepare(s, s.plan()), s.plan())
     >>> singular, bool(np.all(np.isfinite(traj.omega)))
     ((1,), True)
     """
-    engine = plan.options["engine"]
-    try:
-        return engines.get(engine).run(problem, progress=progress), ()
-    except SingularConfiguration:
-        if engine != "heavy_top_exact":
-            raise
-    pieces = _closed_form_or_integrated(problem, 0, problem.batch, failed=True)
-    singular = tuple(lo for lo, _, _, integrated in pieces if integrated)
-    if progress is not None:
-        progress(1.0)
-    if len(pieces) == 1:
-        return pieces[0][2], singular
-    joined = {}
-    for f in dataclasses.fields(Trajectory):  # every per-member field; one that an engine alone gives is dropped
-        values = [getattr(traj, f.name) for _, _, traj, _ in pieces]
-        if f.name == "n_calls":
-            joined[f.name] = sum(int(v) for v in values)
-        elif f.name == "q_unit":
-            joined[f.name] = all(values)
-        elif all(isinstance(v, np.ndarray) for v in values):
-            joined[f.name] = np.concatenate(values, axis=0)
-        elif all(v is None for v in values) or f.default is None:
-            joined[f.name] = None
-        else:
-            raise TypeError(f"Trajectory.{f.name}: cannot join {type(values[0]).__name__} across members")
-    return Trajectory(**joined), singular
-
-
-def _closed_form_or_integrated(problem, lo: int, hi: int, *, failed: bool = False) -> list:
-    """``[(lo, hi, trajectory, integrated)]`` covering members ``lo:hi`` in order: the closed form on every run of
-    members it accepts, found by halving (a few singular members cost a few extra closed-form calls), DOP853 on
-    each member it refuses."""
-    if not failed:
-        try:
-            return [(lo, hi, engines.get("heavy_top_exact").run(take(problem, lo, hi)), False)]
-        except SingularConfiguration:
-            pass
-    if hi - lo == 1:
-        return [(lo, hi, engines.get("ivp").run(take(problem, lo, hi)), True)]
-    mid = (lo + hi) // 2
-    return _closed_form_or_integrated(problem, lo, mid) + _closed_form_or_integrated(problem, mid, hi)
+    return methods.solve(problem, plan.options["engine"], progress=progress)
 
 
 def singular_note(singular, batch: int, rtol: float) -> str:
@@ -149,14 +101,14 @@ def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
     Examples
     --------
     >>> from eulersym.scene.spec import Scene
-    >>> from eulersym.scene.problem import member_moments, prepare
+    >>> from eulersym.scene.problem import prepare
     >>> s = Scene(moments=(1, 2, 3), omega=(0.1, [1.0, 2.0], 0.1), t_end=1, points=5)
-    >>> sorted(run_chunk(prepare(s, s.plan(), member_moments(s), np.eye(3)), plan=s.plan()))
+    >>> sorted(run_chunk(prepare(s, s.plan()), plan=s.plan()))
     ['_calls', '_singular', 'invariant:L2', 'invariant:energy', 'omega']
     """
     traj, singular = motion(problem, plan)
     out = outputs(problem, plan, traj)
-    gamma = out["gamma"] if problem.model is not None else traj.gamma  # a model's vertical: model frame
+    gamma = out["gamma"]  # the body (model) frame's vertical
     if layout is None:
         arrays = {name: out[name] for name in _TRAJECTORIES if out[name] is not None}
         if keep_gamma and gamma is not None:
@@ -171,7 +123,7 @@ def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
         arrays = summarize(values, invariants={k: v for k, v in out["invariants"].items() if k in invariants},
                            gamma=gamma if tilt else None)
     calls = np.zeros(problem.batch)
-    calls[:1] = traj.n_calls  # the chunk's kernel evaluations, summed over chunks at the end
+    calls[:1] = traj.n_rhs_calls  # the chunk's kernel evaluations, summed over chunks at the end
     arrays["_calls"] = calls
     flags = np.zeros(problem.batch)
     flags[list(singular)] = 1.0  # members integrated instead of the closed form
@@ -180,10 +132,8 @@ def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
 
 
 def _grain(plan) -> int:
-    from eulersym.scene.cost import ENGINE_COST
-    from eulersym.sweeps.cost import ENGINES
-
-    return ENGINES[ENGINE_COST.get(plan.options.get("engine", ""), "dop853")].grain
+    """Members the plan's method steps together (its cost's grain)."""
+    return methods.get(plan.options["engine"]).cost.grain
 
 
 def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, tensor_given=False, client=None,
@@ -199,8 +149,8 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
         chunk = min(chunk, max(-(-share // grain) * grain, grain))
     if problem.batch > chunk and chunk % grain:
         chunk = max(chunk // grain, 1) * grain  # whole groups of members that step together: the same bits
-    keep_gamma = plan.regime == "heavy top" or "invariants" in problem.outputs or problem.model is not None
-    gathered = chunks.run(run_chunk, lambda lo, hi: take(problem, lo, hi), members=problem.batch, chunk=chunk,
+    keep_gamma = plan.regime in ("heavy top", "model") or "invariants" in problem.outputs
+    gathered = chunks.run(run_chunk, problem.take, members=problem.batch, chunk=chunk,
                           static={"plan": plan, "layout": layout, "keep_gamma": keep_gamma}, client=client,
                           progress=progress, threads=threads)
     n_calls = int(gathered.pop("_calls").sum())

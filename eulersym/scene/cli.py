@@ -4,12 +4,12 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 
 from eulersym.errors import InvalidInput
 from eulersym.scene import cost
 from eulersym.scene.catalog import bundled
-from eulersym.scene.plan import make_plan
 from eulersym.scene.io import OUTPUT_SUFFIXES, PLOT_SUFFIXES, check_target, plot, report, require_matplotlib, save
 from eulersym.scene.run import simulate
 from eulersym.scene.spec import Scene, load
@@ -25,29 +25,31 @@ TEMPLATE = """\
 # Units: any consistent system; the comments say SI. Every key is optional unless marked "required".
 # A number may be a list [a, b, c] or a range {start = a, stop = b, num = n}: a sweep (one run per value,
 # the outer product of all swept numbers, run in one vectorised pass).
-# A user's own body: the model sections [parameters], [[body.parts]], [rotor] and torque expressions
-# (README "Scene files"; eulersym/models/*.toml are examples) take the place of [body], [pivot], [torque].
+# A scene file is a model file ([parameters], [body], [pivot], [torque], [rotor]: eulersym/models/*.toml are
+# examples, with [[body.parts]], formulas of the parameters, rotors) plus [initial], [time], [output].
 name = "my-top"
 description = "a heavy symmetric top released at 30 degrees"
 
 [body]                      # required: exactly one of moments, tensor, shape
 moments = [1.2e-3, 1.2e-3, 4.0e-4]   # principal moments I1, I2, I3 (kg m²); about the pivot for a pivoted body
 # tensor = [[1.2e-3, 0, 0], [0, 1.2e-3, 0], [0, 0, 4.0e-4]]   # a full inertia tensor in the body frame (kg m²)
-# shape = "cone"            # cube, cuboid, sphere, cylinder, cone, ellipsoid (uniform; tensor derived)
+# shape = "cone"            # cube, cuboid, sphere, cylinder, cone, ellipsoid, rod (uniform; tensor derived)
 # R = 0.03                  # the shape's dimensions (m): R (sphere), R and h (cylinder, cone),
 # h = 0.08                  #   a (cube), a, b and c (cuboid, ellipsoid)
 # a = 0.1
 # b = 0.05
 # c = 0.02
-# origin = "apex"           # cube/cuboid: "center" | "corner"; cone: "apex" | "center"
+# origin = "apex"           # cube/cuboid: "center" | "corner"; cone: "apex" | "center"; cylinder: "base"
 mass = 0.5                  # M (kg): required for a shape and for a pivoted body
 
 [pivot]                     # a fixed pivot (the heavy top); leave the table out for a free body
-l = 0.04                    # pivot to centre of mass along body axis e3 (m); a shape on a pivot takes l from
-                            #   its own centre of mass (omit l), the pivot being the shape's origin
+l = 0.04                    # pivot to centre of mass along body axis e3 (m); or centre_of_mass = [x, y, z];
+                            #   a shape on a pivot takes it from its own centre of mass (omit l), the pivot being
+                            #   the shape's origin
 g = 9.81                    # gravity (m/s²), along -z in space
 
-# [torque]                  # a constant torque (N m), not with a pivot
+# [torque]                  # a torque (N m): numbers are constant; formulas of omega, gamma, q, t integrate the
+                            #   model's own kernel
 # body = [0.0, 0.0, 0.01]   # body-fixed components; or space = [...] for a space-fixed torque
 
 [initial]                   # required
@@ -82,11 +84,16 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _parser() -> argparse.ArgumentParser:
+    from eulersym.figures import FIGURES  # the figures' package reads results: imported when a command runs
+
     p = _Parser(prog="eulersym simulate", description="Run a scene: a TOML file or a bundled scene's name.")
     p.add_argument("scene", nargs="?", metavar="SCENE", help="a TOML file or a bundled name (see --list)")
     p.add_argument("--explain", action="store_true", help="print the plan (what is derived, integrated, skipped, and why) and stop")
     p.add_argument("-o", "--output", metavar="OUT", help="write the result to OUT.npz or OUT.csv")
-    p.add_argument("--plot", metavar="PNG", help="plot to PNG (needs the plot extra: matplotlib)")
+    p.add_argument("--plot", metavar="PNG", help="draw the figures that fit the scene: PNG (PDF, SVG) and beside it "
+                   "(needs the plot extra: matplotlib)")
+    p.add_argument("--figure", metavar="NAME", choices=tuple(FIGURES),
+                   help="with --plot: draw this figure only, one of " + ", ".join(FIGURES))
     p.add_argument("--list", action="store_true", help="list the bundled scenes and where their TOML files are")
     p.add_argument("--template", action="store_true", help="print an annotated scene file to start from")
     p.add_argument("--memory-budget", metavar="SIZE", help='refuse beyond this memory, e.g. "4 GiB" (default: the '
@@ -96,6 +103,10 @@ def _parser() -> argparse.ArgumentParser:
     where.add_argument("--workers", metavar="N", type=_count, help="run a sweep's chunks on a local Dask cluster of N processes (the dask extra)")
     where.add_argument("--scheduler", metavar="ADDRESS", help="run a sweep's chunks on the Dask cluster at ADDRESS (tcp://host:8786)")
     return p
+
+
+#: The figures drawn from the attitude: --figure with one of them makes the run keep it.
+_NEEDS_ATTITUDE = ("axis-path", "poinsot")
 
 
 def _count(text: str) -> int:
@@ -136,6 +147,11 @@ def cli(argv: list) -> int:
         raise InvalidInput("SCENE", None, "a TOML file or a bundled scene name (eulersym simulate --list), or "
                                           "--template")
     scene = load(args.scene)
+    if args.figure is not None:
+        if not args.plot:
+            raise InvalidInput("--figure", args.figure, "--plot FILE as well (the file the figure is drawn into)")
+        if args.figure in _NEEDS_ATTITUDE and "attitude" not in scene.outputs and "summary" not in scene.outputs:
+            scene = dataclasses.replace(scene, outputs=(*scene.outputs, "attitude"))  # drawn from the attitude
     memory, work = cost.budgets(scene, args.memory_budget, args.work_budget)
     if args.explain:
         _explain(scene, memory, work)
@@ -159,32 +175,16 @@ def cli(argv: list) -> int:
     if args.output:
         print("wrote " + " and ".join(save(result, args.output)))
     if args.plot:
-        plot(result, args.plot)
-        print(f"wrote {args.plot}")
+        print("wrote " + " and ".join(plot(result, args.plot, figure=args.figure)))
     return 0
 
 
 def _explain(scene, memory: int, work: float) -> None:
-    """Print the plan and the one estimate of its cost. A model scene: its kernel's numbers are read (from the cache,
-    no SymPy) only when the lower bound of its cost fits the memory budget; an uncached kernel is not derived — the
-    plan says what will be derived, where the kernel goes and which engine follows, and the estimate is a lower
-    bound."""
-    if scene.model is None:
-        plan = scene.plan()
-        print(plan)
-        print(cost.describe(cost.estimate(scene, plan, memory=memory), memory, work))
-        return
-    low = cost.estimate(scene, None, memory=memory)
-    facts = scene.cached_model_facts() if low.peak_bytes <= memory else None
-    plan = make_plan(scene, model=facts)
+    """Print the plan and the one estimate of its cost (nothing is derived: a model's own kernel that is not cached
+    yet is named where it will go)."""
+    plan = scene.plan()
     print(plan)
-    if facts is None:
-        print(cost.describe(low, memory, work, lower_bound=True))
-        if low.peak_bytes > memory:
-            print("  beyond the memory budget already: the model's numbers per member were not read, and a run is "
-                  "refused before anything is derived")
-    else:
-        print(cost.describe(cost.estimate(scene, plan, memory=memory, facts=facts), memory, work))
+    print(cost.describe(cost.estimate(scene, plan, memory=memory), memory, work))
 
 
 def _simulate(scene, args, memory, work):
@@ -215,4 +215,4 @@ def work_estimate(scene, plan=None):
 
 def _refuse_endless(scene, work=None) -> None:
     """No silent endless run: :func:`eulersym.scene.cost.check` (the one check :func:`simulate` makes too)."""
-    cost.check(scene, None if scene.model is not None else scene.plan(), work=work)
+    cost.check(scene, scene.plan(), work=work)

@@ -1,16 +1,14 @@
 """What a scene will cost, known from the scene and its plan alone — before any member's array is allocated: the
 one estimate of a scene's memory and work, and the one bound of its rates.
 
-Reads the counts (members, output times, the state the plan propagates, the outputs kept), the engine the plan
-chose and the body's fastest rate (:func:`rate_bound`, from the extremes of the swept values: nothing per member),
-and hands them to the pure cost model :mod:`eulersym.sweeps.cost`. :func:`check` refuses a scene beyond its budgets
-(``[output] memory``/``work``, or ``--memory-budget``/``--work-budget``; by default 1e9 kernel evaluations for one
-member, 5e10 for a sweep) with the estimate and what would fit, and a scene whose body turns more than 2**52 rad
-(:data:`PHASE_LIMIT`). :func:`eulersym.scene.simulate` and ``eulersym simulate`` call it, the same way, once;
-``eulersym simulate --explain`` prints :func:`describe`.
-
-A model scene whose kernel is not known yet (nothing derived, no plan's engine) is estimated from below
-(``plan=None``): the cheapest engine a model can get. A refusal then is certain, and comes before any derivation.
+Reads the counts (members, output times, the state the plan propagates, the outputs kept), the method the plan
+chose (its :class:`~eulersym.numerics.methods.Cost`) and the body's fastest rate (:func:`rate_bound`, from the
+model's facts and the extremes of the swept start: nothing per member), and hands them to the pure cost model
+:mod:`eulersym.sweeps.cost`. :func:`check` refuses a scene beyond its budgets (``[output] memory``/``work``, or
+``--memory-budget``/``--work-budget``; by default 1e9 kernel evaluations for one member, 5e10 for a sweep) with the
+estimate and what would fit, and a scene whose body turns more than 2**52 rad (:data:`PHASE_LIMIT`).
+:func:`eulersym.scene.simulate` and ``eulersym simulate`` call it, the same way, once (a model's own kernel: again
+once it is loaded, with its state); ``eulersym simulate --explain`` prints :func:`describe`.
 
 Examples
 --------
@@ -24,80 +22,33 @@ Examples
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import os
-from collections.abc import Mapping
 
 import numpy as np
 
 from eulersym.errors import InvalidInput
+from eulersym.numerics import methods
 from eulersym.scene.values import values_of
 from eulersym.sweeps import cost as model
 from eulersym.sweeps.summary import summary_names
 
-__all__ = ["ENGINE_COST", "ONE_MEMBER_WORK_BUDGET", "PHASE_LIMIT", "rate_bound", "inertia_range", "largest",
-           "refuse_phase", "model_torqued", "estimate", "check", "budgets", "describe", "summary_layout", "wants_summary", "threads"]
-
-#: Scene engine module → the cost model's engine.
-ENGINE_COST = {
-    "batched_dop853": "dop853",
-    "ivp": "dop853",
-    "free_body_exact": "closed-form",
-    "heavy_top_exact": "closed-form",
-    "free_body_splitting": "yoshida4",
-    "heavy_top_splitting": "yoshida4",
-    "batched_splitting": "yoshida4",
-    "compiled_dop853": "dop853-members",
-}
+__all__ = ["ONE_MEMBER_WORK_BUDGET", "PHASE_LIMIT", "rate_bound", "largest", "refuse_phase", "estimate", "check",
+           "budgets", "describe", "summary_layout", "wants_summary", "threads", "method_cost"]
 
 #: The work budget of a one-member run (integrated by scalar kernels): about an hour of kernel calls. A sweep has
 #: :data:`eulersym.sweeps.cost.DEFAULT_WORK_BUDGET`.
 ONE_MEMBER_WORK_BUDGET = 1e9
 #: Radians of rotation after which a double keeps no digit of the phase (2**52).
 PHASE_LIMIT = 2.0 ** 52
-#: Floats per member of a model's body numbers (:data:`eulersym.scene.model_kernel.BODY_FIELDS`).
+#: Floats per member of a model's own kernel's body numbers (the regime 'model').
 _MODEL_BODY = 17
-#: The engines a model scene can get before its kernel says which (the lower bound of :func:`estimate`).
-_MODEL_ENGINES = ("closed-form", "dop853")
 
 #: Invariants a regime reports (the most: the cost model counts the largest case).
 _INVARIANTS = {"torque-free": ("energy", "L2", "L_space_deviation", "q_norm2"),
                "heavy top": ("energy", "gamma_norm2", "L_dot_gamma", "q_norm2", "p_psi"),
                "torque": ()}
 _COMPONENTS = {"omega": 3, "attitude": 4, "euler_angles": 3, "polhode": 3, "gamma": 3}
-
-
-def _fields(scene_or_values) -> Mapping:
-    """A scene's keyword values: the mapping itself, or the dataclass fields of a Scene."""
-    if isinstance(scene_or_values, Mapping):
-        return scene_or_values
-    return _SceneFields(scene_or_values)
-
-
-class _SceneFields(Mapping):
-    """A Scene's dataclass fields read as a mapping, on demand (no dict of every field per estimate)."""
-
-    __slots__ = ("_scene",)
-
-    def __init__(self, scene):
-        self._scene = scene
-
-    def __getitem__(self, name):
-        try:
-            return getattr(self._scene, name)
-        except AttributeError:
-            raise KeyError(name) from None
-
-    def get(self, name, default=None):
-        """``Mapping.get`` in one step (no KeyError raised and caught for a field the scene lacks)."""
-        return getattr(self._scene, name, default)
-
-    def __iter__(self):
-        return (f.name for f in dataclasses.fields(self._scene))
-
-    def __len__(self) -> int:
-        return len(dataclasses.fields(self._scene))
 
 
 def largest(x) -> float:
@@ -122,35 +73,12 @@ def _norm(vector) -> float:
     return float(math.sqrt(sum(largest(c) ** 2 for c in vector))) if vector is not None else 0.0
 
 
-def inertia_range(values: Mapping) -> tuple:
-    """(smallest, largest) moment of a scene's body (its keyword values), or for a shape its scale M·(largest
-    dimension)², /12 for the smallest.
-
-    Examples
-    --------
-    >>> inertia_range({"moments": (1.0, 2.0, 3.0), "tensor": None})
-    (1.0, 3.0)
-    """
-    if values.get("moments") is not None:
-        if all(isinstance(m, (int, float)) for m in values["moments"]):  # given as numbers
-            return float(min(values["moments"])), float(max(values["moments"]))
-        moments = np.concatenate([np.ravel(values_of(m)) for m in values["moments"]])
-        return float(moments.min()), float(moments.max())
-    if values.get("tensor") is not None:
-        eig = np.linalg.eigvalsh(np.array(values["tensor"], dtype=float))
-        return float(eig[0]), float(eig[-1])
-    dims = values.get("dimensions") or ()
-    scale = largest(values.get("mass")) * max((float(v) for _, v in dims), default=1.0) ** 2
-    return scale / 12.0, scale
-
-
-def rate_bound(scene_or_values, facts=None) -> float:
+def rate_bound(scene) -> float:
     """An estimate of the largest |ω| over the run (rad per unit time; the scale of the motion, not a strict bound:
     an asymmetric body's |ω| may grow by up to √(I_max/I_min)) — the one rate of a scene, for its work estimate and
-    its 2**52 rad phase limit: the initial spin |ω|, what a constant torque adds by t_end, the heavy
-    top's pendulum rate √(M g l / I_min); for a model scene with its kernel's ``facts`` (body numbers per member,
-    :class:`~eulersym.scene.model_kernel.ModelFacts`) the pendulum rate √(M g |c| / I_min) and the rotor's
-    |h| / I_min (without ``facts``: the spin alone, a lower bound).
+    its 2**52 rad phase limit: the initial spin |ω|, what a constant torque adds by t_end (|N| t_end / I_min), the
+    pendulum rate √(M g |c| / I_min) of a weight on a pivot, and a rotor's |h| / I_min — from the model's facts
+    (every distinct body of the sweep) and the swept start's extremes.
 
     Examples
     --------
@@ -158,27 +86,25 @@ def rate_bound(scene_or_values, facts=None) -> float:
     >>> rate_bound(Scene(moments=(1, 2, 3), omega=(0, 4, 3), t_end=1))
     5.0
     """
-    out = _fields(scene_or_values)
-    rate = _norm(out.get("omega"))
-    if out.get("model") is not None:
-        return rate + _model_rates(facts)
-    i_min, _ = inertia_range(out)
-    if out.get("torque") is not None and i_min > 0:
-        rate += _norm(out["torque"]) * float(out["t_end"]) / i_min
-    if out.get("l") is not None and out.get("mass") is not None and i_min > 0:
-        rate = max(rate, math.sqrt(largest(out["mass"]) * largest(out["g"]) * largest(out["l"]) / i_min))
-    return rate
+    return scene._rate  # a scene is frozen: computed once (rate_of)
 
 
-def _model_rates(facts) -> float:
-    """What a model's body adds to its spin: the pendulum rate and the rotor's |h| / I_min (0 without facts)."""
-    if facts is None or not len(facts.body.get("M", ())):
-        return 0.0
-    i_min = float(np.min(np.linalg.eigvalsh(facts.tensor)))
+def rate_of(scene) -> float:
+    """:func:`rate_bound`, computed (a :class:`Scene` keeps it)."""
+    facts = scene.facts
+    rate = _norm(scene.omega)
+    i_min = scene._spread[0]
     if i_min <= 0:
-        return 0.0
-    weight = float(np.max(np.abs(facts.body["M"] * facts.body["g"]) * np.linalg.norm(facts.centre_of_mass, axis=1)))
-    return math.sqrt(weight / i_min) + float(np.max(np.linalg.norm(facts.rotor, axis=1))) / i_min
+        return rate
+    torques = [t for t in (facts.torque_body, facts.torque_space) if t is not None]
+    if torques:
+        rate += max(float(np.max(np.linalg.norm(t, axis=1))) for t in torques) * float(scene.t_end) / i_min
+    weight = float(np.max(facts.weight))
+    if weight > 0:
+        rate = max(rate, math.sqrt(weight / i_min))
+    if facts.has_rotor:
+        rate += float(np.max(np.linalg.norm(facts.rotor, axis=1))) / i_min
+    return rate
 
 
 def refuse_phase(argument: str, value, rate: float, t_end: float) -> None:
@@ -199,17 +125,19 @@ def refuse_phase(argument: str, value, rate: float, t_end: float) -> None:
                                             "keeps no digit of the phase")
 
 
-def _spread(scene, facts) -> tuple:
-    """(smallest, largest) principal moment for the rate of ω's turn in the body; equal when unknown (a shape, a
-    model without its kernel: derived later)."""
-    if scene.model is not None:
-        if facts is None or not len(facts.body.get("M", ())):
-            return 1.0, 1.0
-        eig = np.linalg.eigvalsh(facts.tensor)
-        return float(np.min(eig)), float(np.max(eig))
-    if scene.moments is None and scene.tensor is None:
-        return 1.0, 1.0
-    return inertia_range(_fields(scene))
+def _spread(scene) -> tuple:
+    """(smallest, largest) principal moment over the distinct bodies (the rate of ω's turn in the body)."""
+    return scene._spread
+
+
+def spread_of(scene) -> tuple:
+    """:func:`_spread`, computed (a :class:`Scene` keeps it)."""
+    tensor = scene.facts.tensor
+    if len(tensor) == 1 and not (tensor[0] - np.diag(np.diag(tensor[0]))).any():  # given as moments
+        d = np.diag(tensor[0])
+        return float(d.min()), float(d.max())
+    eig = np.linalg.eigvalsh(tensor)
+    return float(np.min(eig)), float(np.max(eig))
 
 
 def wants_summary(scene) -> bool:
@@ -224,10 +152,11 @@ def wants_summary(scene) -> bool:
     return "summary" in scene.outputs
 
 
-def summary_layout(scene, regime: str, facts=None) -> tuple:
+def summary_layout(scene, regime: str, kernel=None) -> tuple:
     """``(quantities {name: components}, invariant names, tilt)`` a summary scene keeps per member: each output
-    asked for (ω when only ``"summary"`` is), Γ and the largest tilt for a heavy top and for a model (its vertical,
-    model frame), the invariants' drift when ``"invariants"`` is asked for (a model's: its kernel's, ``facts``).
+    asked for (ω when only ``"summary"`` is), Γ and the largest tilt for a heavy top and for the regime 'model' (its
+    vertical, model frame), the invariants' drift when ``"invariants"`` is asked for (the model's own kernel's:
+    ``kernel``, a :class:`~eulersym.scene.model_kernel.ModelKernel`).
 
     Examples
     --------
@@ -238,14 +167,15 @@ def summary_layout(scene, regime: str, facts=None) -> tuple:
     """
     asked = [o for o in scene.outputs if o not in ("summary", "invariants")] or ["omega"]
     quantities = {name: _COMPONENTS[name] for name in asked}
-    is_model = getattr(scene, "model", None) is not None
-    heavy = regime == "heavy top" or is_model
+    heavy = regime in ("heavy top", "model")
     if heavy:
         quantities["gamma"] = 3
-    if is_model:
-        invariants = tuple(facts.invariants) if facts is not None and "invariants" in scene.outputs else ()
+    if "invariants" not in scene.outputs:
+        invariants = ()
+    elif regime == "model":
+        invariants = tuple(kernel.invariants) if kernel is not None else ()
     else:
-        invariants = _INVARIANTS.get(regime, ()) if "invariants" in scene.outputs else ()
+        invariants = _INVARIANTS.get(regime, ())
     return quantities, invariants, heavy
 
 
@@ -256,11 +186,10 @@ def _state(propagate) -> int:
 def _output_values(scene, regime: str) -> int:
     """Floats kept per member and output time as trajectories (what :class:`Result` holds)."""
     outputs = scene.outputs
-    model = getattr(scene, "model", None) is not None
     n = 3  # ω
     n += 4 * ("attitude" in outputs or "euler_angles" in outputs)
     n += 3 * ("euler_angles" in outputs) + 3 * ("polhode" in outputs)
-    n += 3 * (regime == "heavy top" or "invariants" in outputs or model)  # Γ
+    n += 3 * (regime in ("heavy top", "model") or "invariants" in outputs)  # Γ
     n += len(_INVARIANTS.get(regime, ("energy", "L2", "gamma_norm2", "q_norm2"))) * ("invariants" in outputs)
     return n
 
@@ -286,9 +215,21 @@ def budgets(scene, memory=None, work=None) -> tuple:
     return mem, wk
 
 
+def method_cost(plan) -> methods.Cost:
+    """The cost model of the method ``plan`` chose (:attr:`eulersym.numerics.methods.Method.cost`).
+
+    Examples
+    --------
+    >>> from eulersym.scene.spec import Scene
+    >>> method_cost(Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1).plan()).name
+    'closed-form'
+    """
+    return methods.get(plan.options["engine"]).cost
+
+
 def threads(plan) -> int:
-    """Chunks run at once in-process: one per core for NumPy engines (their loops release the GIL), one for an
-    engine that spreads its members over the cores itself (numba ``prange``).
+    """Chunks run at once in-process: one per core for NumPy methods (their loops release the GIL), one for a
+    method that spreads its members over the cores itself (numba ``prange``).
 
     Examples
     --------
@@ -297,61 +238,29 @@ def threads(plan) -> int:
     >>> 1 <= threads(s.plan()) <= (os.cpu_count() or 1)
     True
     """
-    engine = model.ENGINES[ENGINE_COST.get(plan.options.get("engine", ""), "dop853")]
-    return 1 if engine.threaded else max(1, min(os.cpu_count() or 1, 8))
+    return 1 if method_cost(plan).threaded else max(1, min(os.cpu_count() or 1, 8))
 
 
-def _known(plan) -> bool:
-    """True when ``plan`` names its engine (a model's plan does once its kernel is known)."""
-    return plan is not None and bool(plan.options.get("engine"))
-
-
-def _candidates(scene, plan, facts) -> list:
-    """``[(engine, state, regime, threads)]``: the plan's, or for a model scene whose engine is not known yet each
-    engine it may get (the cheapest first is the lower bound)."""
-    if _known(plan):
-        return [(ENGINE_COST.get(plan.options["engine"], "dop853"), _state(plan.propagate), plan.regime,
-                 threads(plan) if scene.batch > 1 else 1)]
-    if scene.model is None:
-        return _candidates(scene, scene.plan(), facts)
-    state = _state(("omega", "gamma", "attitude") if facts is not None and "gamma1" in facts.state else ("omega", "attitude"))
-    engines = ("dop853",) if model_torqued(scene.model) else _MODEL_ENGINES
-    return [(engine, state, "model", 1) for engine in engines]
-
-
-def model_torqued(model) -> bool:
-    """True when a model has a torque or a potential beyond gravity (read from its sections, SymPy-free): no closed
-    form, its own kernel is integrated — certain before the kernel exists.
-
-    Examples
-    --------
-    >>> from types import SimpleNamespace as NS
-    >>> model_torqued(NS(to_dict=lambda: {"torque": {"body": "-c*omega"}})), model_torqued(NS(to_dict=lambda: {}))
-    (True, False)
-    """
-    torque = model.to_dict().get("torque") or {}
-    return any(torque.get(k) is not None for k in ("body", "space", "potential"))
-
-
-def _one(scene, engine, state, regime, *, memory, chunk, facts, n_threads, rate=None) -> model.Estimate:
+def _one(scene, plan, *, memory, chunk, kernel, rate=None) -> model.Estimate:
     summary = wants_summary(scene)
-    n_summary = _n_summaries(summary_layout(scene, regime, facts)) if summary else 0
+    regime = plan.regime
+    n_summary = _n_summaries(summary_layout(scene, regime, kernel)) if summary else 0
     inputs = 20 + len(scene.sweeps)  # the prepared problem's per-member arrays, the swept values
-    if scene.model is not None:  # the kernel's body numbers and parameters per member (ModelFacts)
-        inputs += _MODEL_BODY + (len(facts.parameters) if facts is not None else len(scene.parameters or ()))
-    low, high = _spread(scene, facts)
-    rate = model.body_rate(rate_bound(scene, facts) if rate is None else rate, max(low, 1e-300), high)
-    return model.estimate(members=scene.batch, points=scene.points, state=state,
-                          output_values=_output_values(scene, regime), engine=engine, rate=rate,
+    if regime == "model":  # the own kernel's parameters per member
+        inputs += _MODEL_BODY + len(scene.model.parameters)
+    low, high = _spread(scene)
+    rate = model.body_rate(rate_bound(scene) if rate is None else rate, max(low, 1e-300), high)
+    cost = method_cost(plan)
+    return model.estimate(members=scene.batch, points=scene.points, state=_state(plan.propagate),
+                          output_values=_output_values(scene, regime), engine=cost.name, rate=rate,
                           t_end=float(scene.t_end), accuracy=float(scene.accuracy), summary_values=n_summary,
-                          summary=summary, inputs=inputs, memory=memory, chunk=chunk, threads=n_threads)
+                          summary=summary, inputs=inputs, memory=memory, chunk=chunk,
+                          threads=threads(plan) if scene.batch > 1 else 1)
 
 
-def estimate(scene, plan=None, *, memory=None, chunk=None, facts=None) -> model.Estimate:
-    """The cost of running ``scene`` by ``plan`` (pure: counts and the sweep's extremes, nothing per member).
-
-    ``plan`` None: the scene's own plan; for a model scene whose plan does not name its engine yet (its kernel not
-    derived), the cheapest engine it may get — a lower bound. ``facts``: a model's kernel facts (its body's rates).
+def estimate(scene, plan=None, *, memory=None, chunk=None, kernel=None) -> model.Estimate:
+    """The cost of running ``scene`` by ``plan`` (default: its own; pure: counts and the sweep's extremes, nothing per
+    member). ``kernel``: a model's own kernel once loaded (its invariants, for a summary).
 
     Examples
     --------
@@ -363,20 +272,17 @@ def estimate(scene, plan=None, *, memory=None, chunk=None, facts=None) -> model.
     (True, 1000000, True)
     """
     mem = model.default_memory_budget() if memory is None else int(memory)
-    found = [_one(scene, *c[:3], memory=mem, chunk=chunk, facts=facts, n_threads=c[3])
-             for c in _candidates(scene, plan, facts)]
-    return min(found, key=lambda e: (e.peak_bytes, e.evaluations))
+    return _one(scene, scene.plan() if plan is None else plan, memory=mem, chunk=chunk, kernel=kernel)
 
 
 def _label(scene) -> str:
     return f"{scene.name}: {scene.batch} members × {scene.points} points over t_end = {float(scene.t_end):g}"
 
 
-def check(scene, plan=None, *, memory=None, work=None, facts=None) -> model.Estimate:
+def check(scene, plan=None, *, memory=None, work=None, kernel=None) -> model.Estimate:
     """The estimate of ``scene`` under ``plan`` (see :func:`estimate`) if it fits its budgets (:func:`budgets`) and
     its body turns less than :data:`PHASE_LIMIT` radians; else :class:`~eulersym.errors.InvalidInput` naming the
-    scene, with the estimate, the budget and what would fit. Without a plan's engine (a model scene not derived
-    yet) a scene is refused only when every engine it may get would be.
+    scene, with the estimate, the budget and what would fit.
 
     Examples
     --------
@@ -387,23 +293,16 @@ def check(scene, plan=None, *, memory=None, work=None, facts=None) -> model.Esti
     ...
     eulersym.errors.InvalidInput: scene='scene: 1000000000 members × 1001 points over t_end = 1' is not valid: expected a scene within the memory budget...
     """
+    plan = scene.plan() if plan is None else plan
     mem, wk = budgets(scene, memory, work)
-    rate = rate_bound(scene, facts)
+    rate = rate_bound(scene)
     refuse_phase("t_end", scene.t_end, rate, float(scene.t_end))
-    note = f"(the body turns ≈ {rate * float(scene.t_end):.3g} rad by t_end = {float(scene.t_end):g}"
-    note += ("; a lower bound: the model's engine is known once its kernel is)" if not _known(plan) and
-             scene.model is not None else ")")
-    refusals = []
-    for engine, state, regime, n_threads in _candidates(scene, plan, facts):
-        e = _one(scene, engine, state, regime, memory=mem, chunk=None, facts=facts, n_threads=n_threads, rate=rate)
-        # the summaries' count enters only a refusal for memory (what would fit): counted there alone
-        n_summary = _n_summaries(summary_layout(scene, regime, facts)) if e.peak_bytes > mem else 0
-        try:
-            return model.check(e, memory=mem, work=wk, argument="scene", label=_label(scene), note=note,
-                               summary_values=n_summary)
-        except InvalidInput as exc:
-            refusals.append(exc)
-    raise refusals[0]
+    note = f"(the body turns ≈ {rate * float(scene.t_end):.3g} rad by t_end = {float(scene.t_end):g})"
+    e = _one(scene, plan, memory=mem, chunk=None, kernel=kernel, rate=rate)
+    # the summaries' count enters only a refusal for memory (what would fit): counted there alone
+    n_summary = _n_summaries(summary_layout(scene, plan.regime, kernel)) if e.peak_bytes > mem else 0
+    return model.check(e, memory=mem, work=wk, argument="scene", label=_label(scene), note=note,
+                       summary_values=n_summary)
 
 
 def _n_summaries(layout) -> int:
@@ -412,8 +311,8 @@ def _n_summaries(layout) -> int:
     return len(summary_names(quantities, invariants=invariants, tilt=tilt))
 
 
-def describe(e: model.Estimate, memory: int, work: float, *, lower_bound: bool = False) -> str:
-    """The estimate and the budgets, for ``--explain`` (``lower_bound``: a model's, before its engine is known).
+def describe(e: model.Estimate, memory: int, work: float) -> str:
+    """The estimate and the budgets, for ``--explain``.
 
     Examples
     --------
@@ -422,6 +321,4 @@ def describe(e: model.Estimate, memory: int, work: float, *, lower_bound: bool =
     >>> print(describe(estimate(s, s.plan()), 2**31, 5e10))  # doctest: +ELLIPSIS
     cost: 1 members × 11 points (trajectories): output ... budgets: memory 2 GiB, work 5e+10 kernel evaluations
     """
-    bound = ("\n  (a lower bound: the cheapest engine a model may get; the plan names its engine once the kernel "
-             "exists)") if lower_bound else ""
-    return f"{e}{bound}\n  budgets: memory {model.format_bytes(memory)}, work {work:.3g} kernel evaluations"
+    return f"{e}\n  budgets: memory {model.format_bytes(memory)}, work {work:.3g} kernel evaluations"

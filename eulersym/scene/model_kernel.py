@@ -1,5 +1,5 @@
-"""A model's kernel for a scene: found in the cache by the model's digest (SymPy-free), or derived and emitted
-there once; and the numbers a plan needs from it (:class:`ModelFacts`), read without SymPy.
+"""A model's own kernel for a scene (the regime 'model'): found in the cache by the model's digest (SymPy-free), or
+derived and emitted there once; loaded with every member's parameters (:class:`ModelKernel`).
 
 The cache (:mod:`eulersym.model.cache`): ``<root>/models/<digest>/`` holds the one module
 :meth:`eulersym.model.Model.generate` wrote and the hash of its bytes; the root is ``$EULERSYM_CACHE``, else
@@ -24,10 +24,7 @@ import numpy as np
 from eulersym.errors import CacheRepaired, InvalidInput
 from eulersym.model import cache
 
-__all__ = ["cache_root", "cached_path", "load", "ensure", "ModelFacts", "facts", "BODY_FIELDS"]
-
-#: What ``body(*params)`` returns, in order.
-BODY_FIELDS = ("M", "cx", "cy", "cz", "I11", "I12", "I13", "I21", "I22", "I23", "I31", "I32", "I33", "h1", "h2", "h3", "g")
+__all__ = ["cache_root", "cached_path", "load", "cached", "ensure", "ModelKernel", "kernel"]
 
 #: What a model's kernel module must define to be used.
 REQUIRED = ("STATE", "PARAMETERS", "DEFAULTS", "INVARIANTS", "FLAGS", "body", "rhs", "rhs_batched", "jac",
@@ -106,8 +103,8 @@ def ensure(model, record: list):
 
 
 @dataclass(frozen=True, eq=False)
-class ModelFacts:
-    """What a plan needs to know of a model, read from its kernel without SymPy.
+class ModelKernel:
+    """A model's own kernel, loaded for a run: the module and the parameters of every member (no SymPy).
 
     Attributes
     ----------
@@ -120,10 +117,10 @@ class ModelFacts:
         The kernel's ``STATE``, ``PARAMETERS``, ``INVARIANTS``.
     flags : mapping
         The kernel's ``FLAGS``.
-    body : mapping name → ndarray (batch,)
-        ``body(*params)`` per member (:data:`BODY_FIELDS`).
     params : tuple of ndarray (batch,)
         The parameters per member, in ``parameters`` order.
+    module : module
+        The kernel (``rhs``, ``rhs_batched``, ``jac``, ``invariants_batched``...).
     """
 
     name: str
@@ -134,22 +131,19 @@ class ModelFacts:
     parameters: tuple
     invariants: tuple
     flags: Mapping
-    body: Mapping
     params: tuple
     module: object = field(default=None, repr=False)
 
-    def take(self, lo: int, hi: int) -> "ModelFacts":
-        """The facts of members ``lo:hi`` (parameters and body numbers sliced; the kernel shared) — for running a
-        model sweep in chunks.
+    def take(self, lo: int, hi: int) -> "ModelKernel":
+        """The kernel of members ``lo:hi`` (parameters sliced; the module shared) — for running a sweep in chunks.
 
         Examples
         --------
-        >>> f = ModelFacts("m", "0" * 64, "", False, (), ("c",), (), {}, {"M": np.arange(4.0)}, (np.arange(4.0),))
-        >>> f.take(1, 3).params[0].tolist(), f.take(1, 3).body["M"].tolist()
-        ([1.0, 2.0], [1.0, 2.0])
+        >>> k = ModelKernel("m", "0" * 64, "", False, (), ("c",), (), {}, (np.arange(4.0),))
+        >>> k.take(1, 3).params[0].tolist()
+        [1.0, 2.0]
         """
-        return dataclasses.replace(self, body={k: v[lo:hi] for k, v in self.body.items()},
-                                   params=tuple(p[lo:hi] for p in self.params))
+        return dataclasses.replace(self, params=tuple(p[lo:hi] for p in self.params))
 
     def __reduce__(self):
         """Pickled without the module (a Dask worker imports the kernel from ``path``: the cache must be on a
@@ -157,29 +151,14 @@ class ModelFacts:
         fields = {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "module"}
         return _restore, (fields,)
 
-    @property
-    def tensor(self) -> np.ndarray:
-        """(batch, 3, 3) inertia tensors (about the pivot, or the centre of mass), model frame."""
-        return np.stack([self.body[k] for k in BODY_FIELDS[4:13]], axis=-1).reshape(-1, 3, 3)
 
-    @property
-    def centre_of_mass(self) -> np.ndarray:
-        """(batch, 3) centre of mass from the pivot, model frame."""
-        return np.stack([self.body[k] for k in ("cx", "cy", "cz")], axis=-1)
-
-    @property
-    def rotor(self) -> np.ndarray:
-        """(batch, 3) rotor angular momentum h, body components."""
-        return np.stack([self.body[k] for k in ("h1", "h2", "h3")], axis=-1)
+def _restore(fields: dict) -> ModelKernel:
+    """A pickled :class:`ModelKernel` with its module imported again from its path."""
+    return ModelKernel(**fields, module=load(Path(fields["path"]), fields["digest"]) if fields["path"] else None)
 
 
-def _restore(fields: dict) -> ModelFacts:
-    """A pickled :class:`ModelFacts` with its kernel module imported again from its path."""
-    return ModelFacts(**fields, module=load(Path(fields["path"]), fields["digest"]) if fields["path"] else None)
-
-
-def facts(model, module, path, emitted: bool, values: Mapping, batch: int) -> ModelFacts:
-    """The :class:`ModelFacts` of ``model`` with its kernel ``module``; ``values`` maps parameter names to a float
+def kernel(model, module, path, emitted: bool, values: Mapping, batch: int) -> ModelKernel:
+    """The :class:`ModelKernel` of ``model`` with its kernel ``module``; ``values`` maps parameter names to a float
     or a (batch,) array (the scene's values; the kernel's DEFAULTS fill the rest)."""
     names = tuple(module.PARAMETERS)
     unknown = sorted(set(values) - set(names))
@@ -187,11 +166,7 @@ def facts(model, module, path, emitted: bool, values: Mapping, batch: int) -> Mo
         raise InvalidInput(f"parameters.{unknown[0]}", values[unknown[0]], "a parameter of the model: one of " + ", ".join(map(repr, names)))
     params = tuple(np.broadcast_to(np.asarray(values.get(n, d), dtype=float), (batch,)).copy()
                    for n, d in zip(names, module.DEFAULTS))
-    rows = np.stack(params, axis=1) if params else np.zeros((batch, 0))
-    unique, index = np.unique(rows, axis=0, return_inverse=True)  # a sweep rarely varies the body: evaluate once each
-    evaluated = np.array([[float(v) for v in module.body(*row)] for row in unique]).reshape(len(unique), len(BODY_FIELDS))
-    table = evaluated[np.ravel(index)] if batch else np.zeros((0, len(BODY_FIELDS)))
-    return ModelFacts(
+    return ModelKernel(
         name=getattr(model, "name", "model"),
         digest=model.digest,
         path=str(path),
@@ -200,7 +175,6 @@ def facts(model, module, path, emitted: bool, values: Mapping, batch: int) -> Mo
         parameters=names,
         invariants=tuple(module.INVARIANTS),
         flags=dict(module.FLAGS),
-        body={k: table[:, j] for j, k in enumerate(BODY_FIELDS)},
         params=params,
         module=module,
     )

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 
-from eulersym.quaternion import hamilton
+from eulersym.attitude import hamilton
 
 __all__ = ["omega_body"]
 

@@ -1,13 +1,13 @@
 """The outcome of a run: :class:`Result` — the outputs in the scene's body frame, the invariants and their drift,
-notes — built from an engine's :class:`~eulersym.scene.trajectory.Trajectory`; and the text report.
+notes — built from a method's :class:`~eulersym.numerics.trajectory.Trajectory`; and the text report.
 
-Frames: engines work in the principal frame; ``P`` (the problem's ``axes``) maps back, ``v_body = P @ v_principal``
-and ``R_body = R_principal Pᵀ``.
+Frames: methods work in the principal frame; ``P`` (the problem's ``axes``) maps back, ``v_body = P @ v_principal``
+and ``R_body = R_principal Pᵀ``. The regime 'model' integrates the model's own kernel in the model frame: its
+vertical and invariants come from that kernel.
 """
 
 from __future__ import annotations
 
-import importlib
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -92,6 +92,28 @@ class Result:
     gamma: np.ndarray | None = None
     turning_points: tuple | None = None
     summary: Mapping = field(default_factory=dict)
+    scene: object = field(default=None, repr=False, compare=False)
+
+    def animate(self, path: str, **options) -> str:
+        """Write an animation of this run to ``path`` (``.gif``, ``.mp4`` or a self-contained ``.html``); return it.
+
+        :func:`eulersym.animation.animate` with this run's scene; ``options``: ``seconds``, ``fps``, ``size``,
+        ``member``. Frames come from the run's own output times (the run needs its attitude:
+        ``want = ["attitude", ...]``).
+
+        Examples
+        --------
+        >>> import os, tempfile
+        >>> from eulersym.scene import Scene, simulate
+        >>> run = simulate(Scene(moments=(1, 2, 3), omega=(0.1, 1, 0), t_end=2, points=41,
+        ...                      outputs=("omega", "attitude")))
+        >>> path = run.animate(os.path.join(tempfile.mkdtemp(), "spin.html"))
+        >>> open(path, encoding="utf-8").read(15)
+        '<!DOCTYPE html>'
+        """
+        from eulersym.animation import animate
+
+        return animate(self, path, scene=self.scene, **options)
 
     def report(self) -> str:
         """A short text report: the plan, the invariants' drift, the timings and notes.
@@ -132,9 +154,10 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     identity = is_identity(P)
     omega_body = omega_pr if identity else omega_pr @ P.T
     attitude = euler_angles = gamma_body = None
-    model = problem.model
-    if q_pr is not None and ("attitude" in outputs or "euler_angles" in outputs or model is not None):
-        if identity and model is None:  # the principal frame is the body frame: q as propagated, canonical sign
+    own = plan.regime == "model"  # the model's own kernel (problem.model), model frame
+    model = problem.model if own else None
+    if q_pr is not None and ("attitude" in outputs or "euler_angles" in outputs or own):
+        if identity and not own:  # the principal frame is the body frame: q as propagated, canonical sign
             attitude = _canonical(q_pr, unit=traj.q_unit)  # the closed form's q: its own array
             if "euler_angles" in outputs:
                 euler_angles = _euler_angles(problem, traj, attitude)
@@ -143,9 +166,9 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
             rot_pr = quaternion_to_rotation(q_pr.reshape(-1, 4))
             rot_body = rot_pr if identity else rot_pr * Rotation.from_matrix(np.repeat(P.T[None], len(rot_pr), axis=0))
             attitude = rotation_to_quaternion(rot_body).reshape(batch, n, 4)
-            if identity and model is not None:  # the propagated q, as integrated (the model's |q|² invariant reads it)
+            if identity and own:  # the propagated q, as integrated (the model's |q|² invariant reads it)
                 attitude = q_pr
-            if model is not None:  # the vertical, model frame: Γ = R(q)ᵀ ẑ
+            if own:  # the vertical, model frame: Γ = R(q)ᵀ ẑ
                 gamma_body = rot_body.inv().apply(np.array([0.0, 0.0, 1.0])).reshape(batch, n, 3)
                 if gamma is not None and identity:
                     gamma_body = gamma
@@ -153,11 +176,11 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
                 euler_angles = _unwrapped(_rotation_euler(rot_body, problem.convention).reshape(batch, n, 3))
     invariants, known = {}, {}
     if "invariants" in outputs:
-        if model is not None:
+        if own:
             invariants = _model_invariants(model, t, omega_body, gamma_body, attitude)
         elif plan.regime == "torque-free":
-            numerics = importlib.import_module("eulersym.numerics")
-            inv = numerics.invariants
+            from eulersym.numerics import invariants as inv
+
             invariants["energy"] = np.stack([inv.energy(tuple(moments[b]), omega_pr[b]) for b in range(batch)])
             invariants["L2"] = np.stack([inv.angular_momentum_squared(tuple(moments[b]), omega_pr[b]) for b in range(batch)])
             if q_pr is not None:
@@ -167,7 +190,8 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
                 invariants["L_space_deviation"] = dev
                 invariants["q_norm2"] = np.sum(q_pr**2, axis=-1)
         elif plan.regime == "heavy top":
-            gen = importlib.import_module("eulersym.generated.heavy_top_euler_poisson")
+            from eulersym.generated import heavy_top_euler_poisson as gen
+
             M, g, l = problem.mass, problem.g, problem.l
             n = omega_pr.shape[1]
             if traj.state is not None:  # the engine's own rows (one member: no copy)
@@ -215,7 +239,7 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
         "drift": drift,
         "notes": notes,
         "turning_points": turning,
-        "gamma": gamma_body,
+        "gamma": gamma_body if own or gamma is None else (gamma if identity else gamma @ P.T),  # the body frame's
     }
 
 

@@ -1,7 +1,9 @@
-"""The one place that drives a scene: :func:`simulate` — derive what the body needs, plan, prepare the problem,
-run the engine the plan chose, derive what the motion's start determines, and build the :class:`Result`.
+"""The one place that drives a scene: :func:`simulate` — plan, check the cost, load the model's own kernel where the
+regime needs it, prepare the problem, run the method the plan chose (:func:`eulersym.numerics.methods.solve`),
+derive what the motion's start determines, and build the :class:`Result`.
 
-Data flows one way: spec → plan → problem → engine → result (SymPy only inside :mod:`eulersym.scene.derive`).
+Data flows one way: scene (a model, its facts) → plan → problem → method → result (SymPy only inside
+:mod:`eulersym.scene.symbolic` and when a model's kernel is first emitted).
 """
 
 from __future__ import annotations
@@ -11,16 +13,14 @@ import time
 import numpy as np
 
 from eulersym.errors import InvalidInput
-from eulersym.scene import chunked, cost, derive, model_kernel
-from eulersym.scene.frames import is_identity
+from eulersym.scene import chunked, cost, model_kernel, symbolic
 from eulersym.scene.plan import make_plan
-from eulersym.scene.problem import member_moments, prepare
+from eulersym.scene.problem import prepare
 from eulersym.scene.progress import Progress
 from eulersym.scene.result import Result, outputs
 from eulersym.scene.spec import Scene
 
 __all__ = ["simulate"]
-
 
 
 def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, work=None) -> Result:
@@ -35,12 +35,16 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         Run a sweep's chunks on the client's workers (the ``dask`` extra); the result is the in-process one.
     memory, work : optional
         Budgets overriding the scene's (``"2 GiB"``; kernel evaluations; default 1e9 for one member, 5e10 for a
-        sweep). The cost is estimated before anything is allocated — for a model scene from below before its
-        kernel is derived, then with its kernel's numbers — by :func:`eulersym.scene.cost.check`, the one check
-        ``eulersym simulate`` makes too: beyond a budget, or past 2**52 rad turned by ``t_end``, the scene is
-        refused (:class:`~eulersym.errors.InvalidInput` naming ``scene`` or ``t_end``) with the estimate, the budget
-        and what would fit. Sweeps larger than one chunk, summary scenes and Dask runs stream members in chunks
-        sized to the memory budget (model scenes too).
+        sweep). The cost is estimated before anything is allocated (and before a model's kernel is derived) by
+        :func:`eulersym.scene.cost.check`, the one check ``eulersym simulate`` makes too: beyond a budget, or past
+        2**52 rad turned by ``t_end``, the scene is refused (:class:`~eulersym.errors.InvalidInput` naming ``scene``
+        or ``t_end``) with the estimate, the budget and what would fit. Sweeps larger than one chunk, summary scenes
+        and Dask runs stream members in chunks sized to the memory budget.
+
+    Raises
+    ------
+    eulersym.errors.IntegrationFailed
+        The method could not get the motion (a state overflowed, no step met the tolerance).
 
     Notes
     -----
@@ -58,34 +62,24 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     if not isinstance(scene, Scene):
         raise InvalidInput("scene", scene, "an eulersym.scene.Scene (Scene(...) or Scene.from_toml(path))")
     mem, wk = cost.budgets(scene, memory, work)
-    # the one check (eulersym.scene.cost), before anything per member is allocated; a model scene's before its kernel
-    # is derived (a lower bound: the cheapest engine it may get), and again with its kernel's plan and body numbers
-    first = scene.plan() if scene.model is None else None
-    estimate = cost.check(scene, first, memory=mem, work=wk)
+    plan = scene.plan()
+    # the one check (eulersym.scene.cost), before anything per member is allocated or any kernel derived
+    estimate = cost.check(scene, plan, memory=mem, work=wk)
     bar = Progress(scene.name, enabled=progress)
     timings = {}
     clock = time.perf_counter()
     record: list[str] = []
-    members = scene.members()
     batch = scene.batch
-    facts = None
-    if scene.model is not None:  # the model's kernel: cached by digest, or derived and emitted once
+    kernel = None
+    if plan.regime == "model":  # the model's own kernel: cached by digest, or derived and emitted once
         module, path, emitted = model_kernel.ensure(scene.model, record)
-        facts = model_kernel.facts(scene.model, module, path, emitted, scene.parameter_values(), batch)
-        plan = make_plan(scene, model=facts)
-        estimate = cost.check(scene, plan, memory=mem, work=wk, facts=facts)  # and its 2**52 rad phase limit
-        moments, P = _model_numbers(plan.options["frame"], facts)
-    else:
-        derived, P = derive.principal_frame(scene, record)
-        moments = member_moments(scene, members) if derived is None else np.repeat(derived, batch, axis=0)
-        # given moments: the plan already made from them (the same rows); derived ones may resolve the body kind
-        plan = first if derived is None and scene.moments is not None else make_plan(scene, moments=moments)
-        if plan.options["engine"] != first.options["engine"]:  # derived moments chose another engine
-            estimate = cost.check(scene, plan, memory=mem, work=wk)
-    problem = prepare(scene, plan, moments, P, model=facts)
+        kernel = model_kernel.kernel(scene.model, module, path, emitted, scene.parameter_values(), batch)
+        plan = make_plan(scene, kernel=kernel)
+        estimate = cost.check(scene, plan, memory=mem, work=wk, kernel=kernel)  # with its state
+    problem = prepare(scene, plan, kernel=kernel)
     bound = None
     if "top.sleeping_top_threshold" in plan.derive:
-        bound = derive.sleeping_threshold(moments, problem.mass, problem.g, problem.l, record)
+        bound = symbolic.sleeping_threshold(problem.moments, problem.mass, problem.g, problem.l, record)
     timings["derive"] = time.perf_counter() - clock
     bar.stage("derived", 0.1)
 
@@ -94,9 +88,9 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     singular = ()
     if streamed:  # chunks sized to the memory budget, in-process or on Dask workers (eulersym.scene.chunked)
         chunk = estimate.chunk
-        layout = cost.summary_layout(scene, plan.regime, facts) if cost.wants_summary(scene) else None
+        layout = cost.summary_layout(scene, plan.regime, kernel) if cost.wants_summary(scene) else None
         traj = None
-    else:  # members the closed form cannot represent are integrated instead (eulersym.scene.chunked.motion)
+    else:  # members the closed form cannot represent are integrated instead (eulersym.numerics.methods.solve)
         traj, singular = chunked.motion(problem, plan, progress=bar.fraction if bar.enabled else None)
     timings["motion"] = time.perf_counter() - clock
     bar.stage("integrated", 0.9)
@@ -109,11 +103,14 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         clock = time.perf_counter()
         start = (traj.omega[0, 0], traj.gamma[0, 0], traj.q[0, 0]) if traj is not None else (
             problem.omega0[0], problem.gamma0[0], problem.q0[0])
-        turning = derive.turning_points(moments[0], problem.mass[0], problem.g[0], problem.l[0], *start, record)
+        turning = symbolic.turning_points(problem.moments[0], problem.mass[0], problem.g[0], problem.l[0], *start,
+                                        record)
         timings["derive"] += time.perf_counter() - clock
 
     clock = time.perf_counter()
-    tensor_given = scene.tensor is not None or scene.shape is not None or not is_identity(P)
+    regime = scene._regime
+    given = scene.facts.given
+    tensor_given = plan.regime != "model" and (given in ("tensor", "shape", "parts") or not regime.body_frame)
     if streamed:
         out = chunked.run(problem, plan, chunk=chunk, layout=layout, bound=bound, turning=turning,
                           tensor_given=tensor_given, client=client, progress=bar.fraction if bar.enabled else None,
@@ -132,6 +129,7 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     def squeeze(a):
         return None if a is None else (a[0] if single else a)
 
+    moments = problem.moments
     return Result(
         t=problem.t,
         omega=squeeze(out["omega"]),
@@ -144,12 +142,13 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         derivations=tuple(record),
         propagated=plan.propagate,
         timings=timings,
-        sweep=members,
+        sweep=problem.members,
         moments=moments[0] if single else moments,
-        axes=P if facts is None or plan.regime != "model" else _principal_axes(facts.tensor[0]),
-        n_rhs_calls=int(out["n_calls"] if streamed else traj.n_calls),
+        axes=problem.axes if plan.regime != "model" else _principal_axes(scene.facts.tensor[0]),
+        n_rhs_calls=int(out["n_calls"] if streamed else traj.n_rhs_calls),
         notes=tuple(out["notes"]),
         turning_points=out["turning_points"],
+        scene=scene,
         gamma=_gamma(scene, plan, traj, out, squeeze),
         summary=out.get("summary", {}),
     )
@@ -157,7 +156,7 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
 
 def _turning_angles(u) -> tuple:
     """(θ1, θ2) = (arccos u2, arccos u1) in radians from the turning points ``u = (u1, u2)``, u1 ≤ u2, clipped to
-    [−1, 1] as :func:`eulersym.scene.derive.turning_points` clips them.
+    [−1, 1] as :func:`eulersym.scene.symbolic.turning_points` clips them.
 
     Examples
     --------
@@ -168,11 +167,11 @@ def _turning_angles(u) -> tuple:
 
 
 def _gamma(scene, plan, traj, out, squeeze):
-    if scene.model is not None:  # the vertical in the model frame, always
+    """The vertical Γ in the body (model) frame: always for the regime 'model', for a heavy top, and with the
+    invariants (None for summaries: gathered per member there)."""
+    if plan.regime == "model" or "invariants" in scene.outputs or plan.regime == "heavy top":
         return squeeze(out["gamma"])
-    if traj is None:  # streamed in chunks (eulersym.scene.chunked): gathered there, None for summaries
-        return squeeze(out["gamma"]) if "invariants" in scene.outputs or plan.regime == "heavy top" else None
-    return squeeze(traj.gamma) if "invariants" in scene.outputs or plan.regime == "heavy top" else None
+    return None
 
 
 def _principal_axes(tensor) -> np.ndarray:
@@ -181,11 +180,3 @@ def _principal_axes(tensor) -> np.ndarray:
     if np.linalg.det(P) < 0:
         P[:, 0] = -P[:, 0]
     return P
-
-
-def _model_numbers(frame, facts):
-    """(moments (batch, 3), axes (3, 3)) of a model problem: the plan's principal frame where a closed form or the
-    heavy top's engines apply; else the model frame itself, with the principal moments for the report."""
-    if frame.moments is not None:
-        return frame.moments, frame.axes
-    return np.linalg.eigvalsh(facts.tensor), np.eye(3)

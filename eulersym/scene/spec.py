@@ -1,18 +1,20 @@
-"""What the user asked: a :class:`Scene` (the body, its start, the time span, the outputs), validated.
+"""What the user asked: a :class:`Scene` — a :class:`~eulersym.model.Model` (the body: what it is and what acts on
+it), its start, the time span and the outputs wanted.
 
-The TOML layout (every key optional unless marked; ``eulersym simulate --list`` names bundled examples to copy)::
+A scene file is a model file (:mod:`eulersym.model.spec`: ``name``, ``[parameters]``, ``[body]``, ``[pivot]``,
+``[torque]``, ``[rotor]``) plus the scene's own sections; one reader takes both halves, and the model validates the
+body (its errors name the TOML key)::
 
     name = "my-scene"                    # and description = "..."
-    [body]                               # exactly one of: moments | tensor | shape (+ mass and dimensions)
-    moments = [I1, I2, I3]               # or tensor = [[..], [..], [..]]
-    shape = "cone"                       # cube, cuboid, sphere, cylinder, cone, ellipsoid
-    mass = 0.5                           # with a, b, c, R, h as the shape needs, and origin = "apex" ...
-    [pivot]                              # a heavy top: centre of mass at l e3 above the pivot
-    l = 0.04                             # required in [pivot]
+    [body]                               # the model's: moments | tensor | shape (+ mass and dimensions) | parts
+    moments = [I1, I2, I3]
+    mass = 0.5
+    [pivot]                              # a heavy top: centre of mass at l e3 above the pivot (or centre_of_mass)
+    l = 0.04
     g = 9.81
-    [torque]                             # a constant torque: body = [..] or space = [..]
+    [torque]                             # body = [..] or space = [..]: numbers, or formulas of the parameters
     [initial]
-    omega = [w1, w2, w3]                 # required; or omega_space = [..]
+    omega = [w1, w2, w3]                 # required; or omega_space = [..]; or euler_rates = [..] with euler
     euler = [phi, theta, psi]            # and convention = "zxz"; or quaternion = [..]; or axis = [..], angle = ..
     [time]
     end = 10.0                           # required, > 0
@@ -24,8 +26,15 @@ The TOML layout (every key optional unless marked; ``eulersym simulate --list`` 
     memory = "2 GiB"                     # budgets: refused beyond them, with the estimate (eulersym.scene.cost)
     work = 5e10                          # kernel evaluations summed over members
 
+The keyword constructor takes the same body the short way (``Scene(moments=..., mass=..., l=..., g=...,
+torque=...)``) and builds the same model from it. Any number of the scene's start, and the body's moments, mass,
+``l``, ``g`` and torque components, may be a list or a range ``{start, stop, num}``: a sweep. A swept body number
+becomes a parameter of the model (its first value the default), so the model's facts give every member's body at
+once (:meth:`~eulersym.model.Model.facts`); a model's own parameters are swept in ``[parameters]``.
+
 Validation raises :class:`~eulersym.errors.InvalidInput` naming the keyword (or the TOML key), the value and what
-is valid. :meth:`Scene.plan` asks the pure :mod:`eulersym.scene.plan` what a run would do.
+is valid; the body is validated by the model, every member of a sweep by its facts. :meth:`Scene.plan` asks the pure
+:mod:`eulersym.scene.plan` what a run would do.
 """
 
 from __future__ import annotations
@@ -41,44 +50,45 @@ from typing import Any, Mapping
 import numpy as np
 
 from eulersym import shapes as _shapes, validation
+from eulersym.attitude import SEQUENCES
 from eulersym.errors import InvalidInput
-from eulersym.scene import model_kernel
-from eulersym.scene.cost import PHASE_LIMIT, inertia_range, largest, rate_bound, refuse_phase
+from eulersym.model.spec import MODEL_SECTIONS, Model
 from eulersym.scene.catalog import bundled
-from eulersym.scene.plan import SYMMETRY_RTOL, Plan, make_plan
+from eulersym.scene.cost import PHASE_LIMIT, rate_bound, rate_of, refuse_phase, spread_of
+from eulersym.scene.plan import Plan, make_plan
+from eulersym.scene.regime import Regime, classify
 from eulersym.scene.values import Sweep, did_you_mean as _did_you_mean, number as _number, scalar as _scalar
 from eulersym.scene.values import values_of as _values, vector as _vector
 from eulersym.sweeps import cost as _sweep_cost
 
 __all__ = ["Scene", "load", "OUTPUTS", "METHODS", "SHAPES", "SHAPE_ORIGINS", "CONVENTIONS", "ACCURACY_RANGE",
-           "MAGNITUDE_LIMIT", "PHASE_LIMIT", "rate_bound"]
+           "MAGNITUDE_LIMIT", "PHASE_LIMIT", "rate_bound", "SCENE_SECTIONS"]
 
 #: The outputs a scene may ask for.
 OUTPUTS = ("omega", "attitude", "euler_angles", "invariants", "polhode", "summary")
 #: ``method`` values: ``auto`` lets the plan choose.
 METHODS = ("auto", "closed-form", "splitting", "DOP853", "RK45", "Radau", "LSODA")
-#: Named shapes a scene's body may be → their dimension names (:data:`eulersym.shapes.SHAPES`: its solids).
-SHAPES = {name: _shapes.SHAPES[name] for name in ("cube", "cuboid", "sphere", "cylinder", "cone", "ellipsoid")}
-#: Shapes that take ``origin=`` in a scene and its valid values (first = default; :data:`eulersym.shapes.SHAPE_ORIGINS`).
-SHAPE_ORIGINS = {name: _shapes.SHAPE_ORIGINS[name] for name in ("cube", "cuboid", "cone")}
+#: Named shapes a body may be → their dimension names (:data:`eulersym.shapes.SHAPES`).
+SHAPES = dict(_shapes.SHAPES)
+#: Shapes that take an ``origin`` and its valid values (first = default; :data:`eulersym.shapes.SHAPE_ORIGINS`).
+SHAPE_ORIGINS = dict(_shapes.SHAPE_ORIGINS)
 #: Euler / Tait–Bryan sequences (lower case: the text's passive, body-fixed sequence; A = A3(c) A2(b) A1(a)).
-CONVENTIONS = ("zxz", "xyx", "yzy", "zyz", "xzx", "yxy", "xyz", "yzx", "zxy", "xzy", "zyx", "yxz")
+CONVENTIONS = SEQUENCES
 #: Accuracies the plan accepts (relative error wanted on the outputs).
 ACCURACY_RANGE = (1e-13, 1e-1)
+#: TOML sections of a scene that are not the model's (a scene file is a model file plus these).
+SCENE_SECTIONS = ("initial", "time", "output")
+#: Magnitudes beyond which double precision cannot carry a scene: the methods multiply two quantities of the size of
+#: |L|² or the energy, and the product must stay below the largest double (1.8e308).
+MAGNITUDE_LIMIT = 1e150
 
+#: The body's keywords: the short way to write a model (a scene with ``model=`` takes none of them).
+_BODY_DEFAULTS = {"moments": None, "tensor": None, "shape": None, "mass": None, "dimensions": None, "origin": None,
+                  "l": None, "g": 9.81, "torque": None, "torque_frame": "body"}
 _DEFAULTS = {
     "name": "scene",
     "description": "",
-    "moments": None,
-    "tensor": None,
-    "shape": None,
-    "mass": None,
-    "dimensions": None,
-    "origin": None,
-    "l": None,
-    "g": 9.81,
-    "torque": None,
-    "torque_frame": "body",
+    **_BODY_DEFAULTS,
     "euler": None,
     "convention": "zxz",
     "quaternion": None,
@@ -98,27 +108,9 @@ _DEFAULTS = {
     "work": None,
 }
 
-#: Scene keywords that describe the body the legacy way; a scene with a ``model`` takes none of them.
-_BODY_KEYWORDS = ("moments", "tensor", "shape", "mass", "dimensions", "origin", "l", "g", "torque", "torque_frame")
-#: TOML sections of a scene that are not the model's (a scene file is a model file plus these).
-SCENE_SECTIONS = ("initial", "time", "output")
-#: Sections and keys only a model expresses: their presence makes Scene.from_dict build a Model.
-_MODEL_ONLY = {"": ("parameters", "rotor"), "body": ("parts", "dimensions", "L"), "pivot": ("centre_of_mass",),
-               "torque": ("potential",)}
-
-# TOML layout: section → key → Scene keyword (a tuple names a keyword and a sub-key).
+# TOML layout of the scene's own sections: section → key → Scene keyword (a tuple names a keyword and a frame).
 _TOML_LAYOUT: dict[str, dict[str, Any]] = {
     "": {"name": "name", "description": "description"},
-    "body": {
-        "moments": "moments",
-        "tensor": "tensor",
-        "shape": "shape",
-        "mass": "mass",
-        "origin": "origin",
-        **{d: ("dimensions", d) for d in ("a", "b", "c", "R", "h")},
-    },
-    "pivot": {"l": "l", "g": "g"},
-    "torque": {"body": ("torque", "body"), "space": ("torque", "space")},
     "initial": {
         "omega": "omega",
         "omega_space": ("omega", "space"),
@@ -132,40 +124,43 @@ _TOML_LAYOUT: dict[str, dict[str, Any]] = {
     "time": {"end": "t_end", "points": "points"},
     "output": {"want": "outputs", "accuracy": "accuracy", "method": "method", "memory": "memory", "work": "work"},
 }
-
-
 #: Scene keyword → where it lives in a TOML file (for messages about keys a file lacks).
-_TOML_PATHS = {
-    target: (f"{section}.{key}" if section else key)
-    for section, keys in _TOML_LAYOUT.items()
-    for key, target in keys.items()
-    if isinstance(target, str)
-}
+_TOML_PATHS = {target: (f"{section}.{key}" if section else key) for section, keys in _TOML_LAYOUT.items()
+               for key, target in keys.items() if isinstance(target, str)}
+#: Where a body number may be swept in a file or by a keyword: (section, key, components) → its label.
+_SWEEPABLE = (("body", "moments", 3, "moments"), ("body", "mass", 0, "mass"), ("pivot", "l", 0, "l"),
+              ("pivot", "g", 0, "g"), ("torque", "body", 3, "torque"), ("torque", "space", 3, "torque"))
 
 
 @dataclasses.dataclass(frozen=True, init=False)
 class Scene:
-    """A rigid-body scene: the body, its start, the time span and the outputs wanted (validated at construction).
+    """A rigid-body scene: a :class:`~eulersym.model.Model`, its start, the time span and the outputs wanted
+    (validated at construction).
 
     Parameters (keyword only)
     -------------------------
+    model : eulersym.model.Model, optional
+        The body and what acts on it. Or, the short way, the body's keywords below (a scene takes one or the other):
     moments : 3 numbers, optional
         Principal moments (I1, I2, I3) about the centre of mass, or about the pivot for a pivoted body.
     tensor : 3×3 numbers, optional
         A full inertia tensor in the body frame; its principal axes are found and reported.
-    shape : {'cube', 'cuboid', 'sphere', 'cylinder', 'cone', 'ellipsoid'}, optional
-        A named uniform body (:mod:`eulersym.inertia`) with ``mass``, ``dimensions`` (``a``, ``b``, ``c``,
-        ``R``, ``h`` as the shape needs) and ``origin`` (cube/cuboid: 'center' or 'corner'; cone: 'apex' or
-        'center'). Exactly one of ``moments``, ``tensor``, ``shape`` is required.
+    shape : str, optional
+        A named uniform body (:data:`SHAPES`: cube, cuboid, sphere, cylinder, cone, ellipsoid, rod) with ``mass``,
+        ``dimensions`` (``a``, ``b``, ``c``, ``R``, ``h``, ``L`` as the shape needs) and ``origin`` (cube/cuboid:
+        'center' or 'corner'; cone: 'apex' or 'center'; cylinder 'center' or 'base'; rod 'center' or 'end').
+        Exactly one of ``moments``, ``tensor``, ``shape`` is required.
     mass : number, optional
         M; required for a shape and for a pivoted body (the gravity torque is M g l).
     l : number, optional
-        A fixed pivot at distance l from the centre of mass, which sits at ``l * e3`` in the body frame
-        (the heavy top). Omit for a free body.
+        A fixed pivot with the centre of mass at ``l * e3`` in the body frame (the heavy top); for a shape the
+        pivot is its origin and ``l`` must be the distance its centre of mass derives. Omit for a free body.
     g : number, optional
         Gravity (default 9.81); acts only through a pivot.
     torque : 3 numbers, optional
         A constant torque, body-fixed (``torque_frame='body'``) or space-fixed (``'space'``).
+    parameters : mapping name → number, list or range, optional
+        Values of the model's parameters (lists and ranges: a sweep); the model's defaults fill the others.
     euler, convention : optional
         Initial Euler angles (phi, theta, psi) in one of :data:`CONVENTIONS` (default 'zxz', the text's).
     quaternion : 4 numbers, optional
@@ -192,12 +187,19 @@ class Scene:
     name, description : str
         For reports.
 
-    Any number may be a list or ``{start, stop, num}`` range: a sweep (see :class:`Sweep`).
+    Any number of the start (and the body's moments, mass, l, g and torque) may be a list or ``{start, stop, num}``
+    range: a sweep (see :class:`Sweep`).
+
+    A scene is frozen: ``dataclasses.replace(scene, t_end=..., omega=...)`` builds a validated new one that keeps the
+    model; to change the body, give a new ``model=`` (or build the scene anew from the keywords). The body's keywords
+    read back as properties (``scene.moments``, ``scene.mass``, ``scene.l``...) from the model.
 
     Examples
     --------
     >>> Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1).regime
     'torque-free'
+    >>> Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1).model.to_dict()
+    {'name': 'scene', 'body': {'moments': [1.0, 2.0, 3.0]}}
     >>> Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_ned=1)
     Traceback (most recent call last):
     ...
@@ -206,16 +208,8 @@ class Scene:
 
     name: str
     description: str
-    moments: tuple | None
-    tensor: tuple | None
-    shape: str | None
-    mass: Any
-    dimensions: tuple | None
-    origin: str | None
-    l: Any
-    g: Any
-    torque: tuple | None
-    torque_frame: str
+    model: Model
+    parameters: tuple
     euler: tuple | None
     convention: str
     quaternion: tuple | None
@@ -229,9 +223,6 @@ class Scene:
     outputs: tuple
     accuracy: float
     method: str
-    model: Any = dataclasses.field(compare=False)
-    parameters: tuple | None = None
-    model_digest: str | None = dataclasses.field(init=False, default=None)
     memory: int | None = None
     work: float | None = None
 
@@ -239,21 +230,51 @@ class Scene:
         for key in kwargs:
             if key not in _DEFAULTS:
                 raise InvalidInput(key, kwargs[key], "a Scene keyword: " + _did_you_mean(key, _DEFAULTS))
-        if kwargs.get("model") is not None:
-            for key in _BODY_KEYWORDS:
-                value = kwargs.get(key)
-                if value is not None and not (isinstance(value, (str, float, int)) and value == _DEFAULTS[key]):
-                    raise InvalidInput(key, value, "no body keyword beside a model (the model is the body: "
-                                       "its mass, inertia, pivot, gravity and torques)")
         values = {**_DEFAULTS, **kwargs}
+        for key in ("name", "description"):
+            if not isinstance(values[key], str):
+                raise InvalidInput(key, values[key], "a string")
+        if values["model"] is not None:
+            model = values["model"]
+            if not isinstance(model, Model):
+                raise InvalidInput("model", model, "an eulersym.model.Model (Model(...), Model.from_toml(path))")
+            for key, default in _BODY_DEFAULTS.items():
+                value = values[key]
+                if value is not None and not (isinstance(value, (str, float, int)) and value == default):
+                    raise InvalidInput(key, value, "no body keyword beside a model (the model is the body: its mass, "
+                                                   "inertia, pivot, gravity and torques)")
+            rename = None
+        else:
+            if values["parameters"] is not None and not _synthetic_only(values["parameters"]):
+                raise InvalidInput("parameters", values["parameters"], "parameters only with a model "
+                                                                       "(Scene(model=Model(...), parameters=...))")
+            model, swept = _keyword_model(values)
+            values["parameters"] = tuple(swept)
+            kind = next((k for k in ("moments", "tensor", "shape") if values[k] is not None), None)
+            rename = functools.partial(_keyword_name, body_kind=kind)
+        object.__setattr__(self, "model", model)
+        object.__setattr__(self, "name", values["name"])
+        object.__setattr__(self, "description", values["description"])
+        object.__setattr__(self, "parameters", _parameters(model, values["parameters"]))
         for key, value in _normalise(values).items():
             object.__setattr__(self, key, value)
-        object.__setattr__(self, "model_digest", self.model.digest if self.model is not None else None)
+        try:
+            regime = self._regime  # every member's body, validated by the model's facts
+        except InvalidInput as exc:
+            raise _renamed(exc, rename) from None
+        try:
+            _check_consistency(self, regime)
+            _check_scales(self, regime, values)
+            if self.method == "closed-form":
+                self.plan()  # a closed form asked for where none applies is refused now, with the reason
+        except InvalidInput as exc:
+            raise _renamed(exc, rename) from None
 
     # ---- constructors -------------------------------------------------------------------------------------
     @classmethod
     def from_toml(cls, path) -> "Scene":
-        """Read a scene from a TOML file (the layout of the bundled scenes; see ``eulersym simulate --list``).
+        """Read a scene from a TOML file (a model file plus ``[initial]``, ``[time]``, ``[output]``; see
+        ``eulersym simulate --list`` and ``--template``).
 
         Errors name the TOML key (``section.key``).
 
@@ -282,8 +303,9 @@ class Scene:
 
     @classmethod
     def from_dict(cls, data: Mapping) -> "Scene":
-        """Build a scene from the nested mapping a TOML file holds (sections body, pivot, torque, initial, time,
-        output).
+        """Build a scene from the nested mapping a TOML file holds: the model's sections (``name``,
+        ``[parameters]``, ``[body]``, ``[pivot]``, ``[torque]``, ``[rotor]``) and the scene's (``description``,
+        ``[initial]``, ``[time]``, ``[output]``).
 
         Examples
         --------
@@ -297,57 +319,87 @@ class Scene:
         """
         if not isinstance(data, Mapping):
             raise InvalidInput("SCENE", data, "a mapping of TOML sections (body, pivot, torque, initial, time, output)")
-        if _needs_model(data):
-            return _model_scene(cls, data)
-        kwargs: dict[str, Any] = {}
-        where: dict[str, str] = {}
-        top_valid = set(_TOML_LAYOUT[""]) | {s for s in _TOML_LAYOUT if s}
+        valid = {"name", "description", *MODEL_SECTIONS, *SCENE_SECTIONS}
         for key, value in data.items():
-            if key not in top_valid:
-                raise InvalidInput(key, value, "a TOML section or key: " + _did_you_mean(key, top_valid))
-            if key in _TOML_LAYOUT[""]:
-                kwargs[_TOML_LAYOUT[""][key]] = value
-                where[_TOML_LAYOUT[""][key]] = key
+            if key not in valid:
+                raise InvalidInput(str(key), value, "a TOML section or key: " + _did_you_mean(str(key), valid))
+        sections = {key: _plain(value) for key, value in data.items() if key in ("name", *MODEL_SECTIONS)}
+        sections, swept = _swept_numbers(sections, lambda label: label)
+        given = sections.get("parameters")
+        user = None
+        if isinstance(given, Mapping):  # a list or range in [parameters]: a sweep of the model's parameter
+            defaults, user = {}, {}
+            for key, value in given.items():
+                if isinstance(value, (list, tuple, Mapping)):
+                    sweep = Sweep.of(f"parameters.{key}", value)
+                    defaults[key], user[key] = sweep.values[0], sweep
+                else:
+                    defaults[key] = value
+            sections["parameters"] = {**defaults, **{name: sweep.values[0] for name, sweep, _ in swept}}
+        elif swept:
+            sections["parameters"] = {name: sweep.values[0] for name, sweep, _ in swept}
+        model = Model.from_dict(sections)
+        kwargs: dict[str, Any] = {"model": model, "parameters": (*_user_entries(user), *swept)}
+        where: dict[str, str] = {"parameters": "parameters"}
+        if "description" in data:
+            kwargs["description"], where["description"] = data["description"], "description"
+        if "name" in data:
+            kwargs["name"], where["name"] = data["name"], "name"
+        for section in SCENE_SECTIONS:
+            table = data.get(section)
+            if table is None:
                 continue
-            if not isinstance(value, Mapping):
-                raise InvalidInput(key, value, f"a [{key}] table with keys " + ", ".join(sorted(_TOML_LAYOUT[key])))
-            layout = _TOML_LAYOUT[key]
-            if key == "pivot":
-                kwargs.setdefault("l", None)
-            for sub, v in value.items():
+            if not isinstance(table, Mapping):
+                raise InvalidInput(section, table, f"a [{section}] table with keys " + ", ".join(sorted(_TOML_LAYOUT[section])))
+            layout = _TOML_LAYOUT[section]
+            for sub, value in table.items():
                 if sub not in layout:
-                    raise InvalidInput(f"{key}.{sub}", v, f"a key of [{key}]: " + _did_you_mean(sub, layout))
+                    raise InvalidInput(f"{section}.{sub}", value, f"a key of [{section}]: " + _did_you_mean(sub, layout))
                 target = layout[sub]
                 if isinstance(target, tuple):
                     kw, detail = target
-                    if kw == "dimensions":
-                        kwargs.setdefault("dimensions", {})[detail] = v
-                        where[f"dimensions.{detail}"] = f"{key}.{sub}"
-                        continue
                     if kw in kwargs:
-                        raise InvalidInput(f"{key}.{sub}", v, f"only one of {where[kw]} and {key}.{sub}")
-                    kwargs[kw] = v
-                    kwargs[f"{kw}_frame"] = detail
-                    where[kw] = f"{key}.{sub}"
+                        raise InvalidInput(f"{section}.{sub}", value, f"only one of {where[kw]} and {section}.{sub}")
+                    kwargs[kw], kwargs[f"{kw}_frame"] = value, detail
+                    where[kw] = f"{section}.{sub}"
                 else:
-                    kwargs[target] = v
-                    where[target] = f"{key}.{sub}"
-            if key == "pivot" and kwargs.get("l") is None:
-                body = data.get("body")
-                if isinstance(body, Mapping) and body.get("shape") is not None:
-                    kwargs["l"] = FROM_SHAPE  # the pivot sits at the shape's origin: l from its centre of mass
-                    where["l"] = "pivot.l"
-                    continue
-                raise InvalidInput("pivot.l", None, "the pivot–centre-of-mass distance l (a [pivot] table needs l, "
-                                                    "unless the body is a shape: then l comes from the shape)")
+                    kwargs[target], where[target] = value, f"{section}.{sub}"
         return _construct(cls, kwargs, where)
 
-    # ---- derived facts (pure) -----------------------------------------------------------------------------
+    # ---- the body (read from the model) ---------------------------------------------------------------------
+    @functools.cached_property
+    def facts(self):
+        """The model's :class:`~eulersym.model.facts.Facts` for every distinct body of the scene (one row per
+        member of the grid of swept parameters, :meth:`body_index` maps members to rows), in NumPy.
+
+        Examples
+        --------
+        >>> Scene(moments=(1, 2, [3, 2.5]), omega=(0, [1, 2], 0), t_end=1).facts.tensor[:, 2, 2].tolist()
+        [3.0, 2.5]
+        """
+        grids = _grid([sweep.values for _, sweep, _ in self._swept_parameters])
+        values = {name: value for name, value, _ in self.parameters if not isinstance(value, Sweep)}
+        values.update({name: grid for (name, _, _), grid in zip(self._swept_parameters, grids)})
+        return self.model.facts(values, batch=len(grids[0]) if grids else 1)
+
+    @functools.cached_property
+    def _regime(self) -> Regime:
+        return classify(self.facts)
+
+    @functools.cached_property
+    def _rate(self) -> float:
+        """The scene's one rate bound (:func:`eulersym.scene.cost.rate_bound`), computed once."""
+        return rate_of(self)
+
+    @functools.cached_property
+    def _spread(self) -> tuple:
+        """(smallest, largest) principal moment over the distinct bodies, computed once."""
+        return spread_of(self)
+
     @property
     def regime(self) -> str:
-        """'torque-free', 'heavy top' or 'torque' — which equations of motion the scene needs; 'model' for a scene
-        with a :class:`~eulersym.model.Model` (its plan decides, once the model's kernel is known, whether a closed
-        form or the heavy top's engines apply).
+        """'torque-free', 'heavy top', 'torque' (a constant torque) or 'model' (the model's own kernel integrates
+        it) — what acts on the body, read from its facts (:func:`eulersym.scene.regime.classify`).
 
         A pivot with ``M g l = 0`` and gravity without a pivot exert no torque about the reference point.
 
@@ -356,34 +408,138 @@ class Scene:
         >>> Scene(moments=(1, 1, 2), mass=1, l=0.1, omega=(0, 0, 5), t_end=1).regime
         'heavy top'
         """
-        if self.model is not None:
-            return "model"
-        if self.l is not None and _nonzero(self.l) and _nonzero(self.g):
-            return "heavy top"
-        if self.torque is not None and any(_nonzero(c) for c in self.torque):
-            return "torque"
-        return "torque-free"
+        return self._regime.regime
 
+    @property
+    def model_digest(self) -> str:
+        """The model's digest (its kernel's key in the cache)."""
+        return self.model.digest
+
+    def body_index(self) -> np.ndarray | None:
+        """For each member, its row of :attr:`facts` (None when every member has the one body).
+
+        Examples
+        --------
+        >>> Scene(moments=(1, 2, [3, 2.5]), omega=(0, [1, 2], 0), t_end=1).body_index().tolist()
+        [0, 0, 1, 1]
+        """
+        swept = self._swept_parameters
+        if not swept:
+            return None
+        sizes = [len(s) for _, s in self.sweeps]
+        index = np.indices(sizes).reshape(len(sizes), -1)
+        labels = [label for label, _ in self.sweeps]
+        rows = np.zeros(index.shape[1], dtype=np.intp)
+        for _, sweep, label in swept:
+            k = labels.index(label)
+            rows = rows * len(sweep) + index[k]
+        return rows
+
+    @property
+    def _swept_parameters(self) -> tuple:
+        return tuple(entry for entry in self.parameters if isinstance(entry[1], Sweep))
+
+    # the body's keywords, read back from the model (None where the model does not say it that way)
+    @property
+    def moments(self) -> tuple | None:
+        """The principal moments as given (numbers, or a :class:`Sweep` where swept), or None."""
+        return self._read("body", "moments")
+
+    @property
+    def tensor(self) -> tuple | None:
+        """The tensor as given, or None."""
+        rows = self.model.normalised["body"].get("tensor")
+        return None if rows is None else tuple(tuple(row) for row in rows)
+
+    @property
+    def shape(self) -> str | None:
+        """The named shape, or None."""
+        return self.model.normalised["body"].get("shape")
+
+    @property
+    def dimensions(self) -> tuple | None:
+        """The shape's dimensions as ``((name, value), ...)``, or None."""
+        dims = self.model.normalised["body"].get("dimensions")
+        return None if dims is None else tuple(dims.items())
+
+    @property
+    def origin(self) -> str | None:
+        """The shape's origin, or None."""
+        return self.model.normalised["body"].get("origin")
+
+    @property
+    def mass(self):
+        """The body's mass as given (a number, a :class:`Sweep`), derived for parts; None for a free body given
+        without one."""
+        body = self.model.normalised["body"]
+        if "parts" in body:
+            return float(self.facts.mass[0])
+        return self._read("body", "mass")
+
+    @property
+    def l(self):
+        """The pivot–centre-of-mass distance along e3 (as given, or derived for a shape), or None without a pivot
+        or with the centre of mass off e3."""
+        pivot = self.model.normalised["pivot"]
+        if pivot is None:
+            return None
+        if pivot.get("l"):
+            return self._read("pivot", "l")
+        c = self.facts.centre_of_mass[0]
+        return float(c[2]) if c[0] == 0.0 and c[1] == 0.0 else None
+
+    @property
+    def g(self):
+        """Gravity as given (9.81 without a pivot)."""
+        pivot = self.model.normalised["pivot"]
+        return 9.81 if pivot is None else self._read("pivot", "g")
+
+    @property
+    def torque(self) -> tuple | None:
+        """The constant torque's components as given (body or space: :attr:`torque_frame`), or None."""
+        torque = self.model.normalised["torque"]
+        frame = self.torque_frame
+        return None if torque[frame] is None else self._read("torque", frame)
+
+    @property
+    def torque_frame(self) -> str:
+        """'space' for a space-fixed torque, else 'body'."""
+        torque = self.model.normalised["torque"]
+        return "space" if torque["space"] is not None and torque["body"] is None else "body"
+
+    def _read(self, section: str, key: str):
+        """A body keyword's value from the model's data: numbers as they are, a parameter by its value (the
+        scene's sweep or number, else the model's default)."""
+        table = self.model.normalised[section] or {}
+        raw = (table.get("centre_of_mass") or [None] * 3)[2] if (section, key) == ("pivot", "l") else table.get(key)
+        given = {name: value for name, value, _ in self.parameters}
+
+        def one(x):
+            return given.get(x, self.model.parameters.get(x, x)) if isinstance(x, str) else x
+
+        return tuple(one(x) for x in raw) if isinstance(raw, list) else one(raw)
+
+    # ---- sweeps, times ----------------------------------------------------------------------------------------
     @functools.cached_property
     def sweeps(self) -> tuple:
-        """``((label, Sweep), ...)`` for every swept number, in field order.
+        """``((label, Sweep), ...)`` for every swept number: the body's first, then the start's, then the model's
+        parameters.
 
         Examples
         --------
         >>> Scene(moments=(1, 1, 2), omega=(0, 0, [1, 2, 3]), t_end=1).sweeps
         (('omega[2]', Sweep(values=(1.0, 2.0, 3.0))),)
         """
-        found = []
-        for name in _FIELD_NAMES:
+        found = [(label, value) for name, value, label in self.parameters
+                 if isinstance(value, Sweep) and not label.startswith("parameters.")]
+        for name in _START_FIELDS:
             value = getattr(self, name)
             if isinstance(value, Sweep):
                 found.append((name, value))
             elif isinstance(value, tuple):
-                for k, item in enumerate(value):
-                    if isinstance(item, Sweep):
-                        found.append((f"{name}[{k}]", item))
-                    elif isinstance(item, tuple) and len(item) == 2 and isinstance(item[1], Sweep):
-                        found.append((f"{name}.{item[0]}", item[1]))
+                found.extend((f"{name}[{k}]", item) for k, item in enumerate(value) if isinstance(item, Sweep))
+        found.extend((label, value) for name, value, label in self.parameters
+                     if isinstance(value, Sweep) and label.startswith("parameters."))
         return tuple(found)
 
     @property
@@ -417,6 +573,23 @@ class Scene:
         """
         return _evenly_spaced(self.t_end, self.points)
 
+    def parameter_values(self) -> dict:
+        """The model's parameter values the scene gives (its sweeps per member, the numbers it sets):
+        ``{name: float or ndarray (batch,)}`` (the model's defaults fill the others).
+
+        Examples
+        --------
+        >>> Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1).parameter_values()
+        {}
+        >>> Scene(moments=(1, 2, [3, 2.5]), omega=(0, 1, 0), t_end=1).parameter_values()["moments_2"].tolist()
+        [3.0, 2.5]
+        """
+        if not self.parameters:
+            return {}
+        members = self.members()
+        return {name: members.get(label, value) for name, value, label in self.parameters}
+
+    # ---- the plan ------------------------------------------------------------------------------------------------
     def plan(self) -> Plan:
         """What :func:`simulate` will derive, emit, integrate and skip, and why (pure: runs nothing).
 
@@ -432,49 +605,27 @@ class Scene:
           skip         Euler angles — not asked for
           skip         invariants — not asked for
         """
-        if self.model is not None:  # its plan reads the kernel cache on disk: made anew each time
-            return make_plan(self, model=self.cached_model_facts())
-        return dataclasses.replace(self._plan, options=dict(self._plan.options))  # a caller's change stays its own
+        if self.regime == "model":  # its plan reads the kernel cache on disk: made anew each time
+            return make_plan(self)
+        options = {k: dict(v) if isinstance(v, dict) else v for k, v in self._plan.options.items()}
+        return dataclasses.replace(self._plan, options=options)  # a caller's change stays its own
 
     @functools.cached_property
     def _plan(self) -> Plan:
-        """The plan of a scene without a model: a pure function of the frozen scene's fields, made once."""
+        """The plan of a scene whose model needs no kernel of its own: a pure function of the frozen scene, made once."""
         return make_plan(self)
 
-    def parameter_values(self) -> dict:
-        """A model scene's parameter values given in the scene: ``{name: float or ndarray (batch,)}`` (the kernel's
-        defaults fill the others).
 
-        Examples
-        --------
-        >>> Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1).parameter_values()
-        {}
-        """
-        if not self.parameters:
-            return {}
-        members = self.members()
-        return {name: members.get(f"parameters.{name}", value) for name, value in self.parameters}
-
-    def cached_model_facts(self):
-        """The :class:`~eulersym.scene.model_kernel.ModelFacts` of this model scene when its kernel is cached (read
-        without SymPy), else None (also for a scene without a model).
-
-        Examples
-        --------
-        >>> Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1).cached_model_facts() is None
-        True
-        """
-        if self.model is None:
-            return None
-        found = model_kernel.cached(self.model_digest)
-        if found is None:
-            return None
-        module, path = found
-        return model_kernel.facts(self.model, module, path, False, self.parameter_values(), self.batch)
+#: The fields of a scene's start that may be swept, in order (what :attr:`Scene.sweeps` reads after the body's).
+_START_FIELDS = ("euler", "convention", "quaternion", "axis", "angle", "omega", "omega_frame", "euler_rates",
+                 "t_end", "points")
 
 
-#: The Scene's fields, in order (what :attr:`Scene.sweeps` reads).
-_FIELD_NAMES = tuple(f.name for f in dataclasses.fields(Scene))
+def _grid(values: list) -> list:
+    """The 'ij' outer-product grid of the value lists, flattened (one array per list)."""
+    if not values:
+        return []
+    return [g.ravel() for g in np.meshgrid(*[np.asarray(v) for v in values], indexing="ij")]
 
 
 def _evenly_spaced(t_end: float, points: int) -> np.ndarray:
@@ -499,84 +650,173 @@ def _evenly_spaced(t_end: float, points: int) -> np.ndarray:
     return times
 
 
-def _nonzero(x) -> bool:
-    """True when a (possibly swept) number is non-zero for some member."""
-    if isinstance(x, (int, float)):  # one number (the common case)
-        return x != 0
-    return bool(np.any(_values(x) != 0))
+# ---- the body's keywords → a model ------------------------------------------------------------------------------
 
 
-def _needs_model(data: Mapping) -> bool:
-    """True when a scene file says something only a model expresses: [parameters], [rotor], body parts, a centre
-    of mass off the legacy axis, a potential, or an expression (a string where the legacy keys take numbers)."""
-    if any(key in data for key in _MODEL_ONLY[""]):
-        return True
-    body = data.get("body")
-    if isinstance(body, Mapping):
-        shape, origin = body.get("shape"), body.get("origin")
-        if isinstance(shape, str) and (shape not in SHAPES or (isinstance(origin, str) and origin not in SHAPE_ORIGINS.get(shape, ("center",)))):
-            return shape in ("rod", "point", "cylinder")  # a model's shapes and origins (a rod, a cylinder on its base)
-    for section in ("body", "pivot", "torque"):
-        table = data.get(section)
-        if not isinstance(table, Mapping):
+def _synthetic_only(raw) -> bool:
+    """True for the normalised parameters of a keyword scene (every entry a swept body number)."""
+    return isinstance(raw, tuple) and all(isinstance(e, tuple) and len(e) == 3 and not e[2].startswith("parameters.")
+                                          for e in raw)
+
+
+def _parameter_name(label: str) -> str:
+    """The model parameter a swept body number becomes: ``moments[2]`` → ``moments_2``, ``mass`` → ``mass``."""
+    return label.replace("[", "_").replace("]", "")
+
+
+def _plain(value):
+    """A copy of nested TOML data (mappings and lists), so that sweeps can be taken out of it."""
+    if isinstance(value, Mapping):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_plain(v) for v in value]
+    return value
+
+
+def _swept_numbers(sections: dict, label_of) -> tuple:
+    """``(sections, [(parameter, Sweep, label), ...])``: every list or range at a place a body number may be swept
+    (:data:`_SWEEPABLE`) replaced by a parameter's name."""
+    swept = []
+    for section, key, n, label in _SWEEPABLE:
+        table = sections.get(section)
+        if not isinstance(table, dict) or key not in table:
             continue
-        if any(key in table for key in _MODEL_ONLY[section]):
-            return True
-        for key, value in table.items():
-            if key in ("shape", "origin"):
-                continue
-            if isinstance(value, str) or (isinstance(value, (list, tuple)) and any(
-                    isinstance(x, str) or (isinstance(x, (list, tuple)) and any(isinstance(y, str) for y in x)) for x in value)):
-                return True
-    return False
+        value = table[key]
+        if n == 0:
+            if isinstance(value, (list, tuple, Mapping, Sweep)):
+                sweep = value if isinstance(value, Sweep) else Sweep.of(f"{section}.{key}", value)
+                name = _parameter_name(label)
+                table[key] = name
+                swept.append((name, sweep, label_of(label)))
+            continue
+        if isinstance(value, (list, tuple)) and len(value) == n:
+            items = list(value)
+            for k, item in enumerate(items):
+                if isinstance(item, (list, tuple, Mapping, Sweep)):
+                    sweep = item if isinstance(item, Sweep) else Sweep.of(f"{section}.{key}[{k}]", item)
+                    name = _parameter_name(f"{label}[{k}]")
+                    items[k] = name
+                    swept.append((name, sweep, label_of(f"{label}[{k}]")))
+            table[key] = items
+    return sections, swept
 
 
-def _model_scene(cls, data: Mapping):
-    """A Scene with a :class:`~eulersym.model.Model` built from the file's model sections; swept parameters
-    (a list or ``{start, stop, num}`` in [parameters]) stay in the scene, their first value is the model's default."""
+def _user_entries(user) -> tuple:
+    return tuple((name, sweep, f"parameters.{name}") for name, sweep in (user or {}).items())
+
+
+def _keyword_model(v: dict) -> tuple:
+    """``(Model, [(parameter, Sweep, label), ...])`` of the body keywords, errors naming the keyword."""
+    given = [k for k in ("moments", "tensor", "shape") if v[k] is not None]
+    if not given:
+        raise InvalidInput("moments", None, "a body: one of moments (I1, I2, I3), tensor (3×3) or shape (with mass "
+                                            "and dimensions)")
+    if len(given) > 1:
+        raise InvalidInput(given[1], v[given[1]], f"only one body description; {given[0]} is given too")
+    body: dict = {}
+    if v["moments"] is not None:
+        body["moments"] = list(_vector("moments", v["moments"], 3))
+    if v["tensor"] is not None:
+        body["tensor"] = _rows(v["tensor"])
+    if v["shape"] is not None:
+        body["shape"] = v["shape"]
+        dims = v["dimensions"]
+        if dims is not None:
+            if isinstance(dims, Mapping):
+                body.update({str(k): d for k, d in dims.items()})
+            else:
+                body.update({str(k): d for k, d in dims})
+        if v["origin"] is not None:
+            body["origin"] = v["origin"]
+    else:
+        for key in ("dimensions", "origin"):
+            if v[key] is not None:
+                raise InvalidInput(key, v[key], "no shape dimensions or origin unless a shape is given")
+    if v["mass"] is not None:
+        body["mass"] = _scalar("mass", v["mass"])
+    sections: dict = {"name": v["name"] if isinstance(v["name"], str) and v["name"].strip() else "scene",
+                      "body": body}
+    if v["l"] is not None:
+        sections["pivot"] = {"l": _scalar("l", v["l"]), "g": _scalar("g", v["g"])}
+    elif v["shape"] in _shapes.SHAPES and (body.get("origin") or _shapes.origins(v["shape"])[0]) != "center":
+        # a shape measured from another origin, without a pivot: it turns about that point, weightless
+        sections["pivot"] = {"g": 0.0}
+        _scalar("g", v["g"])
+    elif v["g"] is not None:
+        _scalar("g", v["g"])  # validated even without a pivot (where it acts on nothing)
+    frame = validation.choice("torque_frame", v["torque_frame"], ("body", "space"))
+    if v["torque"] is not None:
+        sections["torque"] = {frame: list(_vector("torque", v["torque"], 3))}
+    sections, swept = _swept_numbers(sections, lambda label: label)
+    if v["l"] is None and isinstance(v["g"], (list, tuple, Mapping, Sweep)):  # a swept g without a pivot: no effect
+        swept.append(("g", _scalar("g", v["g"]), "g"))
+    if swept:
+        sections["parameters"] = {name: sweep.values[0] for name, sweep, _ in swept}
     try:
-        from eulersym.model import Model
-    except ImportError as exc:  # pragma: no cover - the model package ships with eulersym
-        raise InvalidInput("SCENE", dict(data), f"eulersym.model to read a model scene ({exc})") from None
-    model_data = {k: v for k, v in data.items() if k not in SCENE_SECTIONS and k != "description"}
-    swept = None
-    params = data.get("parameters")
-    if isinstance(params, Mapping):
-        defaults, swept = {}, {}
-        for key, value in params.items():
-            if isinstance(value, (list, tuple, Mapping)):
-                sweep = Sweep.of(f"parameters.{key}", value)
-                defaults[key], swept[key] = sweep.values[0], sweep
-            else:
-                defaults[key] = value
-        model_data["parameters"] = defaults
-        swept = swept or None
-    model = Model.from_dict(model_data)
-    kwargs: dict[str, Any] = {"model": model, "parameters": swept}
-    where: dict[str, str] = {"parameters": "parameters"}
-    for key in ("name", "description"):
-        if key in data:
-            kwargs[key], where[key] = data[key], key
-    for section in SCENE_SECTIONS:
-        table = data.get(section)
-        if table is None:
-            continue
-        if not isinstance(table, Mapping):
-            raise InvalidInput(section, table, f"a [{section}] table with keys " + ", ".join(sorted(_TOML_LAYOUT[section])))
-        layout = _TOML_LAYOUT[section]
-        for sub, value in table.items():
-            if sub not in layout:
-                raise InvalidInput(f"{section}.{sub}", value, f"a key of [{section}]: " + _did_you_mean(sub, layout))
-            target = layout[sub]
-            if isinstance(target, tuple):
-                kw, detail = target
-                if kw in kwargs:
-                    raise InvalidInput(f"{section}.{sub}", value, f"only one of {where[kw]} and {section}.{sub}")
-                kwargs[kw], kwargs[f"{kw}_frame"] = value, detail
-                where[kw] = f"{section}.{sub}"
-            else:
-                kwargs[target], where[target] = value, f"{section}.{sub}"
-    return _construct(cls, kwargs, where)
+        model = Model(**sections)
+    except InvalidInput as exc:
+        kind = next(k for k in ("moments", "tensor", "shape") if v[k] is not None)
+        raise _renamed(exc, functools.partial(_keyword_name, body_kind=kind)) from None
+    return model, swept
+
+
+def _rows(raw) -> list:
+    try:
+        rows = [list(r) for r in raw]
+    except TypeError:
+        raise InvalidInput("tensor", raw, "a 3×3 symmetric inertia tensor") from None
+    if len(rows) != 3 or any(len(r) != 3 for r in rows):
+        raise InvalidInput("tensor", raw, "a 3×3 symmetric inertia tensor")
+    return [[_number(f"tensor[{i}][{j}]", x) for j, x in enumerate(r)] for i, r in enumerate(rows)]
+
+
+#: A model's TOML key → the Scene keyword that wrote it.
+_KEYWORD_OF = {"body.moments": "moments", "body.tensor": "tensor", "body.shape": "shape", "body.origin": "origin",
+               "body.mass": "mass", "body.dimensions": "dimensions", "pivot.l": "l", "pivot.centre_of_mass": "l",
+               "pivot.g": "g", "torque.body": "torque", "torque.space": "torque", "pivot": "l", "torque": "torque"}
+
+
+def _keyword_name(argument: str, body_kind: str | None = None) -> str:
+    """The Scene keyword of a model key (``body.moments[1]`` → ``moments[1]``, ``body.a`` → ``dimensions.a``)."""
+    base, _, rest = argument.partition("[")
+    rest = "[" + rest if rest else ""
+    if base in _KEYWORD_OF:
+        return _KEYWORD_OF[base] + rest
+    if base.startswith("body.dimensions."):
+        return "dimensions." + base[len("body.dimensions."):]
+    if base.startswith("body.") and base[5:] in ("a", "b", "c", "R", "h", "L"):
+        return "dimensions." + base[5:]
+    if base == "body":
+        return (body_kind or "moments") + rest
+    return argument
+
+
+def _renamed(exc: InvalidInput, rename) -> InvalidInput:
+    """``exc`` with its argument renamed (a keyword scene's errors name its keywords, not the model's keys)."""
+    if rename is None or type(exc) is not InvalidInput:
+        return exc
+    return InvalidInput(rename(exc.argument), exc.value, exc.expected)
+
+
+def _parameters(model, raw) -> tuple:
+    """A scene's parameter values: ``((name, float or Sweep, label), ...)`` in the given order."""
+    if raw is None:
+        return ()
+    if isinstance(raw, tuple) and all(isinstance(p, tuple) and len(p) in (2, 3) for p in raw):
+        entries = [(p[0], p[1], p[2] if len(p) == 3 else f"parameters.{p[0]}") for p in raw]  # the normalised form
+    elif isinstance(raw, Mapping):
+        entries = [(name, value, f"parameters.{name}") for name, value in raw.items()]
+    else:
+        raise InvalidInput("parameters", raw, "a mapping of parameter names to values (numbers, lists or ranges to sweep)")
+    known = tuple(model.parameters)
+    out = []
+    for name, value, label in entries:
+        if not isinstance(name, str) or name not in known:
+            raise InvalidInput(f"parameters.{name}", value, "a parameter of the model: " + (
+                _did_you_mean(str(name), known) if known else "the model has none"))
+        argument = label if not label.startswith("parameters.") else f"parameters.{name}"
+        out.append((name, _scalar(argument, value), label))
+    return tuple(out)
 
 
 def _construct(cls, kwargs: dict, where: dict):
@@ -586,10 +826,6 @@ def _construct(cls, kwargs: dict, where: dict):
     except InvalidInput as exc:
         base = exc.argument.split("[")[0].split(".")[0]
         rest = exc.argument[len(base):]
-        if exc.argument.startswith("dimensions.") and exc.argument in where:
-            raise InvalidInput(where[exc.argument], exc.value, exc.expected) from None
-        if exc.argument.startswith("dimensions."):  # a dimension the file lacks: it goes in [body]
-            raise InvalidInput("body." + exc.argument[len("dimensions."):], exc.value, exc.expected) from None
         if base in where:
             raise InvalidInput(where[base] + rest, exc.value, exc.expected) from None
         if base in _TOML_PATHS:  # a key the file lacks: name where it would go
@@ -597,63 +833,22 @@ def _construct(cls, kwargs: dict, where: dict):
         raise
 
 
+def _choice(argument, value, valid):
+    if not isinstance(value, str) or value not in valid:
+        raise InvalidInput(argument, value, _did_you_mean(str(value), valid))
+    return value
+
+
 def _normalise(v: dict) -> dict:
-    """Validate and normalise the keyword values of a Scene (raises InvalidInput naming the key)."""
-    out = dict(v)
-    for key in ("name", "description"):
-        if not isinstance(v[key], str):
-            raise InvalidInput(key, v[key], "a string")
-    # ---- a model, or a body -------------------------------------------------------------------------------------
-    out["parameters"] = _parameters(v["model"], v["parameters"])
-    given = [k for k in ("moments", "tensor", "shape") if v[k] is not None]
-    if v["model"] is not None:
-        if not (hasattr(v["model"], "digest") and hasattr(v["model"], "generate")):
-            raise InvalidInput("model", v["model"], "an eulersym.model.Model (Model(...), Model.from_toml(path))")
-    elif not given:
-        raise InvalidInput("moments", None, "a body: one of moments (I1, I2, I3), tensor (3×3) or shape (with mass and dimensions)")
-    if len(given) > 1:
-        raise InvalidInput(given[1], v[given[1]], f"only one body description; {given[0]} is given too")
-    if v["mass"] is not None:
-        out["mass"] = _scalar("mass", v["mass"], sweepable=v["shape"] is None)
-        if np.any(_values(out["mass"]) <= 0):
-            raise InvalidInput("mass", v["mass"], "a positive mass")
-    if v["moments"] is not None:
-        moments = _vector("moments", v["moments"], 3)
-        _check_moments("moments", moments, v["moments"])
-        out["moments"] = moments
-    if v["tensor"] is not None:
-        out["tensor"] = _tensor(v["tensor"])
-    if v["shape"] is not None:
-        out["shape"], out["dimensions"], out["origin"] = _shape(v)
-    else:
-        for key in ("dimensions", "origin"):
-            if v[key] is not None:
-                raise InvalidInput(key, v[key], "no shape dimensions or origin unless a shape is given")
-    # ---- pivot, gravity, torque -----------------------------------------------------------------------------
-    out["g"] = _scalar("g", v["g"])
-    if np.any(_values(out["g"]) < 0):
-        raise InvalidInput("g", v["g"], "gravity g >= 0 (it points down, along -z in space)")
-    if v["l"] is not None and v["shape"] is not None:
-        out["l"] = _pivot_on_shape(v, out)
-    elif v["l"] is FROM_SHAPE:
-        raise InvalidInput("l", None, "a number: the pivot–centre-of-mass distance (only a shape gives its own)")
-    elif v["l"] is not None:
-        out["l"] = _scalar("l", v["l"])
-    if v["l"] is not None:
-        if np.any(_values(out["l"]) < 0):
-            raise InvalidInput("l", v["l"], "a distance l >= 0 from the pivot to the centre of mass (along +e3)")
-        if out["mass"] is None:
-            raise InvalidInput("mass", None, "the body's mass M: a pivoted body under gravity feels the torque M g l")
-    out["torque_frame"] = validation.choice("torque_frame", v["torque_frame"], ("body", "space"))
-    if v["torque"] is not None:
-        out["torque"] = _vector("torque", v["torque"], 3)
-    # ---- initial attitude and angular velocity ----------------------------------------------------------------
+    """Validate and normalise the scene's own keyword values: the start, the times, the outputs (InvalidInput
+    naming the key)."""
+    out = {}
     out["convention"] = _choice("convention", v["convention"], CONVENTIONS)
     attitude = [k for k in ("euler", "quaternion", "axis") if v[k] is not None]
     if len(attitude) > 1:
         raise InvalidInput(attitude[1], v[attitude[1]], f"one attitude description; {attitude[0]} is given too")
-    if v["euler"] is not None:
-        out["euler"] = _vector("euler", v["euler"], 3)
+    out["euler"] = _vector("euler", v["euler"], 3) if v["euler"] is not None else None
+    out["quaternion"] = None
     if v["quaternion"] is not None:
         q = _vector("quaternion", v["quaternion"], 4, sweepable=False)
         if math.sqrt(sum(c * c for c in q)) < 1e-12:
@@ -662,6 +857,7 @@ def _normalise(v: dict) -> dict:
     if (v["axis"] is None) != (v["angle"] is None):
         missing = "angle" if v["angle"] is None else "axis"
         raise InvalidInput(missing, None, "both axis and angle for an axis–angle attitude")
+    out["axis"] = out["angle"] = None
     if v["axis"] is not None:
         axis = _vector("axis", v["axis"], 3, sweepable=False)
         if math.sqrt(sum(c * c for c in axis)) < 1e-12:
@@ -669,6 +865,7 @@ def _normalise(v: dict) -> dict:
         out["axis"] = axis
         out["angle"] = _scalar("angle", v["angle"])
     out["omega_frame"] = validation.choice("omega_frame", v["omega_frame"], ("body", "space"))
+    out["euler_rates"] = None
     if v["euler_rates"] is not None:
         out["euler_rates"], out["omega"] = _omega_from_euler_rates(v, out)
     elif v["omega"] is None:
@@ -676,7 +873,6 @@ def _normalise(v: dict) -> dict:
                                           "euler_rates = [phidot, thetadot, psidot] with euler = [...])")
     else:
         out["omega"] = _vector("omega", v["omega"], 3)
-    # ---- time, outputs, accuracy -------------------------------------------------------------------------------
     if v["t_end"] is None:
         raise InvalidInput("t_end", None, "the end time t_end > 0")
     out["t_end"] = _scalar("t_end", v["t_end"], sweepable=False)
@@ -702,152 +898,7 @@ def _normalise(v: dict) -> dict:
     out["method"] = _choice("method", v["method"], METHODS)
     out["memory"] = None if v["memory"] is None else _sweep_cost.parse_size("memory", v["memory"])
     out["work"] = None if v["work"] is None else _sweep_cost.parse_work("work", v["work"])
-    if v["model"] is None:
-        _check_consistency(out)  # a model's plan checks what its kernel can give
-        _check_scales(out, v)
     return out
-
-
-def _parameters(model, raw):
-    """A model scene's parameter values: ``((name, float or Sweep), ...)`` in the given order, or None."""
-    if raw is None:
-        return None
-    if model is None:
-        raise InvalidInput("parameters", raw, "parameters only with a model (Scene(model=Model(...), parameters=...))")
-    if isinstance(raw, tuple) and all(isinstance(p, tuple) and len(p) == 2 for p in raw):
-        raw = dict(raw)  # the normalised form, as dataclasses.replace passes it back
-    if not isinstance(raw, Mapping):
-        raise InvalidInput("parameters", raw, "a mapping of parameter names to values (numbers, lists or ranges to sweep)")
-    known = tuple(getattr(model, "parameters", {}) or {})
-    out = []
-    for name, value in raw.items():
-        if not isinstance(name, str) or name not in known:
-            raise InvalidInput(f"parameters.{name}", value, "a parameter of the model: " + (_did_you_mean(str(name), known) if known else "the model has none"))
-        out.append((name, _scalar(f"parameters.{name}", value)))
-    return tuple(out)
-
-
-def _choice(argument, value, valid):
-    if not isinstance(value, str) or value not in valid:
-        raise InvalidInput(argument, value, _did_you_mean(str(value), valid))
-    return value
-
-
-def _check_moments(argument, moments, raw):
-    """Every member's moments must be those of a body: positive and the triangle inequalities."""
-    arrays = np.meshgrid(*[_values(m) for m in moments], indexing="ij")
-    i1, i2, i3 = (a.ravel() for a in arrays)
-    if np.any(i1 <= 0) or np.any(i2 <= 0) or np.any(i3 <= 0):
-        raise InvalidInput(argument, raw, "three positive principal moments (I1, I2, I3)")
-    scale = np.maximum(np.maximum(i1, i2), i3) * validation.TRIANGLE_SLACK
-    if np.any(i1 + i2 < i3 - scale) or np.any(i2 + i3 < i1 - scale) or np.any(i3 + i1 < i2 - scale):
-        raise InvalidInput(argument, raw, "principal moments of a body: I1 + I2 >= I3, I2 + I3 >= I1, I3 + I1 >= I2")
-
-
-def _tensor(raw) -> tuple:
-    try:
-        rows = [list(r) for r in raw]
-    except TypeError:
-        raise InvalidInput("tensor", raw, "a 3×3 symmetric inertia tensor") from None
-    if len(rows) != 3 or any(len(r) != 3 for r in rows):
-        raise InvalidInput("tensor", raw, "a 3×3 symmetric inertia tensor")
-    arr = np.array([[_number(f"tensor[{i}][{j}]", x) for j, x in enumerate(r)] for i, r in enumerate(rows)])
-    scale = np.max(np.abs(arr))
-    if not np.allclose(arr, arr.T, rtol=0, atol=1e-12 * scale):
-        raise InvalidInput("tensor", raw, "a symmetric tensor (I_jk = I_kj)")
-    eig = np.linalg.eigvalsh(arr)
-    if eig[0] <= 1e-14 * scale:
-        raise InvalidInput("tensor", raw, f"a positive-definite tensor (its principal moments are {eig.tolist()})")
-    if eig[0] + eig[1] < eig[2] * (1 - validation.TRIANGLE_SLACK):
-        raise InvalidInput("tensor", raw, f"the tensor of a body: principal moments {eig.tolist()} must satisfy I1 + I2 >= I3")
-    return tuple(tuple(float(x) for x in r) for r in arr)
-
-
-def _shape(v) -> tuple:
-    shape = _choice("shape", v["shape"], tuple(SHAPES))
-    if v["mass"] is None:
-        raise InvalidInput("mass", None, f"the mass M of the {shape}")
-    dims = dict(v["dimensions"] or {})
-    wanted = SHAPES[shape]
-    for key in dims:
-        if key not in wanted:
-            raise InvalidInput(f"dimensions.{key}", dims[key], f"a dimension of a {shape}: " + _did_you_mean(key, wanted))
-    for key in wanted:
-        if key not in dims:
-            raise InvalidInput(f"dimensions.{key}", None, f"the {shape}'s dimension {key} (it needs {', '.join(wanted)})")
-    clean = []
-    for key in wanted:
-        value = _scalar(f"dimensions.{key}", dims[key], sweepable=False)
-        if value <= 0:
-            raise InvalidInput(f"dimensions.{key}", dims[key], "a positive length")
-        clean.append((key, value))
-    origin = v["origin"]
-    if shape in SHAPE_ORIGINS:
-        origin = _choice("origin", origin if origin is not None else SHAPE_ORIGINS[shape][0], SHAPE_ORIGINS[shape])
-    elif origin not in (None, "center"):
-        raise InvalidInput("origin", origin, f"no origin for a {shape} (its centre is the origin)")
-    else:
-        origin = None
-    return shape, tuple(clean), origin
-
-
-def _check_consistency(out: dict) -> None:
-    """Outputs and methods the scene cannot give."""
-    l_vals, g_vals = (_values(out["l"]) if out["l"] is not None else np.zeros(1)), _values(out["g"])
-    heavy = out["l"] is not None and np.any(l_vals != 0) and np.any(g_vals != 0)
-    torqued = out["torque"] is not None and any(np.any(_values(c) != 0) for c in out["torque"])
-    if heavy and torqued:
-        raise InvalidInput("torque", out["torque"], "no extra torque on a pivoted heavy top (gravity is its torque)")
-    if heavy or torqued:
-        why = "the heavy top" if heavy else "a torqued body"
-        if "polhode" in out["outputs"]:
-            raise InvalidInput("outputs", "polhode", f"outputs a torque-free body has; {why} has no polhode (Poinsot's construction needs N = 0)")
-        if out["method"] == "closed-form":
-            raise InvalidInput("method", "closed-form", f"an integrator: eulersym has no closed form for {why}; use 'auto'")
-    if torqued:
-        if "invariants" in out["outputs"]:
-            raise InvalidInput("outputs", "invariants", "outputs a torqued body has: a constant torque conserves neither energy nor |L|")
-        if out["method"] == "splitting":
-            raise InvalidInput("method", "splitting", "an integrator for a torqued body: 'auto' or a solve_ivp method")
-
-
-#: ``[pivot]`` without ``l`` on a shape: the pivot is the shape's origin and l comes from its centre of mass.
-FROM_SHAPE = type("FromShape", (), {"__repr__": lambda self: "<l from the shape>"})()
-
-
-def _pivot_on_shape(v, out) -> float:
-    """l for a shape on a pivot: the pivot is the shape's origin, and the centre of mass must lie on body axis 3
-    at distance l from it (derived by :func:`eulersym.inertia.center_of_mass`); a given l must agree."""
-    shape, dims, origin = out["shape"], dict(out["dimensions"]), out["origin"]
-    if isinstance(v["l"], (list, tuple, Mapping, Sweep)):
-        raise InvalidInput("l", v["l"], f"one number: the {shape}'s centre of mass fixes l (it cannot be swept)")
-    if origin in (None, "center"):
-        derived, where = 0.0, "at the origin: the shape's origin is its centre of mass"
-    else:
-        import sympy as sp  # a shape is derived with SymPy anyway (the plan's first step)
-
-        from eulersym.inertia import Region, center_of_mass
-
-        if shape == "cone":
-            region = Region.cone(sp.Float(dims["R"]), sp.Float(dims["h"]))
-        else:  # cube / cuboid about a corner
-            a, b, c = (dims.get(k, dims.get("a")) for k in ("a", "b", "c"))
-            region = Region.box((0, sp.Float(a)), (0, sp.Float(b)), (0, sp.Float(c)))
-        com = [float(x) for x in center_of_mass(1, region)]
-        if abs(com[0]) > 1e-12 * abs(com[2]) or abs(com[1]) > 1e-12 * abs(com[2]):
-            raise InvalidInput("l", None if v["l"] is FROM_SHAPE else v["l"],
-                               f"no pivot at the {origin} of a {shape}: its centre of mass "
-                               f"({', '.join(f'{x:g}' for x in com)}) is not on body axis 3, and the heavy top "
-                               "needs it there; give moments about the pivot instead")
-        derived, where = com[2], f"{com[2]:g} from the {origin} along e3, derived from the shape"
-    if v["l"] is FROM_SHAPE:
-        return derived
-    given = _scalar("l", v["l"], sweepable=False)
-    if abs(given - derived) > 1e-9 * max(abs(derived), max(dims.values())):
-        raise InvalidInput("l", v["l"], f"l = {derived:g} or no l: a {shape} pivoted at its {origin or 'center'} has "
-                                        f"its centre of mass {where}; a different l contradicts the shape (for "
-                                        "another body give moments about the pivot, and l)")
-    return derived
 
 
 def _omega_from_euler_rates(v, out) -> tuple:
@@ -871,50 +922,71 @@ def _omega_from_euler_rates(v, out) -> tuple:
     return rates, tuple(float(w) for w in omega)
 
 
-#: Magnitudes beyond which double precision cannot carry a scene: the engines multiply two quantities of the size of
-#: |L|² or the energy, and the product must stay below the largest double (1.8e308).
-MAGNITUDE_LIMIT = 1e150
-# the one rate bound of a scene and the phase limit live with its cost (eulersym.scene.cost: the layer below)
-_largest, _inertia_range = largest, inertia_range
+def _check_consistency(scene, regime: Regime) -> None:
+    """Methods the scene's regime cannot give (read from its facts)."""
+    kind = regime.regime
+    if kind == "torque-free":
+        return
+    why = {"heavy top": "the heavy top", "torque": "a torqued body"}.get(kind, f"the model {scene.model.name!r}")
+    if scene.method == "closed-form" and kind != "heavy top":
+        raise InvalidInput("method", "closed-form", f"an integrator: eulersym has no closed form for {why} (it is not "
+                                                    "torque-free); use 'auto'")
+    if scene.method == "splitting" and kind in ("torque", "model"):
+        raise InvalidInput("method", "splitting", f"an integrator {why} allows: 'auto' or a solve_ivp method (no "
+                                                  "splitting for its torques)")
 
 
 def _size(x: float) -> str:
     return f"≈ {x:.3g}" if math.isfinite(x) else "beyond the largest double"
 
 
-def _check_scales(out: dict, raw: dict) -> None:
+def _check_scales(scene, regime: Regime, raw: dict) -> None:
     """Refuse numbers whose motion double precision cannot carry, naming the real cause: an energy or |L|² beyond
     :data:`MAGNITUDE_LIMIT`, a gravity or applied torque that large, or more than :data:`PHASE_LIMIT` radians of
     rotation by t_end. (A scene in other units is the same motion: rescale time or inertia.)"""
-    i_min, i_max = _inertia_range(out)
-    spin = _largest(out["omega"])
+    facts = scene.facts
+    i_max = scene._spread[1]
+    spin = _largest(scene.omega)
     why = ("double precision (largest 1.8e308) cannot carry the products the motion needs; the same motion in "
            "other units (a larger unit of time, a smaller one of inertia) can")
+    body = scene.model.normalised["body"]
+    key = next((f"body.{k}" for k in ("moments", "tensor") if k in body), "body.mass" if "mass" in body else "body")
     if i_max * i_max > MAGNITUDE_LIMIT:
-        key = "moments" if out["moments"] is not None else ("tensor" if out["tensor"] is not None else "mass")
-        raise InvalidInput(key, raw[key], f"moments of inertia below {math.sqrt(MAGNITUDE_LIMIT):.0e} (here up to "
-                                          f"{i_max:.3g}): {why}")
+        raise InvalidInput(key, body.get(key[5:]), f"moments of inertia below {math.sqrt(MAGNITUDE_LIMIT):.0e} (here "
+                                                   f"up to {i_max:.3g}): {why}")
     worst = max((i_max * spin) * (i_max * spin), i_max * spin * spin)
     if worst > MAGNITUDE_LIMIT:
-        key = "euler_rates" if out.get("euler_rates") is not None else "omega"
-        raise InvalidInput(key, raw[key], f"an angular velocity whose |L|² = (I ω)² and energy I ω² stay below "
-                                          f"{MAGNITUDE_LIMIT:.0e} (here {_size(worst)} with |ω| = {spin:.3g} and I up "
-                                          f"to {i_max:.3g}): {why}")
-    if out["l"] is not None and out["mass"] is not None:
-        weight = _largest(out["mass"]) * _largest(out["g"]) * _largest(out["l"])
-        if weight * i_max > MAGNITUDE_LIMIT:
-            raise InvalidInput("mass", raw["mass"], f"a gravity torque M g l below {MAGNITUDE_LIMIT / i_max:.3g} "
-                                                    f"(here M g l ≈ {weight:.3g}): {why}")
-    if out["torque"] is not None and _largest(out["torque"]) * max(i_max, 1.0) > MAGNITUDE_LIMIT:
-        raise InvalidInput("torque", raw["torque"], f"a torque below {MAGNITUDE_LIMIT / max(i_max, 1.0):.3g} (here "
-                                                    f"up to {_largest(out['torque']):.3g}): {why}")
-    rate = rate_bound(out)
+        key_w = "euler_rates" if scene.euler_rates is not None else "omega"
+        raise InvalidInput(key_w, raw[key_w], f"an angular velocity whose |L|² = (I ω)² and energy I ω² stay below "
+                                              f"{MAGNITUDE_LIMIT:.0e} (here {_size(worst)} with |ω| = {spin:.3g} and I "
+                                              f"up to {i_max:.3g}): {why}")
+    weight = float(np.max(facts.weight))
+    if weight * i_max > MAGNITUDE_LIMIT:
+        raise InvalidInput("body.mass", body.get("mass"), f"a gravity torque M g l below {MAGNITUDE_LIMIT / i_max:.3g} "
+                                                          f"(here M g l ≈ {weight:.3g}): {why}")
+    torque = max((float(np.max(np.abs(t))) for t in (facts.torque_body, facts.torque_space) if t is not None),
+                 default=0.0)
+    if torque * max(i_max, 1.0) > MAGNITUDE_LIMIT:
+        frame = "body" if facts.torque_body is not None else "space"
+        raise InvalidInput(f"torque.{frame}", scene.model.normalised["torque"][frame],
+                           f"a torque below {MAGNITUDE_LIMIT / max(i_max, 1.0):.3g} (here up to {torque:.3g}): {why}")
+    rate = rate_bound(scene)
     if i_max * rate * rate > MAGNITUDE_LIMIT or (i_max * rate) * (i_max * rate) > MAGNITUDE_LIMIT:
-        key = "torque" if out["torque"] is not None else "mass"
-        raise InvalidInput(key, raw[key], f"a motion whose energy stays below {MAGNITUDE_LIMIT:.0e}: |ω| reaches "
-                                          f"≈ {rate:.3g} by t_end = {out['t_end']:g}, so I ω² is "
-                                          f"{_size(i_max * rate * rate)}: {why}")
-    refuse_phase("t_end", raw["t_end"], rate, out["t_end"])
+        key_r = "torque.body" if torque else "body.mass"
+        raise InvalidInput(key_r, raw.get(key_r[key_r.index(".") + 1:]) if torque else body.get("mass"),
+                           f"a motion whose energy stays below {MAGNITUDE_LIMIT:.0e}: |ω| reaches ≈ {rate:.3g} by "
+                           f"t_end = {scene.t_end:g}, so I ω² is {_size(i_max * rate * rate)}: {why}")
+    refuse_phase("t_end", raw["t_end"], rate, scene.t_end)
+
+
+def _largest(x) -> float:
+    if x is None:
+        return 0.0
+    if isinstance(x, (int, float)):
+        return abs(float(x))
+    if isinstance(x, tuple):
+        return max((_largest(c) for c in x), default=0.0)
+    return float(np.max(np.abs(_values(x))))
 
 
 def load(scene) -> Scene:

@@ -5,9 +5,10 @@ A layer under :mod:`eulersym.scene` (it never imports the scene): pure functions
 - :mod:`~eulersym.sweeps.cost` — bytes and kernel evaluations a sweep needs, budgets, refusals with what would fit;
 - :mod:`~eulersym.sweeps.summary` — per-member min/max/final, the largest tilt, invariant drift;
 - :mod:`~eulersym.sweeps.chunks` — members a chunk at a time (:mod:`~eulersym.sweeps.outputs`: the preallocated outputs);
-- :mod:`~eulersym.sweeps.distributed` — the chunks as Dask tasks (the optional ``dask`` extra);
-- :mod:`~eulersym.sweeps.members_dop853` — DOP853 compiled by numba, a heavy top per ``prange`` iteration with its
-  own step (the optional ``fast`` extra).
+- :mod:`~eulersym.sweeps.distributed` — the chunks as Dask tasks (the optional ``dask`` extra).
+
+The methods that run a sweep's members (and their cost, which :mod:`~eulersym.sweeps.cost` reads) live in
+:mod:`eulersym.numerics.methods`.
 
 Examples
 --------
@@ -25,7 +26,7 @@ __all__ = ["cost", "summary", "chunks", "distributed"]
 
 def __getattr__(name: str):
     if name == "distributed":  # imports dask only when asked for
-        import importlib
+        import eulersym.sweeps.distributed  # the import sets the attribute: no recursion into __getattr__
 
-        return importlib.import_module(f"{__name__}.distributed")
+        return eulersym.sweeps.distributed
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

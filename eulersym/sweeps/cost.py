@@ -32,6 +32,7 @@ import re
 from dataclasses import dataclass
 
 from eulersym.errors import InvalidInput
+from eulersym.numerics.methods import Cost, costs
 
 __all__ = [
     "Engine",
@@ -57,56 +58,13 @@ MAX_CHUNK = 65536
 DEFAULT_WORK_BUDGET = 5e10
 
 
-@dataclass(frozen=True)
-class Engine:
-    """What the cost model knows of a way of getting the motion.
+#: What the cost model knows of a way of getting the motion: the method's :class:`~eulersym.numerics.methods.Cost`
+#: (order, stages per step, the steps' constant, working arrays, the grain of members that step together, seconds
+#: per evaluation, threaded), kept on the method itself.
+Engine = Cost
 
-    Attributes
-    ----------
-    name : str
-    order : int
-        Convergence order p (0 for a closed form: no steps).
-    stages : int
-        Kernel evaluations per step (a closed form: evaluations per output time).
-    constant : float
-        c in ``steps ≈ c · Ω T / accuracy^(1/p)`` (calibrated on the bundled scenes).
-    working : int
-        State-sized arrays the engine holds per member while it steps (stages, temporaries).
-    threaded : bool
-        The engine runs its members on every core itself (numba ``prange``); the others run one chunk per core.
-    grain : int
-        Members that step together (an adaptive method shares one step size in a group of this size); chunks are
-        multiples of it, so chunked and unchunked runs compute the same groups, bit for bit.
-    seconds_per_evaluation : float
-        Seconds per member per kernel evaluation per state component (batched NumPy on this machine, order of
-        magnitude only).
-
-    Examples
-    --------
-    >>> ENGINES["dop853"].stages
-    12
-    """
-
-    name: str
-    order: int
-    stages: int
-    constant: float
-    working: int
-    grain: int
-    seconds_per_evaluation: float
-    threaded: bool = False
-
-
-#: Engines the cost model knows; a plan names one of them.
-ENGINES = {
-    "dop853": Engine("dop853", order=8, stages=12, constant=0.12, working=22, grain=4096, seconds_per_evaluation=8e-9),
-    "dop853-members": Engine("dop853-members", order=8, stages=12, constant=0.16, working=6, grain=1,
-                             seconds_per_evaluation=7e-9, threaded=True),
-    "yoshida4": Engine("yoshida4", order=4, stages=3, constant=0.6, working=8, grain=1, seconds_per_evaluation=6e-9),
-    "strang": Engine("strang", order=2, stages=1, constant=1.0, working=6, grain=1, seconds_per_evaluation=6e-9),
-    # the heavy top's closed form holds ~15 kB per member while it evaluates (measured with tracemalloc)
-    "closed-form": Engine("closed-form", order=0, stages=1, constant=1.0, working=110, grain=1, seconds_per_evaluation=4e-7),
-}
+#: The cost models a plan's method may name, from the methods themselves (:func:`eulersym.numerics.methods.costs`).
+ENGINES = costs()
 
 
 @dataclass(frozen=True)

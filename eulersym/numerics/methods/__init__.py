@@ -1,0 +1,236 @@
+"""Ways of getting a rigid body's motion, one class each, in one registry — and the one driver that runs them.
+
+The model is ``scipy.integrate``: ``OdeSolver`` (one class per method, its facts on the class) and ``solve_ivp``'s
+``METHODS`` (one table, one driver). A :class:`Method` says whether it applies to a :class:`Problem` (and why not),
+how a plan describes it, what it costs (:class:`Cost`, read by :mod:`eulersym.sweeps.cost`), and runs a prepared
+problem into one batch-first :class:`~eulersym.numerics.trajectory.Trajectory`. :data:`METHODS` lists them in order
+of preference — exact before integrated, geometric where asked for, a step per member before a shared one, many
+members before one — so a plan is :func:`choose`: the first method that applies, with every method before it and
+why it did not (the plan prints those worth a word, :func:`worth_saying`: a closed form's). :func:`solve` runs the chosen one; members a closed form refuses
+(:class:`~eulersym.errors.SingularConfiguration`) go to its fallback one by one. A run that fails raises
+:class:`~eulersym.errors.IntegrationFailed`.
+
+=========================  ==========================================================================================
+``free_body_exact``        the torque-free body in closed form (Jacobi's elliptic functions; trigonometric if symmetric)
+``heavy_top_exact``        Lagrange's top in closed form (every member in one call)
+``free_body_splitting``    the free body's 4th-order Moser–Veselov splitting (asked for, one member)
+``batched_splitting``      a pivoted body's exact-flow splitting over members, a step each (asked for)
+``compiled_dop853``        DOP853 compiled by numba, a heavy top per member (sweeps, numba installed)
+``batched_dop853``         DOP853 over all members at once on the batched kernels (sweeps)
+``heavy_top_splitting``    the symmetric heavy top's Yoshida splitting (one member, loose accuracy or asked for)
+``ivp``                    ``scipy.integrate.solve_ivp`` on a kernel (one member)
+=========================  ==========================================================================================
+
+Methods live here, below the scene: they never import it. Each imports what it computes with when it runs.
+
+Examples
+--------
+>>> import numpy as np
+>>> p = Problem(name="p", regime="torque-free", t=np.linspace(0.0, 1.0, 3), batch=1, members={},
+...             moments=np.array([[1.0, 2.0, 3.0]]), axes=np.eye(3), omega0=np.array([[0.0, 1.0, 0.0]]),
+...             q0=np.array([[1.0, 0.0, 0.0, 0.0]]), gamma0=np.array([[0.0, 0.0, 1.0]]))
+>>> method, declined = choose(p)
+>>> method.name, declined
+('free_body_exact', ())
+>>> solve(p, method.name)[0].omega.shape
+(1, 3, 3)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from eulersym.errors import InvalidInput, SingularConfiguration
+from eulersym.numerics.methods._base import (
+    REGIMES,
+    Cost,
+    Explanation,
+    Method,
+    Problem,
+    classify_moments,
+    symmetric_about_axis3,
+    tolerances,
+)
+from eulersym.numerics.methods._free_body import FreeBodyClosedForm
+from eulersym.numerics.methods._heavy_top import LagrangeTopClosedForm
+from eulersym.numerics.methods._splitting import (
+    SPLITTING_ACCURACY,
+    FreeBodySplitting,
+    HeavyTopSplitting,
+    PivotedSplitting,
+)
+from eulersym.numerics.methods._integrators import BatchedDOP853, CompiledDOP853, SolveIVP
+from eulersym.numerics.trajectory import Trajectory
+
+__all__ = [
+    "METHODS",
+    "Method",
+    "Problem",
+    "Cost",
+    "Explanation",
+    "get",
+    "choose",
+    "worth_saying",
+    "solve",
+    "costs",
+    "tolerances",
+    "classify_moments",
+    "symmetric_about_axis3",
+    "REGIMES",
+    "SPLITTING_ACCURACY",
+    "FreeBodyClosedForm",
+    "LagrangeTopClosedForm",
+    "FreeBodySplitting",
+    "PivotedSplitting",
+    "CompiledDOP853",
+    "BatchedDOP853",
+    "HeavyTopSplitting",
+    "SolveIVP",
+]
+
+#: Every method, in order of preference: name → the method.
+METHODS = {m.name: m for m in (
+    FreeBodyClosedForm(),
+    LagrangeTopClosedForm(),
+    FreeBodySplitting(),
+    PivotedSplitting(),
+    CompiledDOP853(),
+    BatchedDOP853(),
+    HeavyTopSplitting(),
+    SolveIVP(),
+)}
+
+
+def get(name: str) -> Method:
+    """The method called ``name``.
+
+    Examples
+    --------
+    >>> get("ivp").cost.name
+    'dop853'
+    >>> get("rk4")
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: method='rk4' is not valid: expected one of 'batched_dop853', 'batched_splitting', 'compiled_dop853', 'free_body_exact', 'free_body_splitting', 'heavy_top_exact', 'heavy_top_splitting', 'ivp'
+    """
+    try:
+        return METHODS[name]
+    except (KeyError, TypeError):
+        raise InvalidInput("method", name, "one of " + ", ".join(repr(n) for n in sorted(METHODS))) from None
+
+
+def choose(problem: Problem) -> tuple:
+    """``(method, declined)``: the first method of :data:`METHODS` that applies to ``problem``, and ``((method,
+    reason), ...)`` for every method before it, each with why it did not apply. Pure: runs nothing. (A plan prints
+    the reasons worth a line: :func:`worth_saying`.)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> p = Problem(name="p", regime="heavy top", t=np.linspace(0.0, 1.0, 3), batch=1, members={},
+    ...             moments=np.array([[1.0, 1.5, 0.5]]), axes=np.eye(3), mass=np.ones(1), g=np.full(1, 9.81),
+    ...             l=np.full(1, 0.1))
+    >>> method, declined = choose(p)
+    >>> method.name, [(m.name, why[:7]) for m, why in worth_saying(p, declined)]
+    ('ivp', [('heavy_top_exact', 'I1 ≠ I2')])
+    """
+    declined = []
+    for method in METHODS.values():
+        why = method.applies(problem)
+        if why is None:
+            return method, tuple(declined)
+        declined.append((method, why))
+    raise InvalidInput("problem", problem.regime, "a problem some method applies to")  # SolveIVP takes any one member
+
+
+def worth_saying(problem: Problem, declined) -> tuple:
+    """The declines a plan prints as skip lines: those of the methods that announce them (:attr:`Method.announce`:
+    the closed forms — "why was it integrated?") and serve the problem's regime.
+
+    Examples
+    --------
+    >>> worth_saying(None, ())
+    ()
+    """
+    return tuple((m, why) for m, why in declined if m.announce and problem.regime in m.regimes)
+
+
+def solve(problem: Problem, name: str, *, progress=None) -> tuple:
+    """``(trajectory, singular)``: the method ``name`` on the prepared ``problem``. Members the method refuses
+    (:class:`~eulersym.errors.SingularConfiguration`: a closed form's start it cannot represent) are run by its
+    :attr:`~Method.fallback` instead, one by one — the others keep the method, found by halving (a few singular
+    members cost a few extra calls) — and ``singular`` lists their indices (empty when none). Nothing is left as NaN.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> p = Problem(name="p", regime="heavy top", t=np.linspace(0.0, 1.0, 3), batch=3, members={},
+    ...             moments=np.ones((3, 3)), axes=np.eye(3), mass=np.ones(3), g=np.full(3, 9.81), l=np.full(3, 0.3),
+    ...             omega0=np.array([[0.0, 0.0, 3.0], [1e-80, 0.0, 3.0], [0.5, 0.0, 3.0]]),
+    ...             q0=np.tile([1.0, 0.0, 0.0, 0.0], (3, 1)), gamma0=np.tile([0.0, 0.0, 1.0], (3, 1)))
+    >>> traj, singular = solve(p, "heavy_top_exact")
+    >>> singular, bool(np.all(np.isfinite(traj.omega)))
+    ((1,), True)
+    """
+    method = get(name)
+    try:
+        return method.run(problem, progress=progress), ()
+    except SingularConfiguration:
+        if method.fallback is None:
+            raise
+    pieces = _split(problem, name, method.fallback, 0, problem.batch, failed=True)
+    singular = tuple(lo for lo, _, _, fell_back in pieces if fell_back)
+    if progress is not None:
+        progress(1.0)
+    if len(pieces) == 1:
+        return pieces[0][2], singular
+    return _join([traj for _, _, traj, _ in pieces]), singular
+
+
+def _split(problem: Problem, name: str, fallback: str, lo: int, hi: int, *, failed: bool = False) -> list:
+    """``[(lo, hi, trajectory, fell_back)]`` covering members ``lo:hi`` in order: the method on every run of members
+    it accepts, found by halving, the fallback on each member it refuses."""
+    if not failed:
+        try:
+            return [(lo, hi, get(name).run(problem.take(lo, hi)), False)]
+        except SingularConfiguration:
+            pass
+    if hi - lo == 1:
+        return [(lo, hi, get(fallback).run(problem.take(lo, hi)), True)]
+    mid = (lo + hi) // 2
+    return _split(problem, name, fallback, lo, mid) + _split(problem, name, fallback, mid, hi)
+
+
+def _join(pieces: list) -> Trajectory:
+    """One batch-first trajectory of the members of ``pieces``, in order; a field only some give is dropped."""
+    joined = {}
+    for f in dataclasses.fields(Trajectory):
+        values = [getattr(traj, f.name) for traj in pieces]
+        if f.name == "t":
+            joined[f.name] = values[0]
+        elif f.name == "n_rhs_calls":
+            joined[f.name] = sum(int(v) for v in values)
+        elif f.name == "q_unit":
+            joined[f.name] = all(values)
+        elif f.name in ("method", "message"):
+            joined[f.name] = " + ".join(dict.fromkeys(values))
+        elif f.name == "status":
+            joined[f.name] = max(values)
+        elif all(isinstance(v, np.ndarray) for v in values):
+            joined[f.name] = np.concatenate(values, axis=0)
+        else:
+            joined[f.name] = None
+    return Trajectory(**joined)
+
+
+def costs() -> dict:
+    """``{name: Cost}`` of the cost model: each method's (methods of one arithmetic share one).
+
+    Examples
+    --------
+    >>> sorted(costs())
+    ['closed-form', 'dop853', 'dop853-members', 'yoshida4']
+    """
+    return {m.cost.name: m.cost for m in METHODS.values()}
