@@ -51,6 +51,7 @@ import sympy as sp
 
 from eulersym.codegen import emitter
 from eulersym.codegen.emitter import Argument, CsePass, FunctionSpec, emit_function, emit_loop, make_printer
+from eulersym.codegen.runtime import RUNTIME_SOURCE
 from eulersym.errors import InvalidInput
 from eulersym.model.mechanics import Q, t
 from eulersym.model.rolling import BodyOnPlane, newton_euler
@@ -295,10 +296,10 @@ def _source(body: BodyOnPlane, name: str, versions: tuple | None) -> str:
     imports = ["", "import numpy as np"]
     if used:
         imports.append(f"from math import {', '.join(used)}")
-    imports += ["", emitter._RUNTIME_IMPORT]
     names = [f.name + suffix for suffix in ("", "_flat", "_batched", "_loop") for f in functions]
     names += ["STATE", "PARAMETERS", "DEFAULTS", "INVARIANTS", "OUTPUTS", "FLAGS", "lift_off"]
     parts = header + wrapped + imports + ["", f"__all__ = {names!r}", "", _contract(body, eqs.state, conserved), ""]
+    parts += ["", RUNTIME_SOURCE.rstrip("\n"), ""]
     for text in scalar + flat + batched + loops:
         parts += ["", text, ""]
     return "\n".join(parts).rstrip("\n") + "\n"
