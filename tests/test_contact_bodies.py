@@ -1,0 +1,160 @@
+"""The bundled bodies on a plane and on a moving pivot, against what the literature says of them.
+
+Each test runs the generated kernel (:mod:`eulersym.model.rolling_kernels`, :mod:`eulersym.model.kernels`) and
+checks it against a truth written here independently of the derivation: a closed-form motion, a formula from the
+literature (Moffatt's Euler disk, Kapitza's threshold), or an integral computed by hand from its definition.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import pytest
+import sympy as sp
+from scipy.integrate import solve_ivp
+
+from eulersym.model.contact_examples import examples
+from eulersym.model.contact_motion import integrate, start
+from eulersym.model.mechanics import Mechanics, t
+from eulersym.model.moving_pivot import kapitza_threshold, moving_pivot
+
+
+@functools.lru_cache(maxsize=None)
+def _kernel(name):
+    from eulersym.model.rolling_kernels import compile
+
+    return compile(examples()[name])
+
+
+def _tilt_about_x(angle):
+    """q (scalar first) of a turn by ``angle`` about the space x axis: Γ = (0, sin angle, cos angle)."""
+    return (np.cos(angle / 2), np.sin(angle / 2), 0.0, 0.0)
+
+
+def _space(q, v):
+    """R(q) v: body components to space (q scalar first), written out here."""
+    q0, q1, q2, q3 = q
+    R = np.array([[1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
+                  [2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1)],
+                  [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (q1 * q1 + q2 * q2)]])
+    return R @ v
+
+
+def test_a_homogeneous_sphere_rolls_in_a_straight_line_at_v_equal_a_omega(rng):
+    """Landau & Lifshitz §38: the rolling homogeneous sphere keeps ω constant in space and its centre moves
+    uniformly, v = ω × (a ẑ) = a (ω_y, −ω_x, 0)."""
+    kernel = _kernel("rolling-sphere")
+    a = dict(zip(kernel.PARAMETERS, kernel.DEFAULTS))["a"]
+    q = rng.normal(size=4)
+    q /= np.linalg.norm(q)
+    omega = rng.normal(size=3) * 5
+    times = np.linspace(0.0, 2.0, 9)
+    motion = integrate(kernel, start(kernel, omega=omega, q=q), times)
+    w = _space(q, omega)
+    expected = np.stack([a * w[1] * times, -a * w[0] * times], axis=1)
+    assert np.allclose(np.stack([motion["x_cm"], motion["y_cm"]], axis=1), expected, rtol=0, atol=1e-9)
+    for row in motion.y:  # ω in space stays what it was
+        assert np.allclose(_space(row[6:10], row[:3]), w, atol=1e-8)
+    assert np.allclose(motion["N"], 9.81 * dict(zip(kernel.PARAMETERS, kernel.DEFAULTS))["M"], atol=1e-9)
+
+
+def test_the_chaplygin_ball_keeps_its_energy_and_its_momentum_about_the_contact(rng):
+    """Chaplygin (1903): with K = I ω + M a² (ω − (ω·Γ) Γ) (the momentum about the contact point), E, K·Γ and
+    |K|² are integrals; written here from their definitions, evaluated along the kernel's motion."""
+    kernel = _kernel("chaplygin-ball")
+    p = dict(zip(kernel.PARAMETERS, kernel.DEFAULTS))
+    I, M, a = np.diag([p["I1"], p["I2"], p["I3"]]), p["M"], p["a"]
+    q = rng.normal(size=4)
+    q /= np.linalg.norm(q)
+    motion = integrate(kernel, start(kernel, omega=rng.normal(size=3) * 4, q=q), np.linspace(0.0, 3.0, 31))
+    w, G = motion.y[:, 0:3], motion.y[:, 3:6]
+    K = w @ I + M * a ** 2 * (w - np.sum(w * G, axis=1)[:, None] * G)
+    v = a * np.cross(w, G)
+    E = 0.5 * np.einsum("ni,ij,nj->n", w, I, w) + 0.5 * M * np.sum(v * v, axis=1)
+    for name, value in {"E": E, "K.Gamma": np.sum(K * G, axis=1), "|K|^2": np.sum(K * K, axis=1)}.items():
+        assert np.ptp(value) < 1e-8 * np.max(np.abs(value)), name  # solve_ivp at rtol 1e-10
+    assert np.ptp(np.sum(w * w, axis=1)) > 1e-3  # the motion itself is not trivial: |ω| changes
+
+
+def test_the_tippe_top_inverts_when_spun_fast_with_jelletts_integral_held():
+    """Gliding tippe top (Rauch-Wojciechowski & Rutstam 2014; Ueda et al. 2005): 1 − α < I1/I3 < 1 + α, spun fast
+    it turns over (Γ3 → −1) and keeps Jellett's λ = L·(r_P); spun slowly it stays up."""
+    kernel = _kernel("tippe-top")
+    p = dict(zip(kernel.PARAMETERS, kernel.DEFAULTS))
+    assert 1 - p["alpha"] < p["gamma_ratio"] < 1 + p["alpha"]
+    times = np.linspace(0.0, 6.0, 61)
+    fast = integrate(kernel, start(kernel, omega=(0, 0, 100.0), q=_tilt_about_x(0.1)), times, rtol=1e-8,
+                     atol=1e-10)
+    assert fast["gamma3"][-1] < -0.99 and np.all(fast["gamma3"][-10:] < -0.99)
+    # Jellett's λ = L·r_P, r_P = R (α ê3 − Γ) from the centre of mass: by hand
+    R, alpha = p["R"], p["alpha"]
+    L = fast.y[:, 0:3] * np.array([p["gamma_ratio"], p["gamma_ratio"], 1.0]) * p["I3"]
+    r = R * (np.array([0.0, 0.0, alpha]) - fast.y[:, 3:6])
+    jellett = np.sum(L * r, axis=1)
+    assert np.ptp(jellett) < 1e-8 * abs(jellett[0])
+    assert np.allclose(fast.invariants[:, list(kernel.INVARIANTS).index("Jellett")], jellett, rtol=1e-12, atol=0)
+    slow = integrate(kernel, start(kernel, omega=(0, 0, 20.0), q=_tilt_about_x(0.1)), times, rtol=1e-8, atol=1e-10)
+    assert np.all(slow["gamma3"] > 0.99)
+
+
+@pytest.mark.parametrize("tilt", [0.3, 0.8])
+def test_eulers_disk_rolls_in_place_at_moffatts_rate(tilt):
+    """Moffatt (Nature 404 (2000) 833): a thin disk rolling in place at the angle α to the table turns at
+    Ω² sin α = 4 g / a; its ω lies along the diameter through the contact, |ω| = Ω sin α. The tilt, the centre
+    and the normal force M g stay; 5 % off the rate, the tilt does not."""
+    kernel = _kernel("euler-disk")
+    p = dict(zip(kernel.PARAMETERS, kernel.DEFAULTS))
+    rate = np.sqrt(4 * p["g"] / (p["a"] * np.sin(tilt)))
+    times = np.linspace(0.0, 3 * 2 * np.pi / rate, 31)
+    steady = integrate(kernel, start(kernel, omega=(0, rate * np.sin(tilt), 0), q=_tilt_about_x(tilt)), times)
+    assert np.ptp(steady["gamma3"]) < 1e-10 and np.ptp(steady["x_cm"]) < 1e-12
+    assert np.allclose(steady["N"], p["M"] * p["g"], rtol=1e-10)
+    trace = np.hypot(steady["x_P"], steady["y_P"])  # the contact point's trace: a circle of radius a cos α
+    assert np.allclose(trace, p["a"] * np.cos(tilt), rtol=1e-10)
+    off = integrate(kernel, start(kernel, omega=(0, 1.05 * rate * np.sin(tilt), 0), q=_tilt_about_x(tilt)), times)
+    assert np.ptp(off["gamma3"]) > 1e-3
+
+
+def test_the_rattleback_reverses_one_sense_of_spin_only():
+    """Kane & Levinson (1982), their rattleback: spun one way about the vertical it rocks and reverses within
+    seconds; spun the other way, over the same time, it keeps its sense."""
+    kernel = _kernel("rattleback")
+    times = np.linspace(0.0, 10.0, 41)
+    spins = {}
+    for sense in (+1, -1):
+        motion = integrate(kernel, start(kernel, omega=(0, 0, 2.0 * sense), q=_tilt_about_x(0.02)), times,
+                           rtol=1e-9, atol=1e-11)
+        spins[sense] = np.sum(motion.y[:, 0:3] * motion.y[:, 3:6], axis=1)  # ω·Γ, the spin about the vertical
+        energy = motion.invariants[:, list(kernel.INVARIANTS).index("E")]
+        assert np.ptp(energy) < 1e-9 * abs(energy[0])
+    assert np.all(spins[+1] > 1.0)
+    assert spins[-1].min() < -1.9 and spins[-1][-1] > 1.5
+
+
+def test_kapitzas_pendulum_stands_upright_above_the_drive_threshold():
+    """Kapitza (Landau & Lifshitz §30): a pendulum whose pivot moves as z = a cos Ωt stands upright when
+    a² Ω² > 2 g l_eq, l_eq = I/(M l) (its reduced length, Huygens); below it, it falls."""
+    amplitude, rate = sp.symbols("a Omega", real=True)
+    M, l, I = 1.0, 0.2, 1.0 / 75  # the moment about the pivot's swing axis
+    pendulum = Mechanics(name="kapitza", inertia=sp.ImmutableMatrix(sp.diag(sp.Rational(1, 75), sp.Rational(1, 75),
+                                                                           sp.Rational(1, 1000))),
+                         mass=sp.Integer(1), centre_of_mass=sp.ImmutableMatrix([0, 0, sp.Rational(1, 5)]),
+                         gravity=sp.Rational(981, 100), pivoted=True, parameters=((amplitude, 0.01), (rate, 300.0)))
+    threshold = 2 * 9.81 * I / (M * l)
+    assert float(kapitza_threshold(pendulum)) == pytest.approx(threshold, rel=1e-15)
+    from eulersym.model.kernels import compile
+
+    kernel = compile(moving_pivot(pendulum, [0, 0, amplitude * sp.cos(rate * t)]))
+    assert tuple(kernel.PARAMETERS) == ("a", "Omega")
+    tilt = 0.2
+    y0 = np.array([0, 0, 0, 0, np.sin(tilt), np.cos(tilt), np.cos(tilt / 2), np.sin(tilt / 2), 0, 0])
+    i = list(kernel.STATE).index("gamma3")
+    lowest = {}
+    for factor in (0.7, 1.4):
+        drive = np.sqrt(factor * threshold) / 0.01
+        sol = solve_ivp(kernel.rhs, (0.0, 3.0), y0, args=(0.01, drive), method="DOP853", rtol=1e-9, atol=1e-11,
+                        t_eval=np.linspace(0.0, 3.0, 301))
+        lowest[factor] = sol.y[i].min()
+    assert lowest[1.4] >= np.cos(tilt) - 1e-6  # upright: never further from the vertical than it started
+    assert lowest[0.7] < 0  # falls below the horizontal
