@@ -158,3 +158,31 @@ def test_kapitzas_pendulum_stands_upright_above_the_drive_threshold():
         lowest[factor] = sol.y[i].min()
     assert lowest[1.4] >= np.cos(tilt) - 1e-6  # upright: never further from the vertical than it started
     assert lowest[0.7] < 0  # falls below the horizontal
+
+
+def test_a_coin_with_rolling_resistance_loses_energy_at_the_torques_power():
+    """The rolling-resistance torque −c_r (ω − (ω·Γ) Γ) does the power −c_r |ω − (ω·Γ) Γ|² (the rolling contact's
+    force does none): E(t) − E(0) = −∫ c_r |ω_h|² dt, E written here from its definition and the integral taken
+    by Simpson's rule."""
+    from scipy.integrate import simpson
+
+    from eulersym.model.contact_examples import euler_disk
+    from eulersym.model.rolling_kernels import compile
+
+    kernel = compile(euler_disk(c_r=2e-4))
+    p = dict(zip(kernel.PARAMETERS, kernel.DEFAULTS))
+    times = np.linspace(0.0, 0.5, 2001)
+    motion = integrate(kernel, start(kernel, omega=(0, 15.0, 3.0), q=_tilt_about_x(0.4)), times, rtol=1e-11,
+                       atol=1e-13)
+    w, G = motion.y[:, 0:3], motion.y[:, 3:6]
+    M, a, g = p["M"], p["a"], p["g"]
+    level = np.hypot(G[:, 0], G[:, 1])  # the rim touches at r_P = −a Γ_h/|Γ_h|; the centre's height a |Γ_h|
+    r = -a * np.stack([G[:, 0] / level, G[:, 1] / level, 0 * level], axis=1)
+    v = np.cross(r, w)  # no slip: v_G = r_P × ω
+    energy = (0.5 * M * a ** 2 * (w[:, 0] ** 2 / 4 + w[:, 1] ** 2 / 4 + w[:, 2] ** 2 / 2)
+              + 0.5 * M * np.sum(v * v, axis=1) + M * g * a * level)
+    horizontal = w - np.sum(w * G, axis=1)[:, None] * G
+    power = -p["c_r"] * np.sum(horizontal * horizontal, axis=1)
+    lost = np.array([simpson(power[: k + 1], x=times[: k + 1]) if k else 0.0 for k in range(0, len(times), 400)])
+    assert energy[0] - energy[-1] > 1e-4 * energy[0]  # it does lose energy
+    assert np.allclose(energy[::400] - energy[0], lost, rtol=0, atol=1e-9 * energy[0])
