@@ -77,25 +77,35 @@ def test_the_chaplygin_ball_keeps_its_energy_and_its_momentum_about_the_contact(
     assert np.ptp(np.sum(w * w, axis=1)) > 1e-3  # the motion itself is not trivial: |ω| changes
 
 
-def test_the_tippe_top_inverts_when_spun_fast_with_jelletts_integral_held():
-    """Gliding tippe top (Rauch-Wojciechowski & Rutstam 2014; Ueda et al. 2005): 1 − α < I1/I3 < 1 + α, spun fast
-    it turns over (Γ3 → −1) and keeps Jellett's λ = L·(r_P); spun slowly it stays up."""
+def _jellett(p, y):
+    """Jellett's λ = L·r_P by hand: L = I ω, r_P = R (α e3 − Γ) from the centre of mass (rows of states y)."""
+    L = y[:, 0:3] * np.array([p["gamma_ratio"], p["gamma_ratio"], 1.0]) * p["I3"]
+    return np.sum(L * p["R"] * (np.array([0.0, 0.0, p["alpha"]]) - y[:, 3:6]), axis=1)
+
+
+def test_the_tippe_top_inverts_above_its_threshold_with_jelletts_integral_held():
+    """Gliding tippe top (Rauch-Wojciechowski & Rutstam, SIGMA 10 (2014) 017): for 1 − α < γ = I1/I3 < 1 the top
+    turns over onto its stem when Jellett's |λ| exceeds λ_thres = √(m g R³ I3 α) (1 + α)² / √(1 + α − γ); λ stays
+    what it was. Started 0.1 rad from upright at 1.25 λ_thres it inverts (Γ3 → −1); at 0.8 λ_thres it does not."""
     kernel = _kernel("tippe-top")
     p = dict(zip(kernel.PARAMETERS, kernel.DEFAULTS))
-    assert 1 - p["alpha"] < p["gamma_ratio"] < 1 + p["alpha"]
-    times = np.linspace(0.0, 6.0, 61)
-    fast = integrate(kernel, start(kernel, omega=(0, 0, 100.0), q=_tilt_about_x(0.1)), times, rtol=1e-8,
-                     atol=1e-10)
-    assert fast["gamma3"][-1] < -0.99 and np.all(fast["gamma3"][-10:] < -0.99)
-    # Jellett's λ = L·r_P, r_P = R (α ê3 − Γ) from the centre of mass: by hand
-    R, alpha = p["R"], p["alpha"]
-    L = fast.y[:, 0:3] * np.array([p["gamma_ratio"], p["gamma_ratio"], 1.0]) * p["I3"]
-    r = R * (np.array([0.0, 0.0, alpha]) - fast.y[:, 3:6])
-    jellett = np.sum(L * r, axis=1)
-    assert np.ptp(jellett) < 1e-8 * abs(jellett[0])
-    assert np.allclose(fast.invariants[:, list(kernel.INVARIANTS).index("Jellett")], jellett, rtol=1e-12, atol=0)
-    slow = integrate(kernel, start(kernel, omega=(0, 0, 20.0), q=_tilt_about_x(0.1)), times, rtol=1e-8, atol=1e-10)
-    assert np.all(slow["gamma3"] > 0.99)
+    M, R, alpha, I3, gamma, g = p["M"], p["R"], p["alpha"], p["I3"], p["gamma_ratio"], p["g"]
+    assert 1 - alpha < gamma < 1
+    threshold = np.sqrt(M * g * R ** 3 * I3 * alpha) * (1 + alpha) ** 2 / np.sqrt(1 + alpha - gamma)
+    q = _tilt_about_x(0.1)
+    unit = abs(_jellett(p, start(kernel, omega=(0, 0, 1.0), q=q)[None, :])[0])  # λ per unit spin at this start
+    times = np.linspace(0.0, 5.0, 51)
+    final = {}
+    for factor in (1.25, 0.8):
+        motion = integrate(kernel, start(kernel, omega=(0, 0, factor * threshold / unit), q=q), times, rtol=1e-8,
+                           atol=1e-10)
+        jellett = _jellett(p, motion.y)
+        assert np.ptp(jellett) < 1e-8 * abs(jellett[0])
+        assert np.allclose(motion.invariants[:, list(kernel.INVARIANTS).index("Jellett")], jellett, rtol=1e-12,
+                           atol=0)
+        final[factor] = motion["gamma3"][-10:]
+    assert np.all(final[1.25] < -0.99)  # on its stem
+    assert np.all(final[0.8] > -0.9)  # not inverted
 
 
 @pytest.mark.parametrize("tilt", [0.3, 0.8])
