@@ -161,3 +161,28 @@ def test_reading_any_contact_table_returns_a_checked_table_or_a_named_error(tabl
         assert exc.argument.startswith("contact")
     else:
         assert checked["surface"] in ("sphere", "ellipsoid", "disk", "paraboloid") and checked["g"] is not None
+
+
+def test_a_swept_parameter_runs_each_member_on_one_cached_kernel(tmp_path, capsys):
+    """Rolling spheres of radii 0.05, 0.1, 0.2 at ω = 10 rad/s: each centre at x = a ω t (v = a ω), one kernel."""
+    text = SPHERE.format(contact="", omega="[0, 10, 0]", initial="").replace("a = 0.1", "a = [0.05, 0.1, 0.2]")
+    path = _write(tmp_path, text)
+    scene = contact_scene.load(path)
+    assert scene.members == [{"a": 0.05}, {"a": 0.1}, {"a": 0.2}]
+    out = tmp_path / "sweep.npz"
+    assert main(["simulate", path, "-o", str(out)]) == 0
+    data = np.load(out)
+    assert data["state"].shape == (3, 11, 12) and np.allclose(data["sweep_a"], [0.05, 0.1, 0.2])
+    x = data["state"][:, -1, list(data["names"]).index("x_cm")]
+    assert np.allclose(x, np.array([0.05, 0.1, 0.2]) * 10 * 1.0, atol=1e-9)
+    assert capsys.readouterr().out.count("member a = ") == 3
+
+
+@pytest.mark.parametrize("value, key", [("[]", "parameters.a"), ('[0.1, "x"]', "parameters.a"),
+                                        ("[0.1, nan]", "parameters.a")])
+def test_a_bad_sweep_names_the_parameter(tmp_path, value, key):
+    path = _write(tmp_path, SPHERE.format(contact="", omega="[0, 10, 0]", initial="").replace("a = 0.1",
+                                                                                              f"a = {value}"))
+    with pytest.raises(InvalidInput) as info:
+        contact_scene.load(path)
+    assert info.value.argument == key

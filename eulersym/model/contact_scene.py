@@ -215,6 +215,15 @@ class ContactScene:
     end: float = 1.0
     points: int = 101
     accuracy: float = 1e-8
+    sweep: dict = field(default_factory=dict)
+
+    @property
+    def members(self) -> list:
+        """``[{name: value}]``: one run per member, the outer product of the swept parameters (``[{}]`` if none)."""
+        import itertools
+
+        names = list(self.sweep)
+        return [dict(zip(names, combo)) for combo in itertools.product(*(self.sweep[n] for n in names))] or [{}]
 
 
 def _read(path_or_name) -> tuple[dict, str]:
@@ -289,6 +298,18 @@ def load(path_or_name) -> ContactScene:
     time = _table("time", data.get("time", {}), _TIME_KEYS)
     output = _table("output", data.get("output", {}), _OUTPUT_KEYS)
     model_data = {k: v for k, v in data.items() if k not in ("description", "initial", "time", "output")}
+    sweep = {}
+    if isinstance(model_data.get("parameters"), dict):
+        first = {}
+        for name, value in model_data["parameters"].items():
+            if isinstance(value, list):
+                values = finite_array(f"parameters.{name}", value, shape=(None,))
+                if not 1 <= values.size <= 10_000:
+                    raise InvalidInput(f"parameters.{name}", value, "a list of 1 to 10000 numbers (a sweep)")
+                sweep[name] = tuple(values.tolist())
+                value = sweep[name][0]
+            first[name] = value
+        model_data["parameters"] = first
     model_data.setdefault("name", stem)
     model = Model.from_dict(model_data)
     mech = model.mechanics
@@ -305,6 +326,8 @@ def load(path_or_name) -> ContactScene:
         kind = "pivot-path"
     import sympy as sp
 
+    if len(ContactScene("", "", kind, None, "", sweep=sweep).members) > 10_000:
+        raise InvalidInput("parameters", sorted(sweep), "a sweep of at most 10000 members (their outer product)")
     canonical = json.dumps({"model": model_data, "contact": section, "path": path, "eulersym": __version__,
                             "sympy": sp.__version__, "kind": kind}, sort_keys=True, default=str)
     end = time.get("end", 1.0)
@@ -320,7 +343,7 @@ def load(path_or_name) -> ContactScene:
         raise InvalidInput("initial.omega", None, "the body components of ω (rad/s) (it is missing)")
     return ContactScene(str(model_data["name"]), str(data.get("description", "")), kind, body,
                         hashlib.sha256(canonical.encode()).hexdigest(), dict(initial), float(end), int(points),
-                        float(accuracy))
+                        float(accuracy), sweep)
 
 
 def _source(scene: ContactScene) -> str:
@@ -393,8 +416,9 @@ class ContactRun:
     invariants: dict = field(default_factory=dict)
 
 
-def run(scene: ContactScene) -> ContactRun:
-    """Integrate the scene (DOP853 at ``rtol = accuracy``), stopping at lift-off.
+def run(scene: ContactScene, values: dict | None = None) -> ContactRun:
+    """Integrate the scene (DOP853 at ``rtol = accuracy``), stopping at lift-off; ``values`` sets parameters (a
+    sweep's member, :attr:`ContactScene.members`), the others at the file's values.
 
     Raises
     ------
@@ -410,13 +434,18 @@ def run(scene: ContactScene) -> ContactRun:
     from eulersym.model.contact_motion import integrate, start
 
     module = kernel(scene)
+    params = dict(zip(module.PARAMETERS, module.DEFAULTS))
+    for name, value in (values or {}).items():
+        if name not in params:
+            raise InvalidInput("values", name, "a parameter: one of " + ", ".join(module.PARAMETERS))
+        params[name] = float(value)
     times = np.linspace(0.0, scene.end, scene.points)
     q = _attitude(scene.initial)
     plan = _plan_line(scene)
     if scene.kind == "contact":
         y0 = start(module, omega=scene.initial["omega"], q=q, position=scene.initial.get("position", (0.0, 0.0)),
-                   velocity=scene.initial.get("velocity"))
-        motion = integrate(module, y0, times, rtol=scene.accuracy, atol=scene.accuracy * 1e-2)
+                   velocity=scene.initial.get("velocity"), params=params)
+        motion = integrate(module, y0, times, params=params, rtol=scene.accuracy, atol=scene.accuracy * 1e-2)
         invariants = {n: motion.invariants[:, k] for k, n in enumerate(module.INVARIANTS)}
         return ContactRun(motion.t, motion.y, motion.names, plan, np.stack([motion["x_P"], motion["y_P"]], axis=1),
                           motion["N"], invariants)
@@ -426,7 +455,7 @@ def run(scene: ContactScene) -> ContactRun:
     q0, q1, q2, q3 = q
     gamma = [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3]
     y0 = np.concatenate([omega, gamma, q])
-    sol = solve_ivp(module.rhs, (0.0, scene.end), y0, method="DOP853", t_eval=times, args=tuple(module.DEFAULTS),
+    sol = solve_ivp(module.rhs, (0.0, scene.end), y0, method="DOP853", t_eval=times, args=tuple(params.values()),
                     rtol=scene.accuracy, atol=scene.accuracy * 1e-2)
     if not sol.success:
         from eulersym.errors import CheckFailed
@@ -471,9 +500,29 @@ def cli(args) -> int:
     if args.explain:
         print(_plan_line(scene))
         return 0
-    result = run(scene)
     print(f"scene {scene.name!r}" + (f" — {scene.description}" if scene.description else ""))
-    print(result.plan)
+    print(_plan_line(scene))
+    members = scene.members
+    runs = []
+    for values in members:
+        if values:  # named before it runs: a member that lifts off is the one printed last
+            print("member " + ", ".join(f"{k} = {v:g}" for k, v in values.items()), flush=True)
+        runs.append(run(scene, values))
+        _summary(runs[-1])
+    if getattr(args, "output", None):
+        stack = (lambda a: a[0]) if len(runs) == 1 else np.stack
+        extra = {} if runs[0].normal is None else {"trace": stack([r.trace for r in runs]),
+                                                   "normal": stack([r.normal for r in runs])}
+        extra.update({f"sweep_{k}": np.array([m[k] for m in members]) for k in scene.sweep})
+        np.savez(args.output, t=runs[0].t, state=stack([r.y for r in runs]), names=np.array(runs[0].names), **extra)
+        print(f"wrote {args.output}")
+    if getattr(args, "plot", None):
+        _plot(runs[0], args.plot)
+        print(f"wrote {args.plot}" + (" (the first member)" if len(runs) > 1 else ""))
+    return 0
+
+
+def _summary(result: ContactRun) -> None:
     print(f"  {len(result.t)} output times, t = 0 .. {result.t[-1]:g}")
     if result.normal is not None:
         print(f"  normal force N: min {result.normal.min():.6g}, max {result.normal.max():.6g}")
@@ -484,14 +533,6 @@ def cli(args) -> int:
     for name, values in result.invariants.items():
         scale = max(abs(values[0]), 1e-300)
         print(f"  {name}: {values[0]:.12g}, relative drift {np.ptp(values) / scale:.2e}")
-    if getattr(args, "output", None):
-        extra = {} if result.normal is None else {"trace": result.trace, "normal": result.normal}
-        np.savez(args.output, t=result.t, state=result.y, names=np.array(result.names), **extra)
-        print(f"wrote {args.output}")
-    if getattr(args, "plot", None):
-        _plot(result, args.plot)
-        print(f"wrote {args.plot}")
-    return 0
 
 
 def _plan_line(scene: ContactScene) -> str:
