@@ -13,7 +13,7 @@ from eulersym.compare import compare
 from eulersym.errors import InvalidInput
 from eulersym.model.contact import Contact, contact_point, support_point, surface
 from eulersym.model.mechanics import GAMMA, OMEGA
-from eulersym.rotation import from_axis_angle
+from eulersym.rotation import from_axis_angle, from_quaternion
 
 N = sp.symbols("n1:4", real=True)
 
@@ -82,13 +82,28 @@ def test_contact_point_of_the_tippe_top_is_the_centre_minus_R_gamma():
     ("paraboloid", {"curvatures": (2, 3)}),
 ])
 def test_the_contact_point_slides_along_the_tangent_plane(kind, kwargs):
-    """Γ·dr_P/dt = 0 along Γ̇ = Γ × ω: the material point at the contact has no vertical velocity."""
-    axes = from_axis_angle([1, 2, 2], sp.Rational(3, 10)) if kind != "paraboloid" else None
-    s = surface(kind, centre=(sp.Rational(1, 10), 0, sp.Rational(1, 5)), axes=axes, **kwargs)
+    """Γ·dr_P/dt = 0 along Γ̇ = Γ × ω: the material point at the contact has no vertical velocity. Shown as
+    Γᵀ ∂r_P/∂Γ = 0 (then Γ·ṙ_P = Γᵀ (∂r_P/∂Γ) (Γ × ω) = 0 for every ω), exactly, with the shape turned by a
+    rotation of rational entries (quaternion (1, 2, 2, 4)/5: no trigonometry to expand); and the rate itself at an
+    exact point of the unit sphere."""
+    axes = from_quaternion([sp.Rational(1, 5), sp.Rational(2, 5), sp.Rational(2, 5), sp.Rational(4, 5)])
+    s = surface(kind, centre=(sp.Rational(1, 10), 0, sp.Rational(1, 5)),
+                axes=axes if kind != "paraboloid" else None, **kwargs)
     r = sp.Matrix(contact_point(s))
-    G, w = sp.Matrix(GAMMA), sp.Matrix(OMEGA)
-    rate = (G.T * (r.jacobian(list(GAMMA)) * G.cross(w)))[0, 0]
-    assert compare(rate, 0).equal
+    G = sp.Matrix(GAMMA)
+    row = G.T * r.jacobian(list(GAMMA))
+    rate = (row * G.cross(sp.Matrix(OMEGA)))[0, 0]
+    if kind == "sphere":  # r_P = c − R Γ (written for |Γ| = 1): Γᵀ ∂r_P/∂Γ = −R Γᵀ, and Γ·(Γ × ω) = 0 for any Γ
+        assert compare(rate, 0).equal
+    else:
+        assert compare(row, sp.zeros(1, 3)).equal
+    # and the rate itself, at a random point of the unit sphere with rational coordinates (exact arithmetic)
+    u, v = sp.Rational(2, 7), sp.Rational(-3, 11)  # the inverse stereographic projection: |Γ| = 1 exactly
+    d = 1 + u ** 2 + v ** 2
+    point = dict(zip(GAMMA, (2 * u / d, 2 * v / d, (u ** 2 + v ** 2 - 1) / d)))
+    if kind == "paraboloid":  # only the neighbourhood of its vertex touches: Γ3 > 0
+        point[GAMMA[2]] = -point[GAMMA[2]]
+    assert compare(rate.xreplace(point), 0).equal
 
 
 def test_turned_axes_turn_the_contact_point():
