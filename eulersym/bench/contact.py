@@ -85,7 +85,6 @@ def hand_rhs(t, y, M, R, alpha, I3, gamma_ratio, mu, eps, g=9.81):
     # space axes x̂, ŷ in body components: the rows of R(q)
     X = np.array([1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)])
     Y = np.array([2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1)])
-    zdot = -R * alpha * Gdot[2]
     wr = np.cross(w, r, axis=0)  # ω × r, body components
     ux = vx + np.sum(X * wr, axis=0)
     uy = vy + np.sum(Y * wr, axis=0)
@@ -103,8 +102,6 @@ def hand_rhs(t, y, M, R, alpha, I3, gamma_ratio, mu, eps, g=9.81):
     N = M * (g - R * alpha * (c + np.sum(k * wdot, axis=0)))
     qdot = 0.5 * np.array([-q1 * w1 - q2 * w2 - q3 * w3, q0 * w1 + q2 * w3 - q3 * w2,
                            q0 * w2 + q3 * w1 - q1 * w3, q0 * w3 + q1 * w2 - q2 * w1])
-    vG = vx * X + vy * Y + zdot * G  # not needed for ẋ: the state's x, y rates are v_x, v_y
-    del vG
     return np.concatenate([wdot, Gdot, qdot, [vx, vy], [N * fx / M, N * fy / M]])
 
 

@@ -42,7 +42,6 @@ from __future__ import annotations
 import builtins
 import functools
 import hashlib
-import re
 import textwrap
 import types
 from pathlib import Path
@@ -74,12 +73,9 @@ def module_name(body: BodyOnPlane, name: str | None = None) -> str:
     >>> module_name(examples()["tippe-top"])
     'tippe_top'
     """
-    if name is not None:
-        if not isinstance(name, str) or not name.isidentifier() or name.startswith("_"):
-            raise InvalidInput("name", name, "a Python identifier that does not start with '_'")
-        return name
-    text = re.sub(r"[^0-9a-zA-Z]+", "_", str(body.name)).strip("_").lower() or "model"
-    return text if not text[0].isdigit() else "model_" + text
+    from eulersym.model.kernels import module_name as model_module_name
+
+    return model_module_name(body.mechanics, name)
 
 
 def _arguments(body: BodyOnPlane, state) -> tuple:
