@@ -186,3 +186,11 @@ def test_a_bad_sweep_names_the_parameter(tmp_path, value, key):
     with pytest.raises(InvalidInput) as info:
         contact_scene.load(path)
     assert info.value.argument == key
+
+
+def test_a_file_nested_too_deep_is_a_named_error_here_too(tmp_path):
+    path = _write(tmp_path, "[contact]\na = " + "[" * 5000 + "]" * 5000 + "\n")
+    assert not contact_scene.handles(path)  # the scene reader then refuses it with its own message
+    with pytest.raises(InvalidInput) as info:
+        contact_scene.load(path)
+    assert info.value.argument == "SCENE" and "nested" in str(info.value)

@@ -236,7 +236,12 @@ def _read(path_or_name) -> tuple[dict, str]:
     except FileNotFoundError:
         raise InvalidInput("SCENE", text, "a TOML file or a bundled scene: " + ", ".join(names)) from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise InvalidInput("SCENE", text, f"a TOML file ({exc})") from None
+        raise InvalidInput("SCENE", text, f"valid TOML ({exc})") from None
+    except RecursionError:
+        raise InvalidInput("SCENE", text, "TOML nested less deeply: arrays or tables nested beyond the reader's "
+                                          "recursion limit (about 1000 levels); a scene needs 3") from None
+    except OSError as exc:
+        raise InvalidInput("SCENE", text, f"a readable TOML file ({exc.strerror or exc})") from None
 
 
 def handles(path_or_name) -> bool:
@@ -255,7 +260,7 @@ def handles(path_or_name) -> bool:
         return False
     try:
         data, _ = _read(text)
-    except InvalidInput:
+    except InvalidInput:  # the scene reader says what is wrong with the file, in its own words
         return False
     pivot = data.get("pivot")
     return "contact" in data or (isinstance(pivot, dict) and "path" in pivot)
