@@ -21,6 +21,7 @@ __all__ = [
     "CacheError",
     "EulersymWarning",
     "CacheRepaired",
+    "AccuracyNotReached",
 ]
 
 _MAX_REPR = 120
@@ -191,3 +192,43 @@ class CacheRepaired(EulersymWarning):
     >>> caught[0].category.__name__
     'CacheRepaired'
     """
+
+
+class AccuracyNotReached(EulersymWarning):
+    """The accuracy asked cannot be delivered in double precision over the run's span: the motion amplifies the
+    round-off of its steps beyond it (a chaotic motion, or one near a separatrix, or simply a long one). The run still
+    returns the best motion it could get, with its estimated error (``Result.error``), never a silently worse one;
+    the message gives the amplification (the largest singular value of the state-transition matrix, from the
+    variational equations), the best accuracy reached, and what would help (a coarser accuracy, a shorter span).
+
+    Attributes
+    ----------
+    accuracy, reached : float
+        What was asked, and the estimated error of the result.
+    amplification : float or None
+        How much a change of the start grows over the span (None when it was not computed).
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     warnings.warn(AccuracyNotReached("accuracy 1e-12 is not reachable", accuracy=1e-12, reached=6e-12,
+    ...                                      amplification=2e3))
+    >>> caught[0].category.__name__, caught[0].message.reached
+    ('AccuracyNotReached', 6e-12)
+    """
+
+    def __init__(self, message: str, *, accuracy: float = float("nan"), reached: float = float("nan"),
+                 amplification: float | None = None):
+        super().__init__(message)
+        self.accuracy = accuracy
+        self.reached = reached
+        self.amplification = amplification
+
+    def __reduce__(self):
+        return (_rebuild_not_reached, (str(self), self.accuracy, self.reached, self.amplification))
+
+
+def _rebuild_not_reached(message, accuracy, reached, amplification):
+    return AccuracyNotReached(message, accuracy=accuracy, reached=reached, amplification=amplification)

@@ -24,7 +24,7 @@ from eulersym.model.steady import (
 )
 
 BUNDLED = ("torque-free", "gyrostat", "lagrange-top", "kovalevskaya", "damped", "satellite-dual-spin",
-           "top-goryachev-chaplygin")
+           "top-goryachev-chaplygin", "satellite-orbital-frame", "gyrocompass")
 
 
 def _residual(fam):
@@ -32,8 +32,8 @@ def _residual(fam):
     mech = fam._context.mech
     eqs = equations(mech)
     x = [s for s in eqs.state if s in (*OMEGA, *GAMMA)]
-    state = {s: sp.sympify(fam.state[s.name]) for s in x}
-    rates = [eqs.rate(s).xreplace(state) for s in x]
+    state = {s: sp.sympify(fam.state[s.name]) for s in eqs.state if s.name in fam.state}  # q too, where fixed
+    rates = [eqs.rate(s).xreplace(state) for s in eqs.state if s in x or s.name in fam.state]
     if fam.drift:
         e = symmetry_axes(mech)[0]
         nu = sp.sympify(next(iter(fam.drift.values())))
@@ -47,7 +47,9 @@ def _residual(fam):
 @pytest.mark.parametrize("name", BUNDLED)
 def test_every_closed_family_solves_the_models_equations(name):
     families = steady_motions(load(name))
-    assert families or name == "spin-up"
+    # spin-up: a torque that varies with t; gyrocompass: its equilibrium is tilted off the frame's axes (the turning
+    # frame's search covers the aligned attitudes only: said in the notes)
+    assert families or name == "spin-up" or (name == "gyrocompass" and "no attitude aligned" in families.notes[-1])
     for fam in families:
         if not fam.closed_form:
             continue

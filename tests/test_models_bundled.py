@@ -45,7 +45,8 @@ def _initial_state(name, kernel):
 
 def test_every_bundled_model_is_a_scene_file_and_its_routes_agree():
     assert set(bundled()) == {"lagrange-top", "kovalevskaya", "gyrostat", "damped", "satellite", "spin-up",
-                              "gyroscope", "torque-free", "top-goryachev-chaplygin", "satellite-dual-spin"}
+                              "gyroscope", "torque-free", "top-goryachev-chaplygin", "satellite-dual-spin",
+                              "satellite-orbital-frame", "gyrocompass"}
     for name, path in bundled().items():
         data = tomllib.loads(path.read_text())
         assert {"initial", "time", "output"} <= set(data), name

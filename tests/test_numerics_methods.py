@@ -11,7 +11,11 @@ from scipy.integrate import solve_ivp
 from eulersym.errors import IntegrationFailed, InvalidInput, SingularConfiguration
 from eulersym.numerics import methods
 from eulersym.numerics.methods import METHODS, Problem, choose, get, solve
+from eulersym.numerics.methods._integrators import numba_available
 from eulersym.numerics.trajectory import Trajectory
+
+#: One member's integrator by default: eulersym's compiled DOP853 (numba), else solve_ivp's.
+OWN = "dop853" if numba_available() else "ivp"
 
 
 def _problem(regime="torque-free", batch=1, moments=(1.0, 2.0, 3.0), method="auto", accuracy=1e-8, outputs=("omega",),
@@ -51,11 +55,13 @@ def test_the_registry_is_in_order_of_preference_and_each_method_has_its_cost():
     ("torque-free", 3, "splitting", 1e-8, (1.0, 2.0, 3.0), "batched_dop853"),
     ("torque-free", 1, "RK45", 1e-8, (1.0, 2.0, 3.0), "ivp"),
     ("heavy top", 1, "auto", 1e-8, (1.0, 1.0, 0.5), "heavy_top_exact"),
-    ("heavy top", 1, "auto", 1e-4, (1.0, 1.2, 0.5), "ivp"),
+    ("heavy top", 1, "auto", 1e-4, (1.0, 1.2, 0.5), OWN),
+    ("heavy top", 1, "DOP853", 1e-8, (1.0, 1.2, 0.5), OWN),
+    ("heavy top", 1, "LSODA", 1e-8, (1.0, 1.2, 0.5), "ivp"),
     ("heavy top", 1, "splitting", 1e-4, (1.0, 1.0, 0.5), "heavy_top_splitting"),
     ("heavy top", 1, "splitting", 1e-4, (1.0, 1.2, 0.5), "batched_splitting"),
     ("heavy top", 4, "DOP853", 1e-8, (1.0, 1.0, 0.5), "batched_dop853"),
-    ("torque", 1, "auto", 1e-8, (1.0, 2.0, 3.0), "ivp"),
+    ("torque", 1, "auto", 1e-8, (1.0, 2.0, 3.0), OWN),
     ("torque", 2, "auto", 1e-8, (1.0, 2.0, 3.0), "batched_dop853"),
 ])
 def test_the_first_method_that_applies_is_chosen(regime, batch, method, accuracy, moments, expected):
@@ -82,8 +88,10 @@ def _euler(I, N=(0.0, 0.0, 0.0)):
 
 
 @pytest.mark.parametrize("name, method", [("free_body_exact", "auto"), ("free_body_splitting", "splitting"),
-                                          ("batched_dop853", "DOP853"), ("ivp", "DOP853")])
+                                          ("batched_dop853", "DOP853"), ("ivp", "DOP853"), ("dop853", "DOP853")])
 def test_every_torque_free_method_gives_euler_s_equations_solution(name, method):
+    if name == "dop853":
+        pytest.importorskip("numba")
     batch = 3 if name == "batched_dop853" else 1
     problem = _problem("torque-free", batch, method=method, accuracy=1e-9, seed=4)
     traj, singular = solve(problem, name)
@@ -95,9 +103,10 @@ def test_every_torque_free_method_gives_euler_s_equations_solution(name, method)
 
 @pytest.mark.parametrize("name, method, batch", [("heavy_top_exact", "auto", 2), ("heavy_top_splitting", "splitting", 1),
                                                  ("batched_splitting", "splitting", 2), ("compiled_dop853", "auto", 2),
-                                                 ("batched_dop853", "DOP853", 2), ("ivp", "DOP853", 1)])
+                                                 ("batched_dop853", "DOP853", 2), ("ivp", "DOP853", 1),
+                                                 ("dop853", "auto", 1)])
 def test_every_heavy_top_method_keeps_the_vertical_a_unit_vector_and_agrees_with_euler_poisson(name, method, batch):
-    if name == "compiled_dop853":
+    if name in ("compiled_dop853", "dop853"):
         pytest.importorskip("numba")
     problem = _problem("heavy top", batch, (1.0, 1.0, 0.5), method=method, accuracy=1e-9,
                        propagate=("omega", "gamma", "attitude"), outputs=("omega", "attitude"), seed=7)

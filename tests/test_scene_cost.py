@@ -251,7 +251,7 @@ def test_explain_of_a_cached_model_names_its_engine(tmp_path, cache, capsys):
     simulate(Scene.from_toml(path))
     assert main(["simulate", path, "--explain"]) == 0
     out = capsys.readouterr().out
-    assert "solve_ivp DOP853 on the kernel's rhs (omega1, omega2, omega3, q0" in out and "cached for digest" in out
+    assert "DOP853 on model damped (omega1, omega2, omega3, q0" in out and "cached for digest" in out
 
 
 # ---- model sweeps in chunks --------------------------------------------------------------------------------------

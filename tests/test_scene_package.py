@@ -18,7 +18,7 @@ PACKAGE = Path(eulersym.scene.__file__).parent
 #: The modules of eulersym.scene in the order data flows; a module may import only modules listed before it.
 LAYERS = (
     "values", "regime", "cost", "catalog", "model_kernel", "rates", "plan", "spec", "frames", "symbolic", "problem",
-    "progress", "result", "chunked", "run", "io", "cli", "__init__",
+    "progress", "quantities", "result", "chunked", "run", "io", "cli", "__init__",
 )
 
 
@@ -103,11 +103,14 @@ IMPORTED = """
         ("moments=(1.0, 1.0, 0.5), mass=1.0, l=0.1, euler=(0, 0.5, 0), omega=(0, [20.0, 30.0], 20.0), t_end=0.2, "
          "outputs=('omega', 'attitude', 'invariants')", "closed form: elliptic (Lagrange top)", []),
         ("moments=(1.0, 2.0, 3.0), omega=(0.01, 1.0, 0.01), t_end=1.0, method='splitting'", "integrate: splitting (Moser", None),
-        # solve_ivp / batched DOP853: scipy.integrate, and no SymPy, no numba
+        # eulersym's DOP853 (compiled by numba, issue 21 §6) and the batched one (NumPy): no scipy.integrate, no SymPy
         ("moments=(1.0, 1.0, 0.5), mass=1.0, l=0.1, euler=(0, 0.5, 0), omega=(0, 0, 20.0), t_end=0.2, accuracy=1e-9, "
-         "method='DOP853'", "integrate: DOP853 on heavy_top_euler_poisson", ["scipy.integrate"]),
+         "method='DOP853'", "integrate: DOP853 on heavy_top_euler_poisson", ["numba"]),
         ("moments=(1.0, 2.0, 3.0), omega=(0.01, [1.0, 2.0], 0.01), t_end=1.0, method='DOP853', outputs=('omega',)",
-         "integrate: batched DOP853 on euler_principal", ["scipy.integrate"]),
+         "integrate: batched DOP853 on euler_principal", []),
+        # a SciPy method by name: scipy.integrate
+        ("moments=(1.0, 1.0, 0.5), mass=1.0, l=0.1, euler=(0, 0.5, 0), omega=(0, 0, 20.0), t_end=0.2, accuracy=1e-8, "
+         "method='RK45'", "integrate: RK45 on heavy_top_euler_poisson", ["scipy.integrate"]),
     ],
 )
 def test_a_run_imports_only_what_its_plan_uses(kwargs, engine, imported):

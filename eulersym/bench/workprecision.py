@@ -33,6 +33,12 @@ Problems
     Its summary gives, for each DOP853 run, the cheapest splitting no less accurate, the time ratio (floor ≥ 5×)
     and both energy drifts with their growth after the first 10 % of the span.
 
+The series ``accuracy`` is eulersym asked for an accuracy (a scene with ``method = "DOP853"`` and ``accuracy`` 1e-5 …
+1e-11: the control that delivers it, :mod:`eulersym.numerics.methods._accuracy`); it is plotted at its *achieved*
+error, the asked value written beside each point, and the CSV's ``asked`` and ``estimated`` columns give what was
+asked and what the run estimated (the accuracy bounds ω's error relative to the largest |ω|, the panel plots it
+absolute).
+
 Baselines (same run): ``solve_ivp`` RK45, DOP853, LSODA, Radau over right-hand sides obtained the usual way —
 SymPy → ``lambdify`` — from :func:`eulersym.dynamics.euler_equations` / ``euler_poisson_equations``.
 eulersym's geometric methods run as plain Python (route ``eulersym``) and, when numba is installed (the ``fast``
@@ -174,6 +180,8 @@ class Problem:
     baselines: tuple = ("RK45", "DOP853", "LSODA", "Radau")
     geometric: tuple = ("strang", "yoshida4", "dmv2", "dmv4", "dmv6")
     notes: list = field(default_factory=list)
+    #: accuracies asked of eulersym's controlled DOP853 (a scene, ``method = "DOP853"``): the series "accuracy"
+    accuracies: tuple = (1e-5, 1e-7, 1e-9, 1e-11)
 
 
 def _rigidode_scaling():
@@ -306,7 +314,7 @@ def run_problem(p: Problem, *, repeats=3, max_seconds=60.0, log=print):
 
     def record(method, route, setting, fn):
         row = dict(problem=p.name, method=method, route=route, setting=setting, time_s="", error="", energy_drift="",
-                   invariant_drift="", n_calls="", status="ok")
+                   invariant_drift="", n_calls="", status="ok", asked="", estimated="")
         try:
             tr, secs = _timed(fn, repeats)
             if isinstance(tr, np.ndarray):  # the oracle
@@ -318,6 +326,8 @@ def run_problem(p: Problem, *, repeats=3, max_seconds=60.0, log=print):
             de, dl = _invariant_drift(p, omega, gamma)
             row.update(time_s=f"{secs:.6g}", error=f"{err:.3e}", energy_drift=f"{de:.3e}", invariant_drift=f"{dl:.3e}",
                        n_calls=str(calls))
+            if getattr(tr, "accuracy", None) is not None:  # a controlled run: what was asked, what it estimated
+                row.update(asked=f"{tr.accuracy:g}", estimated=f"{max(tr.error.values()):.3e}")
         except Exception as exc:  # noqa: BLE001 - a failed run is a data point
             row["status"] = f"failed: {type(exc).__name__}: {exc}"[:200]
         rows.append(row)
@@ -346,6 +356,9 @@ def run_problem(p: Problem, *, repeats=3, max_seconds=60.0, log=print):
                     if r["time_s"] and float(r["time_s"]) > max_seconds:
                         break
         y0 = [*p.omega0, *gamma0, *q0]
+    if p.check_body:  # the accuracy asked of eulersym (a scene): the achieved error is what the panel plots
+        for accuracy in p.accuracies:
+            record("accuracy", "eulersym", f"accuracy={accuracy:g}", lambda a=accuracy: _controlled(p, ts, a))
     for method in p.baselines:
         for rtol in p.rtols:
             r = record(method, "lambdify", f"rtol={rtol:g}", lambda m=method, rtol=rtol: integrate_ivp(
@@ -353,6 +366,29 @@ def run_problem(p: Problem, *, repeats=3, max_seconds=60.0, log=print):
             if r["time_s"] and float(r["time_s"]) > max_seconds:
                 break
     return rows
+
+
+def _controlled(p: Problem, ts, accuracy):
+    """eulersym's DOP853 asked for ``accuracy`` (a scene: the control that delivers it, with its estimate): a
+    namespace with ``omega``, ``gamma``, ``n_rhs_calls``, ``accuracy`` and ``error`` (the estimate)."""
+    import warnings
+
+    from eulersym.errors import AccuracyNotReached
+    from eulersym.scene import Scene, simulate
+
+    body = dict(moments=p.I)
+    if p.kind == "top":
+        M, g, l, q0 = p.top
+        body.update(mass=M, g=g, l=l, quaternion=q0)
+    scene = Scene(**body, omega=p.omega0, t_end=float(ts[-1]), points=len(ts), method="DOP853", accuracy=accuracy,
+                  outputs=("omega",) if p.kind == "free" else ("omega", "attitude"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyNotReached)  # its estimate says it: the row's 'estimated'
+        result = simulate(scene)
+    if not np.array_equal(result.t, ts):
+        raise RuntimeError("the scene's output times differ from the problem's")
+    return types.SimpleNamespace(omega=result.omega, gamma=result.gamma, n_rhs_calls=result.n_rhs_calls,
+                                 accuracy=accuracy, error={k: float(v) for k, v in result.error.items()})
 
 
 def _best(rows, pred):
@@ -369,6 +405,9 @@ def summarise(rows, log=print):
     log("\n== summary: eulersym at an error no worse than solve_ivp DOP853 (lambdify route), same run")
     for name in dict.fromkeys(r["problem"] for r in rows):
         pr = [r for r in rows if r["problem"] == name]
+        for r in (r for r in pr if r["method"] == "accuracy" and r["status"] == "ok"):
+            log(f"  {name}: accuracy asked {r['asked']}: achieved error {float(r['error']):.2e} (estimated "
+                f"{float(r['estimated']):.2e}, relative to |ω|), {float(r['time_s']):.3g} s")
         for base in (r for r in pr if r["method"] == "DOP853" and r["status"] == "ok"):
             target = float(base["error"])
             log(f"  {name}: DOP853 {base['setting']}: {float(base['time_s']):.3g} s, error {target:.2e}, "
@@ -376,7 +415,9 @@ def summarise(rows, log=print):
             for label, pred in (
                 ("oracle", lambda r: r["method"] == "oracle"),
                 ("closed form", lambda r: r["method"] == "closed form"),
-                ("geometric, pure Python", lambda r: r["route"] == "eulersym" and r["method"] not in ("oracle", "closed form")),
+                ("eulersym, accuracy asked", lambda r: r["method"] == "accuracy"),
+                ("geometric, pure Python", lambda r: r["route"] == "eulersym"
+                 and r["method"] not in ("oracle", "closed form", "accuracy")),
                 ("geometric, numba (fast extra)", lambda r: r["route"] == "numba"),
             ):
                 best = _best(pr, lambda r, pred=pred: pred(r) and float(r["error"]) <= target)
@@ -384,7 +425,8 @@ def summarise(rows, log=print):
                     if any(pred(r) for r in pr):
                         log(f"      {label}: no run reached error {target:.1e}")
                     continue
-                what = f"{label} {best['method']} {best['setting']}" if best["method"] not in ("oracle", "closed form") else label
+                what = (f"{label} {best['method']} {best['setting']}" if best["method"] not in ("oracle", "closed form", "accuracy")
+                        else f"{label} {best['setting']}" if best["method"] == "accuracy" else label)
                 log(f"      {what}: {float(best['time_s']):.3g} s, error "
                     f"{float(best['error']):.2e}, energy drift {float(best['energy_drift']):.1e}, invariant drift "
                     f"{float(best['invariant_drift']):.1e} -> {ratio_text(float(base['time_s']), float(best['time_s']))}")
@@ -411,14 +453,23 @@ def _plot(rows, path):
                    for r in pr if (r["method"], r["route"]) == (method, route)]  # in order of refinement
             label = f"{method} ({route})" if route != "eulersym" else method
             x = [max(a, 1e-7) for a, _, _ in pts]
-            (line,) = axes[0, j].loglog(x, [max(b, 1e-17) for _, b, _ in pts], "o-", color=colour[(method, route)])
+            controlled = method == "accuracy"  # eulersym asked for an accuracy: its achieved error, the asked beside
+            if controlled:
+                label = "eulersym, accuracy asked (achieved error; the asked value beside)"
+            (line,) = axes[0, j].loglog(x, [max(b, 1e-17) for _, b, _ in pts], "D-" if controlled else "o-",
+                                        color="black" if controlled else colour[(method, route)],
+                                        lw=2 if controlled else 1)
+            if controlled:
+                for r, xx, (_, b, _) in zip((r for r in pr if r["method"] == "accuracy"), x, pts):
+                    axes[0, j].annotate(f"asked {r['asked']}", (xx, max(b, 1e-17)), fontsize=6, xytext=(3, 3),
+                                        textcoords="offset points")
             axes[1, j].loglog(x, [max(c, 1e-17) for _, _, c in pts], "o-", color=colour[(method, route)])
             handles[label] = line
         axes[0, j].set_title(name)
         axes[1, j].set_xlabel("run time [s]")
         for ax in axes[:, j]:
             ax.grid(True, which="major", alpha=0.3)
-    axes[0, 0].set_ylabel("max |error| of ω [rad/s] (top: and of Γ)")
+    axes[0, 0].set_ylabel("achieved max |error| of ω [rad/s] (top: and of Γ)")
     axes[1, 0].set_ylabel("relative energy drift")
     fig.tight_layout()
     # the legend outside the panels, to their right, whatever their number; the saved figure grows to hold it

@@ -15,6 +15,7 @@ Which panels, and why:
 - **quaternion**, only when the scene asked for the attitude; a run in which it turns too often to draw shows its
   first few turns.
 - **invariants**: each one's relative drift.
+- **the model's own quantities** (``[quantities]``): one panel each, its value over time, titled by its definition.
 
 Every axis has one quantity and one unit (SI; angles in degrees, rates in rad/s); every title says what is drawn.
 """
@@ -60,6 +61,7 @@ def panels(result, scene=None) -> list:
         names.append("quaternion")
     if result.invariants:
         names.append("invariants")
+    names += [f"quantity:{name}" for name in getattr(result, "quantities", {})]  # the model's own, one panel each
     return names
 
 
@@ -134,7 +136,7 @@ def figure(result, scene=None, k: int = 0):
             "invariants": _invariants}
     for n, name in enumerate(names, start=1):
         ax = fig.add_subplot(rows, columns, n)
-        draw[name](ax, result, facts, t, omega, k, scene)
+        draw.get(name, _quantity)(ax, result, facts, t, omega, k, scene, *name.split(":")[1:])
         ax.set_xlabel("t (s)")
         ax.grid(alpha=0.3)
         ax.ticklabel_format(axis="x", useOffset=False)
@@ -297,6 +299,20 @@ def _invariants(ax, result, facts, t, omega, k, scene):
     ax.set_ylabel("relative drift (I(t) − I(0)) / |I(0)|")
     ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3), useOffset=False)
     _title(ax, "invariants: drift from their start")
+
+
+def _quantity(ax, result, facts, t, omega, k, scene, name):
+    """A quantity of the model's own (``[quantities]``): its value over time, titled by its definition (the user's
+    expression: its unit is the user's)."""
+    v = np.asarray(result.quantities[name], dtype=float)
+    ax.plot(t, v[k] if v.ndim == 2 else v, color="C3")
+    model = getattr(scene_of(result, scene), "model", None)
+    section = model.normalised["quantities"] if model is not None else {}
+    texts, unit = dict(section.get("names", [])), section.get("units", {}).get(name)
+    ax.set_ylabel(f"{name} ({unit})" if unit else name)
+    _readable(ax)
+    text = texts.get(name, "")
+    _title(ax, f"{name} = {text if len(text) <= 60 else text[:57] + '...'}")
 
 
 def _readable(ax, floor: float = 0.0) -> None:

@@ -44,7 +44,7 @@ def load(file: str):
     >>> load("no-such-model")
     Traceback (most recent call last):
     ...
-    eulersym.errors.InvalidInput: --model='no-such-model' is not valid: expected a model TOML file or a bundled model: damped, gyroscope, ...
+    eulersym.errors.InvalidInput: --model='no-such-model' is not valid: expected a model TOML file or a bundled model: damped, gyrocompass, ...
     """
     from eulersym.model.spec import Model
     from eulersym.models import bundled
@@ -134,6 +134,9 @@ def derive(argv) -> int:
             conventions = "all"
         report = D.check(mech, conventions)
     show = _latex if args.latex else str
+    from eulersym.model.quantities import expressions as quantity_expressions
+
+    quantities = quantity_expressions(mech)  # derived here too: a bad one is refused by name, exit 2
     if args.json:
         out = {
             "model": model.name, "digest": model.digest, "parameters": model.parameters,
@@ -142,6 +145,10 @@ def derive(argv) -> int:
             "potential": show(eqs.potential), "torque": [show(e) for e in eqs.torque],
             "invariants": {name: _verdict_dict(v) for name, v in verdicts.items()},
         }
+        if mech.turning:
+            out["frame"] = [show(e) for e in mech.frame]
+        if quantities:
+            out["quantities"] = {name: show(e) for name, e in quantities}
         if report is not None:
             out["check"] = {"ok": report.ok, "items": [item.line() for item in report.items]}
         print(json.dumps(out, indent=2, ensure_ascii=False))
@@ -150,6 +157,9 @@ def derive(argv) -> int:
     if model.parameters:
         print("  parameters: " + ", ".join(f"{k} = {v:g}" for k, v in model.parameters.items()))
     print("  state: " + ", ".join(eqs.names))
+    if mech.turning:
+        print("  frame: turns uniformly at Ω = [" + ", ".join(show(e) for e in mech.frame) + "] (its own components; "
+              "q, Γ, to_body/to_space refer to it, ω is relative to inertial space)")
     print()
     print("equations of motion (Newton–Euler in the body frame, L = I ω + h):")
     for symbol, e in zip(eqs.state, eqs.rhs):
@@ -161,6 +171,11 @@ def derive(argv) -> int:
     print("integrals:")
     for v in verdicts.values():
         _print_verdict(v, args.latex)
+    if quantities:
+        print()
+        print(f"quantities (emitted into the kernel; phi, theta, psi: {mech.convention}):")
+        for name, e in quantities:
+            print(f"  {name} = {show(e)}")
     if report is not None:
         print()
         print(str(report))

@@ -209,6 +209,27 @@ def _gamma_kinematics() -> sp.Matrix:
     return -sp.Matrix(OMEGA).cross(sp.Matrix(GAMMA))
 
 
+def _frame_gamma_terms(mech: Mechanics) -> sp.Matrix:
+    """``−Γ × to_body(Ω)``: Γ (the frame's up) is fixed in the frame, which turns at Ω relative to inertial space, so
+    ``(dΓ/dt)_body + (ω − R(q)ᵀ Ω) × Γ = 0``; zero for an inertial frame (and for Ω along the frame's up)."""
+    if not mech.turning:
+        return sp.zeros(3, 1)
+    from eulersym.model.expressions import to_body
+
+    return (-sp.Matrix(GAMMA).cross(sp.Matrix(to_body(mech.frame)))).applyfunc(sp.expand)
+
+
+def _frame_quaternion_terms(mech: Mechanics) -> sp.Matrix:
+    """``−½ (0, Ω) ⊗ q``: the attitude relative to a frame turning at Ω (frame components) changes at
+    ``q̇ = ½ q ⊗ (0, ω) − ½ (0, Ω) ⊗ q`` (for a unit q this is ``½ q ⊗ (0, ω − R(q)ᵀ Ω)``)."""
+    if not mech.turning:
+        return sp.zeros(4, 1)
+    from eulersym.quaternion import hamilton
+
+    product = hamilton((sp.Integer(0), *mech.frame), tuple(Q))
+    return sp.Matrix([-sp.expand(c) / 2 for c in product])
+
+
 def potential_torque(V) -> sp.Matrix:
     """The torque of a potential energy ``V(Γ, q, t)``, by virtual work: ``N = −(∂ẋ/∂ω)ᵀ ∂V/∂x``, ``x = (Γ, q)``.
 
@@ -287,8 +308,8 @@ def equations(mech: Mechanics) -> Equations:
                  for k in range(3)]
     rows = list(omega_dot)
     if uses_gamma(mech):
-        rows += list(_gamma_kinematics())
-    rows += list(_quaternion_kinematics())
+        rows += list(_gamma_kinematics() + _frame_gamma_terms(mech))
+    rows += list(sp.Matrix(_quaternion_kinematics()) + _frame_quaternion_terms(mech))
     state = state_symbols(mech)
     return Equations(state, sp.ImmutableMatrix(rows), euler, sp.ImmutableMatrix(N), V, sp.ImmutableMatrix(L))
 
@@ -372,7 +393,7 @@ def lagrangian(mech: Mechanics, convention: str = "zxz") -> sp.Expr:
         raise InvalidInput("mech", mech, "an eulersym.model.mechanics.Mechanics")
     convention = _convention(convention)
     _require_conservative(mech)
-    mapping = _angle_map(convention)[0]
+    mapping = _frame_map(mech, convention)[0]
     w = sp.Matrix(OMEGA)
     I = sp.Matrix(mech.inertia)
     T = (w.T * I * w)[0, 0] / 2 + (sp.Matrix(mech.rotor).T * w)[0, 0]
@@ -419,9 +440,20 @@ def _lagrange_equations(mech: Mechanics, convention: str) -> tuple:
     return tuple(out)
 
 
+def _frame_map(mech: Mechanics, convention: str) -> tuple:
+    """:func:`_angle_map` for angles relative to the model's frame: ``ω = J(angles)·rates + A(angles) Ω`` (the
+    frame's own turn, Ω in frame components, mapped to the body by ``r_body = A r_frame``); Γ and q unchanged (they
+    refer to the frame)."""
+    mapping, w, gamma, q, A = _angle_map(convention)
+    if not mech.turning:
+        return mapping, w, gamma, q, A
+    w = (w + A * sp.Matrix(mech.frame)).applyfunc(sp.expand)
+    return {**mapping, **dict(zip(OMEGA, w))}, w, gamma, q, A
+
+
 def _newton_euler_in_angles(mech: Mechanics, convention: str) -> sp.Matrix:
     """``Jᵀ (I ω̇ + ω × L − N)``: the Newton–Euler residual mapped through ω(φ, θ, ψ, rates)."""
-    mapping, w, _, _, _ = _angle_map(convention)
+    mapping, w, _, _, _ = _frame_map(mech, convention)
     eqs = equations(mech)
     residual = sp.Matrix([e.lhs - e.rhs for e in eqs.euler])
     mapping = {**mapping, **dict(zip(OMEGA_DOT, w.diff(t)))}
@@ -596,13 +628,18 @@ def check(mech: Mechanics, conventions=None) -> CheckReport:
         else:
             items.append(CheckItem("Lagrangian route", convention, True,
                                    "not applicable: a torque that is not a potential's has no Lagrangian"))
-        mapping, w, gamma, q, A = _angle_map(convention)
-        if uses_gamma(mech):
-            r = _compare(list(gamma.diff(t)), list(gamma.cross(w)))
-            items.append(CheckItem("Γ = A ẑ satisfies Γ̇ = Γ × ω", convention, r.equal, r.method))
-        if has_q:  # the Lagrangian uses q(angles) only through a potential in q
-            r = _compare(list(q.diff(t)), list(quaternion_rate(list(q), list(w))), half=True)
-            items.append(CheckItem("q(angles) satisfies q̇ = ½ q ⊗ (0, ω)", convention, r.equal, r.method))
+        mapping, w, gamma, q, A = _frame_map(mech, convention)
+        turning = mech.turning
+        if uses_gamma(mech):  # the derived kinematics (frame terms included), along the angle map
+            rows = equations(mech).rhs[3:6, 0]
+            r = _compare(list(gamma.diff(t)), [e.xreplace(mapping) for e in rows], half=turning)
+            items.append(CheckItem("Γ = A ẑ satisfies Γ̇ = Γ × ω" + (" − Γ × A Ω (turning frame)" if turning else ""),
+                                   convention, r.equal, r.method))
+        if has_q or turning:  # the Lagrangian uses q(angles) only through a potential in q (or the frame's turn)
+            rows = equations(mech).rhs[-4:, 0]
+            r = _compare(list(q.diff(t)), [e.xreplace(mapping) for e in rows], half=True)
+            items.append(CheckItem("q(angles) satisfies q̇ = ½ q ⊗ (0, ω)" + (" − ½ (0, Ω) ⊗ q (turning frame)"
+                                   if turning else ""), convention, r.equal, r.method))
             r = _compare(from_quaternion(list(q)), A, half=True)
             items.append(CheckItem("from_quaternion(q(angles)) = A(angles)", convention, r.equal, r.method))
     if is_chapter_top(mech):

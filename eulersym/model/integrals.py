@@ -25,6 +25,10 @@ Candidates (:func:`invariants`), as the model's structure implies them:
   ``e₃ = e``, ``e₂ = e₃ × e₁`` (``p = ω·e₁``, ``q = ω·e₂``, ``γ_k = Γ·e_k``) — so it holds in whatever axes the
   model uses, not only with ``c`` along x.
 
+- ``Jacobi`` — in a frame that turns uniformly at Ω (``[frame] rate``): ``E − Ω·L`` (``Ω·L = to_body(Ω)·(I ω +
+  h)``), the Hamiltonian of the motion relative to the frame, ``T₂ − T₀ + V`` of the Lagrangian in the frame's
+  coordinates; conserved when the torques come from a potential fixed in the frame.
+
 On a level set (``on=``)
     Some integrals hold only where others take given values: Goryachev–Chaplygin's ``r (p² + q²) − (M g a/C) p γ₃``
     of a top with ``A = B = 4C`` is conserved on ``L·Γ = 0`` only. ``prove(..., on="L_dot_Gamma = 0")`` names
@@ -668,6 +672,10 @@ def candidates(mech: Mechanics) -> dict:
     K = kovalevskaya_integral(mech)
     if K is not None:
         out["K"] = K
+    if mech.turning:  # the Jacobi-like integral of a uniformly turning frame: E − Ω·L (the frame's own Hamiltonian)
+        from eulersym.model.expressions import to_body
+
+        out["Jacobi"] = sp.expand(out["E"] - _dot(to_body(mech.frame), L))
     return out
 
 

@@ -81,7 +81,7 @@ def flags(mech: Mechanics) -> dict:
     False
     """
     exprs = [*mech.torque, mech.potential]
-    return {
+    flags_ = {
         "pivoted": bool(mech.pivoted),
         "gravity": bool(mech.pivoted and mech.gravity != 0),
         "torque": any(sp.sympify(e) != 0 for e in mech.torque),
@@ -89,6 +89,9 @@ def flags(mech: Mechanics) -> dict:
         "rotor": any(sp.sympify(e) != 0 for e in mech.rotor),
         "time": any(sp.sympify(e).has(t) for e in exprs),
     }
+    if mech.turning:
+        flags_["frame"] = True
+    return flags_
 
 
 def body_values(mech: Mechanics) -> list:
@@ -116,8 +119,10 @@ def _parameter_arguments(mech: Mechanics) -> tuple:
 
 @functools.lru_cache(maxsize=32)
 def _spec(mech: Mechanics, name: str) -> tuple:
-    eqs = equations(mech)
-    verdicts = _invariants(mech)
+    from eulersym.model.quantities import dynamics
+
+    eqs = equations(dynamics(mech))
+    verdicts = _invariants(dynamics(mech))
     conserved = [(n, v.expression) for n, v in verdicts.items() if v.conserved]
     args = (Argument("t", (t,), doc="time"), Argument("y", tuple(eqs.state), vector=True, doc="state"),
             *_parameter_arguments(mech))
@@ -131,6 +136,13 @@ def _spec(mech: Mechanics, name: str) -> tuple:
                      "the integrals proven conserved: " + ", ".join(n for n, _ in conserved),
                      tuple(n for n, _ in conserved)),
     )
+    from eulersym.model.quantities import expressions as _quantities
+
+    quantities = _quantities(mech)
+    if quantities:  # the user's own outputs, one row each (their values, conserved or not)
+        functions += (FunctionSpec("quantities", args, sp.Matrix([_rational_floats(e) for _, e in quantities]),
+                                   "the model's own quantities: " + ", ".join(n for n, _ in quantities),
+                                   tuple(n for n, _ in quantities)),)
     description = (f"The model {mech.name!r}: Newton–Euler in the body frame, I ω̇ = N − ω × (I ω + h), "
                    + ("Γ̇ = Γ × ω (Γ: the upward vertical in body components), " if len(eqs.state) == 10 else "")
                    + "q̇ = ½ q ⊗ (0, ω) (attitude quaternion, scalar first, v_space = R(q) v_body). "
@@ -141,6 +153,11 @@ def _spec(mech: Mechanics, name: str) -> tuple:
                       "eulersym.model.integrals.invariants", functions, notes,
                       defaults=tuple(float(v) for _, v in mech.parameters))
     return spec, tuple(n for n, _ in conserved)
+
+
+def _rational_floats(expr):
+    """Floats of a quantity as the exact numbers they print as (the same code from ``0.5`` and ``1/2``)."""
+    return expr.xreplace({f: sp.Rational(str(f)) for f in expr.atoms(sp.Float)})
 
 
 def module_spec(mech: Mechanics, *, name: str | None = None) -> ModuleSpec:
@@ -188,6 +205,22 @@ def _body_source(mech: Mechanics) -> tuple[str, set]:
     return "\n".join(lines), set(printer.used_functions)
 
 
+def _quantities_block(mech: Mechanics) -> list:
+    """``QUANTITIES`` (the rows of ``quantities(t, y, *params)``) and the sequence of their Euler angles."""
+    if not mech.quantities:
+        return []
+    from eulersym.model.quantities import expressions as _quantities
+
+    names = tuple(n for n, _ in mech.quantities)
+    state = equations(mech).state
+    used = set().union(*(e.free_symbols for _, e in _quantities(mech)))
+    reads = tuple(s.name for s in state if s in used)
+    return ["#: The model's own quantities: the rows of quantities(t, y, *params).", f"QUANTITIES = {names!r}",
+            "#: The state components the quantities read.", f"QUANTITY_STATE = {reads!r}",
+            "#: The Euler-angle sequence of phi, theta, psi in the quantities.",
+            f"QUANTITY_CONVENTION = {mech.convention!r}"]
+
+
 def _flags_block(mech: Mechanics) -> str:
     flag_items = ", ".join(f"{k!r}: {v!r}" for k, v in flags(mech).items())
     return "\n".join(["#: What the model has.", f"FLAGS = {{{flag_items}}}"])
@@ -218,7 +251,10 @@ def _source(mech: Mechanics, name: str, digest: str | None, versions: tuple | No
     names += ["FLAGS", "body"]
     lines[k] = f"__all__ = {names!r}"
     k = next(i for i, line in enumerate(lines) if line.startswith("INVARIANTS = "))
-    lines[k + 1:k + 1] = [_flags_block(mech)]
+    lines[k + 1:k + 1] = [_flags_block(mech)] + _quantities_block(mech)
+    if mech.quantities:
+        names += ["QUANTITIES", "QUANTITY_STATE", "QUANTITY_CONVENTION"]
+        lines[next(i for i, line in enumerate(lines) if line.startswith("__all__ = "))] = f"__all__ = {names!r}"
     text = "\n".join(lines).rstrip("\n")
     return text + "\n\n\n" + body + "\n"
 

@@ -72,6 +72,15 @@ class Mechanics:
     parameters : tuple of (Symbol, float)
         The model's parameters with their default values, in the order the file gives them (the order generated
         functions take them).
+    frame : 3×1 ImmutableMatrix
+        The angular velocity ``Ω`` of the reference frame (its own components, constant: the frame turns uniformly);
+        zeros for an inertial frame. ``ω`` stays the body's angular velocity relative to inertial space (body
+        components); ``q``, ``Γ``, ``to_body``/``to_space`` refer to the frame.
+    quantities : tuple of (str, str)
+        Quantities the user defines (name, expression text), emitted into the kernel
+        (:mod:`eulersym.model.quantities`).
+    convention : str
+        The Euler-angle sequence of ``phi``, ``theta``, ``psi`` in :attr:`quantities`.
     """
 
     name: str
@@ -84,6 +93,14 @@ class Mechanics:
     rotor: sp.ImmutableMatrix = _ZERO3
     potential: sp.Expr = sp.Integer(0)
     parameters: tuple = field(default=())
+    frame: sp.ImmutableMatrix = _ZERO3
+    quantities: tuple = field(default=())
+    convention: str = "zxz"
+
+    @property
+    def turning(self) -> bool:
+        """Whether the reference frame turns (``Ω ≠ 0``)."""
+        return any(sp.sympify(e) != 0 for e in self.frame)
 
     @property
     def parameter_symbols(self) -> tuple:

@@ -74,10 +74,12 @@ from eulersym.validation import GENERATED_CODE_NAMES
 from eulersym.model import names as N
 from eulersym.shapes import SHAPE_ORIGINS, SHAPES
 
-__all__ = ["Model", "MODEL_SECTIONS", "SCENE_KEYS", "SHAPES", "SHAPE_ORIGINS", "DEFAULT_G"]
+__all__ = ["Model", "MODEL_SECTIONS", "OPTIONAL_SECTIONS", "SCENE_KEYS", "SHAPES", "SHAPE_ORIGINS", "DEFAULT_G"]
 
-#: The sections of a model.
-MODEL_SECTIONS = ("parameters", "body", "pivot", "torque", "rotor")
+#: The sections of a model (``frame`` and ``quantities`` only when given: :data:`OPTIONAL_SECTIONS`).
+MODEL_SECTIONS = ("parameters", "body", "pivot", "torque", "rotor", "frame", "quantities")
+#: Sections kept in the model's data (and digest) only when given, so that models without them keep their digest.
+OPTIONAL_SECTIONS = ("frame", "quantities")
 #: Top-level keys of a scene file that are not the model's (ignored by :meth:`Model.from_dict`), besides
 #: any key that starts with ``sweep``.
 SCENE_KEYS = ("description", "initial", "time", "output")
@@ -142,8 +144,9 @@ class _Checker:
             if name in allowed:
                 continue
             params = ", ".join(self.parameters) or "none"
-            if context in ("number", "rotor") and (name in N.RESERVED):
-                what = "a constant rotor momentum h" if context == "rotor" else "a constant"
+            if context in ("number", "rotor", "frame") and (name in N.RESERVED):
+                what = {"rotor": "a constant rotor momentum h", "frame": "a constant rate: the frame turns uniformly, "
+                        "so Ω is"}.get(context, "a constant")
                 raise InvalidInput(key, text, f"{what}: an expression of the parameters ({params}) and pi; "
                                    f"{name!r} varies with the motion")
             if context == "potential" and name in (*N.OMEGA_NAMES, "omega"):
@@ -151,6 +154,7 @@ class _Checker:
                                    f"parameters ({params}); {name!r} is an angular velocity")
             what = {"number": f"an expression of the parameters ({params}) and pi",
                     "rotor": f"an expression of the parameters ({params}) and pi",
+                    "frame": f"an expression of the parameters ({params}) and pi",
                     "torque": f"an expression of t, omega, omega1..3, gamma, gamma1..3, q0..q3, inertia, pi, "
                               f"the parameters ({params}) and the functions",
                     "potential": f"an expression of t, gamma, gamma1..3, q0..q3, inertia, pi, the parameters "
@@ -475,6 +479,27 @@ def _torque(value: Any, check: _Checker) -> dict:
     return out
 
 
+def _frame(value: Any, check: _Checker):
+    """``[frame] rate = [Ω1, Ω2, Ω3]``: the frame's constant angular velocity, its own components."""
+    if value is None:
+        return None
+    table = _table("frame", value, ("rate",))
+    if "rate" not in table:
+        raise InvalidInput("frame.rate", None, "the frame's angular velocity rate = [Ω1, Ω2, Ω3] (its own "
+                           "components, numbers or expressions of the parameters)")
+    return check.vector("frame.rate", table["rate"], context="frame")
+
+
+def _quantities(value: Any, check: _Checker):
+    """``[quantities] name = "expression"`` (and ``convention`` for phi, theta, psi): see
+    :mod:`eulersym.model.quantities`."""
+    if value is None:
+        return None
+    from eulersym.model.quantities import validate
+
+    return validate(value, check.parameters)
+
+
 def _rotor(value: Any, check: _Checker):
     if value is None:
         return None
@@ -524,6 +549,14 @@ class Model:
         potential energy.
     rotor : mapping, optional
         ``h``: the constant angular momentum of an internal rotor, body components.
+    frame : mapping, optional
+        ``rate = [Ω1, Ω2, Ω3]``: the reference frame turns uniformly at Ω (its own components; numbers or
+        expressions of the parameters, never of the state or t). ω stays the body's angular velocity relative to
+        inertial space (body components); the attitude q, ``to_body``/``to_space`` and ``gamma`` (the frame's up)
+        refer to the frame.
+    quantities : mapping, optional
+        ``name = "expression"``: quantities to output, emitted into the model's kernel
+        (:mod:`eulersym.model.quantities`); ``convention`` names the sequence of ``phi``, ``theta``, ``psi``.
 
     Attributes
     ----------
@@ -584,6 +617,10 @@ class Model:
             "torque": _torque(kwargs.get("torque"), check),
             "rotor": _rotor(kwargs.get("rotor"), check),
         }
+        for key, read in (("frame", _frame), ("quantities", _quantities)):
+            section = read(kwargs.get(key), check)
+            if section is not None:
+                self._data[key] = section
         if pivot is not None and pivot["centre_of_mass"] is not None and ("shape" in body or "parts" in body):
             self._check_centre()  # a shape's centre of mass is derived: a contradictory one is refused now
 
@@ -729,6 +766,14 @@ class Model:
             out["torque"] = torque
         if data["rotor"] is not None:
             out["rotor"] = {"h": data["rotor"]}
+        if "frame" in data:
+            out["frame"] = {"rate": data["frame"]}
+        if "quantities" in data:
+            q = data["quantities"]
+            units = q.get("units", {})
+            out["quantities"] = {**{name: {"expression": text, "unit": units[name]} if name in units else text
+                                    for name, text in q["names"]},
+                                 **({"convention": q["convention"]} if q["convention"] != "zxz" else {})}
         return out
 
     @cached_property
@@ -791,7 +836,12 @@ class Model:
         """
         from eulersym.model.facts import facts
 
-        return facts(self._data, values, batch)
+        out = facts(self._data, values, batch)
+        if "frame" in self._data:  # a turning frame's kinematics live only in the model's own equations
+            import dataclasses
+
+            out = dataclasses.replace(out, torque="varying")
+        return out
 
     def _check_centre(self) -> None:
         """A centre of mass given for a shape or parts must be the one they derive (at the defaults, NumPy)."""
@@ -824,7 +874,21 @@ class Model:
     def _assembly(self):
         from eulersym.model.assemble import assemble
 
-        return assemble(self._data)
+        assembly = assemble(self._data)
+        if not any(key in self._data for key in OPTIONAL_SECTIONS):
+            return assembly
+        import dataclasses
+
+        from eulersym.model.quantities import frame_rate
+
+        mech = assembly.mechanics
+        extra = {}
+        if "frame" in self._data:
+            extra["frame"] = frame_rate(mech, self._data["frame"])
+        if "quantities" in self._data:
+            q = self._data["quantities"]
+            extra.update(quantities=tuple(tuple(pair) for pair in q["names"]), convention=q["convention"])
+        return dataclasses.replace(assembly, mechanics=dataclasses.replace(mech, **extra))
 
     @property
     def mechanics(self):

@@ -1083,6 +1083,8 @@ def _steady_motions(mech: Mechanics, budget: float) -> SteadyMotions:
     notes = list(ctx.notes)
     if any(e.has(t) for e in ctx.f):
         return SteadyMotions([], notes)
+    if mech.turning:
+        return _frame_equilibria(ctx, notes)
     x = list(ctx.x)
     f = list(ctx.f_solving)
     unknowns = list(x)
@@ -1133,6 +1135,88 @@ def _steady_motions(mech: Mechanics, budget: float) -> SteadyMotions:
         ) from None
     if not families:
         notes.append("no steady motion found: the equilibrium equations have no solution for generic parameters")
+    return SteadyMotions(families, notes)
+
+
+def _exact_quaternion(R) -> list:
+    """The unit quaternion (scalar first, q0 ≥ 0 where it can be) of an exact rotation matrix ``R`` (``v = R v_body``),
+    by Shepperd's rule (the largest of 1 + tr R, 1 + 2 R_kk − tr R under the root)."""
+    R = sp.Matrix(R)
+    tr = R.trace()
+    options = [1 + tr] + [1 + 2 * R[k, k] - tr for k in range(3)]
+    k = max(range(4), key=lambda i: float(options[i]))
+    root = sp.sqrt(options[k]) / 2
+    if k == 0:
+        q = [root, (R[2, 1] - R[1, 2]) / (4 * root), (R[0, 2] - R[2, 0]) / (4 * root), (R[1, 0] - R[0, 1]) / (4 * root)]
+    else:
+        i, j, m = k - 1, k % 3, (k + 1) % 3
+        v = [0, 0, 0]
+        v[i] = root
+        v[j] = (R[j, i] + R[i, j]) / (4 * root)
+        v[m] = (R[m, i] + R[i, m]) / (4 * root)
+        q = [(R[m, j] - R[j, m]) / (4 * root), *v]
+        if q[0] < 0:
+            q = [-c for c in q]
+    return [sp.radsimp(c) for c in q]
+
+
+def _frame_equilibria(ctx: _Context, notes: list) -> SteadyMotions:
+    """Equilibria in a uniformly turning frame (relative equilibria: a satellite at rest in its orbital frame).
+
+    At rest in the frame, ``q̇ = 0`` gives ``ω = A Ω`` (``A = R(q)ᵀ``, ``r_body = A r_frame``) and the body must
+    turn steadily with it: ``I ω̇ = N − ω × (I ω + h) = 0`` at ``ω = A Ω``, ``Γ = A ẑ``. The candidates are the 24
+    attitudes that put the body's axes along the frame's (signed permutations, det +1); each is kept only where the
+    model's own equations vanish there exactly. Attitudes that differ by a half-turn of the body about one of its axes
+    that maps the equations to themselves (a diagonal tensor and an even potential: checked, all four members of
+    the class steady) are one family, written with body axes e1 and e2 along + frame axes."""
+    import itertools
+
+    mech = ctx.mech
+    x = list(ctx.x)
+    Omega = sp.Matrix(mech.frame)
+    z = sp.Matrix([0, 0, 1])
+    notes = notes + ["a turning frame: its equilibria (relative equilibria) among the attitudes that align the body's "
+                     "axes with the frame's, each checked exactly in the model's equations; others are not searched"]
+    rows = dict(zip(x, ctx.f))
+
+    def state_of(A):
+        q = _exact_quaternion(A.T)
+        values = {**dict(zip(OMEGA, A * Omega)), **dict(zip(GAMMA, A * z)), **dict(zip(Q, q))}
+        return {s: sp.nsimplify(values[s]) if not isinstance(values[s], sp.Basic) else values[s] for s in x}
+
+    def steady(A):
+        point = state_of(A)
+        return all(_is_zero(sp.expand(sp.sympify(rows[s]).xreplace(point))) for s in x), point
+
+    seen, families = set(), []
+    frame_axes = ("x", "y", "z")
+    for perm in itertools.permutations(range(3)):
+        for signs in itertools.product((1, -1), repeat=3):
+            A = sp.zeros(3, 3)
+            for row, (col, sign) in enumerate(zip(perm, signs)):
+                A[row, col] = sign
+            if A.det() != 1 or (perm, signs) in seen:
+                continue
+            ok, point = steady(A)
+            if not ok:
+                continue
+            flips = ((1, -1, -1), (-1, 1, -1), (-1, -1, 1))
+            images = [tuple(a * b for a, b in zip(signs, d)) for d in flips]
+            matrices = [sp.diag(*d) * A for d in flips]
+            if mech.inertia.is_diagonal() and all(steady(B)[0] for B in matrices):
+                seen.update((perm, image) for image in images)  # the same configuration of the body: one family
+                k = next(i for i, sg in enumerate([signs, *images]) if sg[0] > 0 and sg[1] > 0)
+                A = [A, *matrices][k]
+                ok, point = steady(A)
+            seen.add((perm, signs))
+            where = ", ".join(f"e{r + 1} along {'+' if A[r, perm[r]] > 0 else '-'}{frame_axes[perm[r]]}"
+                              for r in range(3))
+            state = {s.name: v for s, v in point.items()}
+            families.append(Family(f"at rest in the turning frame: {where}", "equilibrium in the turning frame", (),
+                                   state, sp.true, (), {}, None, True, "q̇ = 0 ⇒ ω = A Ω; I ω̇ = 0 checked exactly",
+                                   0, ctx, None, None))
+    if not families:
+        notes.append("no attitude aligned with the frame's axes is at rest in it")
     return SteadyMotions(families, notes)
 
 

@@ -14,12 +14,20 @@ Every model here comes with a test (tests/test_models_bundled.py) that proves wh
   (``eulersym stability``);
 - ``satellite-dual-spin`` — a dual-spin satellite (rotor and nutation damper): spin about the minor axis
   asymptotically stable when the rotor's momentum is large enough;
-- ``top-goryachev-chaplygin`` — ``I1 = I2 = 4 I3``: Goryachev–Chaplygin's integral, conserved on ``L·Γ = 0`` only.
+- ``top-goryachev-chaplygin`` — ``I1 = I2 = 4 I3``: Goryachev–Chaplygin's integral, conserved on ``L·Γ = 0`` only;
+- ``satellite-orbital-frame`` — the gravity-gradient satellite at rest in its circular orbital frame (``[frame]``):
+  its characteristic polynomial is the literature's pitch × roll–yaw product, its stability map shows the Lagrange
+  and DeBra–Delp regions, its pitch (a quantity) librates as the planar pitch equation says;
+- ``gyrocompass`` — a damped pendulous gyrocompass on the turning Earth: it settles on north with the tilt
+  ``tan β = h Ω sin λ / (M g l + h Ω cos λ)``.
+
+``damped`` outputs its energy and ``gyroscope`` its precession rate as ``[quantities]`` (tests/test_model_quantities.py);
+the two models in a turning frame are tested in tests/test_model_frame.py.
 
 Examples
 --------
 >>> sorted(bundled())[:3]
-['damped', 'gyroscope', 'gyrostat']
+['damped', 'gyrocompass', 'gyroscope']
 >>> bundled()["kovalevskaya"].name
 'kovalevskaya.toml'
 """

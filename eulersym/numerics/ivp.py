@@ -48,6 +48,10 @@ _MODULE_LAYOUT = {
 MIN_RTOL = 100 * np.finfo(float).eps
 
 
+class _TooMany(Exception):
+    """More evaluations than ``max_calls``."""
+
+
 def _omega_from_euler_angles(y):
     """Body ω from zxz angles and rates, rows = times, with the generated kinematics kernel."""
     from eulersym.generated import kinematics
@@ -55,7 +59,7 @@ def _omega_from_euler_angles(y):
     return np.asarray(kinematics.omega_body_batched(*y.T)).T.reshape(-1, 3)
 
 
-def integrate_ivp(module, y0, t, params, *, method="DOP853", rtol=1e-10, atol=1e-12, layout=None):
+def integrate_ivp(module, y0, t, params, *, method="DOP853", rtol=1e-10, atol=1e-12, layout=None, max_calls=None):
     """Integrate a kernel module's ``rhs`` with ``scipy.integrate.solve_ivp`` and sample it at ``t``.
 
     Parameters
@@ -73,6 +77,8 @@ def integrate_ivp(module, y0, t, params, *, method="DOP853", rtol=1e-10, atol=1e
         Tolerances; ``rtol`` below 100 ε (≈ 2.2e-14) cannot be honoured and is refused.
     layout : {"omega", "omega_q", "omega_gamma_q", "euler_angles"}, optional
         How to read ω, q and Γ from the state; default from the module name (see the module docstring).
+    max_calls : int, optional
+        Stop (:class:`~eulersym.errors.IntegrationFailed`) after this many evaluations of ``rhs``: no endless run.
 
     Returns
     -------
@@ -85,7 +91,8 @@ def integrate_ivp(module, y0, t, params, *, method="DOP853", rtol=1e-10, atol=1e
     eulersym.errors.InvalidInput
         Unknown method or layout, non-finite inputs, bad times, tolerances no double-precision solver can honour.
     eulersym.errors.IntegrationFailed
-        The integration itself failed (``solve_ivp``'s status, or a state that left the finite numbers).
+        The integration itself failed (``solve_ivp``'s status, a state that left the finite numbers, a right-hand side
+        that raised — ``math.log`` of a negative number — or more than ``max_calls`` evaluations), with the time.
 
     Examples
     --------
@@ -117,10 +124,14 @@ def integrate_ivp(module, y0, t, params, *, method="DOP853", rtol=1e-10, atol=1e
         raise InvalidInput("y0", y0, f"{n_state} state components for the {layout!r} layout")
     rhs = module.rhs
     calls = 0
+    where = [float(tt[0]), y0]
 
     def f(time, y):
         nonlocal calls
         calls += 1
+        if max_calls is not None and calls > max_calls:
+            raise _TooMany()
+        where[0], where[1] = time, y
         return rhs(time, y, *params)
 
     first = np.asarray(f(tt[0], y0), dtype=np.float64)
@@ -132,9 +143,25 @@ def integrate_ivp(module, y0, t, params, *, method="DOP853", rtol=1e-10, atol=1e
         kwargs["jac"] = lambda time, y: np.asarray(jac(time, y, *params), dtype=np.float64)
     from scipy.integrate import solve_ivp  # imported here: closed-form and splitting runs never need it
 
-    sol = solve_ivp(f, (tt[0], tt[-1]), y0, method=method, t_eval=tt, rtol=rtol, atol=atol, **kwargs)
+    def state():
+        return ", ".join(f"{v:.6g}" for v in np.asarray(where[1], dtype=float).tolist())
+
+    try:
+        with np.errstate(all="ignore"):
+            sol = solve_ivp(f, (tt[0], tt[-1]), y0, method=method, t_eval=tt, rtol=rtol, atol=atol, **kwargs)
+    except _TooMany:
+        raise IntegrationFailed("ivp", f"{method} took more than {max_calls} evaluations by t = {where[0]:.6g} (the "
+                                "motion is too fast for the span, or the tolerance too tight)",
+                                "a shorter t_end or a looser accuracy") from None
+    except (ValueError, OverflowError, ZeroDivisionError, FloatingPointError) as exc:
+        raise IntegrationFailed("ivp", f"the right-hand side failed at t = {where[0]:.6g} from y = ({state()}) "
+                                f"({type(exc).__name__}: {exc}): it left its domain or the finite numbers",
+                                "a start and parameters that keep the right-hand side in its domain (or a shorter "
+                                "t_end)") from None
     if sol.status != 0 or not np.all(np.isfinite(sol.y)) or sol.y.shape[1] != tt.size:
-        raise IntegrationFailed("ivp", f"{method} at rtol = {rtol:g}: {sol.message}", "a looser rtol")
+        why = sol.message if sol.status != 0 else "the state left the finite numbers"
+        raise IntegrationFailed("ivp", f"{method} at rtol = {rtol:g}: {why} (at t = {where[0]:.6g}, from y = "
+                                f"({state()}))", "a looser rtol, or a shorter t_end (before a singularity)")
     Y = sol.y.T.copy()
     omega = _omega_from_euler_angles(Y) if w_sl is None else Y[:, w_sl]
     return Trajectory(

@@ -48,7 +48,7 @@ def _gamma(q):
     return np.stack([2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d])
 
 
-def integrate_torqued(rhs, omega0, q0, t, *, h=None, params=(), gamma=False, method="cf4"):
+def integrate_torqued(rhs, omega0, q0, t, *, h=None, params=(), gamma=False, method="cf4", accuracy=None):
     """Integrate ω and the attitude of bodies under any torque with a Lie-group method (|q| = 1 exactly).
 
     Parameters
@@ -69,11 +69,17 @@ def integrate_torqued(rhs, omega0, q0, t, *, h=None, params=(), gamma=False, met
     gamma : bool
         Whether the state holds Γ (n_state = 10) or not (7).
     method : {"cf4"}
+    accuracy : float, optional
+        Instead of ``h``: the global error wanted at the output times (ω relative to its largest size, q
+        absolute), delivered by Richardson's estimate — runs at a step and at half of it (order 4), then the step
+        proportionality asks for (:func:`eulersym.numerics.methods._accuracy.richardson`); the result's ``error``
+        holds the estimate.
 
     Returns
     -------
     Trajectory (inputs of one member) or BatchTrajectory (batch-first inputs)
-        ω, q and Γ (= R(q)ᵀ ẑ) at ``t``; ``n_rhs_calls`` / ``n_kicks`` count calls of ``rhs`` × members.
+        ω, q and Γ (= R(q)ᵀ ẑ) at ``t``; ``n_rhs_calls`` / ``n_kicks`` count calls of ``rhs`` × members; with
+        ``accuracy``, ``error`` maps "omega" and "attitude" to the estimate (a float, or per member).
 
     Raises
     ------
@@ -94,6 +100,8 @@ def integrate_torqued(rhs, omega0, q0, t, *, h=None, params=(), gamma=False, met
     True
     """
     choice("method", method, TORQUED_METHODS)
+    if accuracy is not None:
+        return _to_accuracy(rhs, omega0, q0, t, h=h, params=params, gamma=gamma, method=method, accuracy=accuracy)
     if not callable(rhs):
         raise InvalidInput("rhs", rhs, "a callable rhs(t, y, *params) -> ydot (a kernel's rhs_batched)")
     w0 = finite_array("omega0", omega0)
@@ -158,3 +166,38 @@ def integrate_torqued(rhs, omega0, q0, t, *, h=None, params=(), gamma=False, met
         return Trajectory(t=tt, omega=W[0], q=Q[0], gamma=G[0], n_rhs_calls=calls, method=f"lie_group:{method}")
     return BatchTrajectory(t=tt, omega=W, gamma=G, q=Q, steps=np.full(B, float(np.max(steps, initial=h))),
                            n_kicks=calls * B, method=f"lie_group:{method}")
+
+
+def _to_accuracy(rhs, omega0, q0, t, *, h, params, gamma, method, accuracy):
+    """:func:`integrate_torqued` brought to ``accuracy`` by Richardson's estimate (steps shared by the members)."""
+    import dataclasses
+    import math
+
+    from eulersym.numerics.methods._accuracy import richardson
+
+    if h is not None:
+        raise InvalidInput("accuracy", accuracy, "None when a step h is given (one or the other)")
+    if not isinstance(accuracy, (int, float)) or not (0.0 < float(accuracy) < 1.0) or not math.isfinite(accuracy):
+        raise InvalidInput("accuracy", accuracy, "a relative accuracy with 0 < accuracy < 1")
+    tt = finite_array("t", t, shape=(None,))
+    if tt.size < 2:
+        return integrate_torqued(rhs, omega0, q0, t, params=params, gamma=gamma, method=method)
+    dt = float(np.min(np.diff(tt)))
+    w0 = np.atleast_2d(finite_array("omega0", omega0))
+    fastest = float(np.max(np.linalg.norm(w0, axis=1), initial=0.0))
+    first = 1 if fastest == 0 else max(1, math.ceil(dt / (2 * np.pi / (16 * fastest))))
+    single = np.ndim(omega0) == 1 and np.ndim(q0) == 1
+
+    def run(n):
+        tr = integrate_torqued(rhs, omega0, q0, tt, h=dt / n * (1 + 1e-12), params=params, gamma=gamma,
+                               method=method)
+        if single:  # batch-first for the estimate
+            tr = dataclasses.replace(tr, omega=tr.omega[None], q=tr.q[None], gamma=None)
+        return dataclasses.replace(tr, gamma=None)
+
+    best = richardson(run, first, float(accuracy), 4)
+    G = np.moveaxis(_gamma(np.moveaxis(best.q, -1, 0)), 0, -1)
+    if single:
+        return dataclasses.replace(best, omega=best.omega[0], q=best.q[0], gamma=G[0],
+                                   error={k: float(v[0]) for k, v in best.error.items()})
+    return dataclasses.replace(best, gamma=G)

@@ -14,6 +14,7 @@ in body components, ``Γ = R(q)ᵀ ẑ``.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Mapping
 
 import numpy as np
 
@@ -56,6 +57,12 @@ class Trajectory:
         0: the motion reached the last output time (the only status a returned trajectory has; a failure raises).
     message : str
         How it was obtained, for reports.
+    error : mapping quantity → ndarray (batch,), or None
+        An integrating method's estimate of its global error at the output times, per member: ``"omega"`` relative
+        to the largest |ω| of the motion, ``"attitude"`` (q) and ``"gamma"`` (Γ) absolute — each the largest
+        Euclidean distance from the true motion over the output times
+        (:mod:`eulersym.numerics.methods._accuracy`). None for a closed form (exact to round-off) and for the
+        low-level integrators, which take a step or a tolerance rather than an accuracy.
 
     Examples
     --------
@@ -80,6 +87,7 @@ class Trajectory:
     q_unit: bool = False
     status: int = 0
     message: str = ""
+    error: Mapping | None = None
 
     @property
     def batch(self) -> int | None:

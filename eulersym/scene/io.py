@@ -47,6 +47,11 @@ def _columns(result):
     for key, values in result.invariants.items():
         names.append(key)
         blocks.append(lift(values)[..., None])
+    from eulersym.scene.quantities import columns  # the model's own quantities, one column each
+
+    head, values = columns(result, taken=names)
+    names += head
+    blocks += [v[..., None] for v in values]
     return names, np.concatenate(blocks, axis=-1)
 
 
@@ -106,6 +111,11 @@ def summary(result) -> tuple:
         ref = v[:, :1]
         names.append(f"drift_{key}")
         cols.append(np.max(np.abs(v - ref) / np.where(np.abs(ref) > 0, np.abs(ref), 1.0), axis=1))
+    from eulersym.scene.quantities import summary_columns  # each quantity's min, max and final value
+
+    head, extra = summary_columns(result)
+    names += head
+    cols += extra
     return names, np.stack(cols, axis=1)
 
 
@@ -134,6 +144,7 @@ def save(result, path: str) -> list:
             if getattr(result, key) is not None:
                 arrays[key] = getattr(result, key)
         arrays.update({f"invariant_{k}": v for k, v in result.invariants.items()})
+        arrays.update({f"quantity_{k}": v for k, v in result.quantities.items()})  # the model's own quantities
         arrays.update({f"drift_{k}": np.array(v) for k, v in result.drift.items()})
         arrays.update({f"sweep_{k}": v for k, v in result.sweep.items()})
         if sweep or result.summary:

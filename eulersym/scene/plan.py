@@ -97,7 +97,7 @@ class Plan:
     >>> from eulersym.scene import Scene
     >>> plan = Scene(moments=(1, 1.5, 2), mass=1, l=0.1, omega=(0, 0, 50), euler=(0, 0.3, 0), t_end=1).plan()
     >>> plan.regime, plan.kernels, plan.options["engine"]
-    ('heavy top', ('heavy_top_euler_poisson',), 'ivp')
+    ('heavy top', ('heavy_top_euler_poisson',), 'dop853')
     """
 
     scene: str

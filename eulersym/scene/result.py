@@ -8,6 +8,7 @@ vertical and invariants come from that kernel.
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -18,7 +19,7 @@ import numpy as np
 from eulersym.scene.frames import Rotation, is_identity, quaternion_to_rotation, rotation_to_quaternion
 from eulersym.scene.plan import Plan
 
-__all__ = ["Result", "outputs", "report", "report_notes"]
+__all__ = ["Result", "outputs", "report", "report_notes", "error_line", "sensitivity_line"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -39,7 +40,8 @@ class Result:
         ω in the principal frame: the polhode on the energy ellipsoid ω·Iω = 2E.
     invariants : mapping name → ndarray (n,) or (batch, n)
     drift : mapping name → float
-        max |I(t) − I(0)| / |I(0)| (absolute where I(0) = 0), the maximum over members.
+        max |I(t) − I(0)| / |I(0)|, the maximum over members; an invariant that starts at zero by a cancellation
+        (|I(0)| below 1e-3 of the size of its terms, L·Γ = 0) relative to that size instead.
     plan : Plan
         The plan that ran (resolved: derived moments known).
     derivations : tuple of str
@@ -62,6 +64,22 @@ class Result:
         ``"energy.drift"``, ...; :mod:`eulersym.sweeps.summary`); then the trajectories are not kept (None).
     turning_points : (θ1, θ2) or None
         Heavy top with Euler-angle output: the nutation's turning points (radians), derived by eulersym.top.
+    error : mapping quantity → float, or → ndarray (batch,) for a sweep
+        The estimated global error of an integrated motion at the output times (empty for a closed form: exact to
+        round-off): ``"omega"`` relative to the largest |ω| of the motion, ``"attitude"`` (q) and ``"gamma"``
+        (Γ) absolute, each the largest Euclidean distance from the true motion over the output times — from a
+        second, looser run (:mod:`eulersym.numerics.methods._accuracy`). The control makes each ≤ ``accuracy``;
+        when double precision cannot (the motion amplifies round-off beyond it) the run warns
+        (:class:`eulersym.errors.AccuracyNotReached`) and this says what it reached.
+    accuracy : float or None
+        The accuracy asked (the scene's).
+    sensitivity : ndarray (n,) or (batch, n), or None
+        With ``"sensitivity"`` among the outputs: how much a small change of the start has grown by each output
+        time — the largest singular value of the state-transition matrix ∂y(t)/∂y(0) of the integrated state
+        (ω scaled by its size, Γ, q), from the variational equations (1 at the start).
+    lyapunov : float or ndarray (batch,), or None
+        With ``"sensitivity"``: the finite-time Lyapunov exponent ln(σ_max(t_end)) / t_end (1/s) — positive and
+        steady over long runs for a chaotic motion, tending to 0 for a regular one.
 
     Examples
     --------
@@ -93,6 +111,10 @@ class Result:
     turning_points: tuple | None = None
     summary: Mapping = field(default_factory=dict)
     scene: object = field(default=None, repr=False, compare=False)
+    error: Mapping = field(default_factory=dict)
+    accuracy: float | None = None
+    sensitivity: np.ndarray | None = None
+    lyapunov: object = None
 
     def animate(self, path: str, **options) -> str:
         """Write an animation of this run to ``path`` (``.gif``, ``.mp4`` or a self-contained ``.html``); return it.
@@ -115,6 +137,14 @@ class Result:
 
         return animate(self, path, scene=self.scene, **options)
 
+    @functools.cached_property
+    def quantities(self) -> dict:
+        """The scene's own quantities along the run, ``{name: (n,) or (batch, n)}`` (the model's ``[quantities]``,
+        evaluated by its kernel: :func:`eulersym.scene.quantities.evaluate`); empty without any."""
+        from eulersym.scene.quantities import evaluate
+
+        return evaluate(self)
+
     def report(self) -> str:
         """A short text report: the plan, the invariants' drift, the timings and notes.
 
@@ -133,16 +163,65 @@ def _drift(values: np.ndarray) -> float:
     return _drifts(np.atleast_2d(values)[None])[0]
 
 
-def _drifts(rows: np.ndarray) -> list:
-    """:func:`_drift` of each of ``rows`` (k, batch, n) in one pass."""
+def _drifts(rows: np.ndarray, scales=None) -> list:
+    """:func:`_drift` of each of ``rows`` (k, batch, n) in one pass; ``scales`` (k, batch): each invariant's natural
+    scale (:func:`_natural_scales`) instead of |I(0)|."""
     ref = rows[:, :, 0]
-    denom = np.abs(ref)
+    denom = np.abs(ref) if scales is None else np.array(scales, dtype=float)
     denom[denom == 0] = 1.0
     # max |x − x0| = max(max x − x0, x0 − min x): the same roundings (x − x0 is monotone in x), no (k, batch, n) temporary;
     # the ufuncs' own reductions (what ndarray.max and .min call)
     dev = np.maximum(np.maximum.reduce(rows, axis=2) - ref, ref - np.minimum.reduce(rows, axis=2))
     dev /= denom
     return np.maximum.reduce(dev, axis=1).tolist()
+
+
+#: An invariant whose start |I(y0)| is below this fraction of the size of its terms started at zero by a
+#: cancellation: its drift is taken relative to that size instead (:func:`_cancelled`).
+CANCELLED = 1e-3
+
+
+def _cancelled(start, size) -> np.ndarray:
+    """The denominator of a drift: ``|I(0)|``, or the invariant's natural ``size`` where ``|I(0)| < CANCELLED · size``
+    (an invariant that starts at zero by a cancellation — L·Γ = 0 of a Goryachev–Chaplygin top — drifts relative to
+    |L||Γ|, not to its round-off). Elsewhere the drift is exactly max |I(t) − I(0)| / |I(0)|, bit for bit what a
+    chunked sweep's summaries compute.
+
+    Examples
+    --------
+    >>> _cancelled(np.array([2.0, 1e-17]), np.array([2.0, 4.0])).tolist()
+    [2.0, 4.0]
+    """
+    start = np.abs(np.asarray(start, dtype=float))
+    size = np.asarray(size, dtype=float)
+    return np.where(start < CANCELLED * size, size, start)
+
+
+def _natural_scales(invariants, t0, y0, params) -> np.ndarray:
+    """The denominators of each invariant's drift (k, batch): ``|I(y0)|``, unless it is below :data:`CANCELLED`
+    of half the sum of its terms' sizes, Σ_j |∂I/∂y_j · y_j| / 2 (central differences; :func:`_cancelled`) — a
+    quadratic form of one sign keeps |I(y0)|.
+
+    Examples
+    --------
+    >>> dot = lambda t, y: np.array([y[0] * y[2] + y[1] * y[3]])        # L·Γ with L = (1, 2), Γ = (2, -1): 0
+    >>> _natural_scales(dot, 0.0, np.array([[1.0], [2.0], [2.0], [-1.0]]), []).round(6).tolist()
+    [[4.0]]
+    """
+    y0 = np.asarray(y0, dtype=float)
+    with np.errstate(all="ignore"):
+        base = np.abs(np.atleast_2d(np.asarray(invariants(t0, y0, *params), dtype=float)))
+        total = np.zeros_like(base)
+        for j in range(y0.shape[0]):
+            step = 1e-6 * np.maximum(np.abs(y0[j]), 1.0)
+            up, down = y0.copy(), y0.copy()
+            up[j] += step
+            down[j] -= step
+            grad = (np.asarray(invariants(t0, up, *params), dtype=float)
+                    - np.asarray(invariants(t0, down, *params), dtype=float)) / (2.0 * step)
+            total += np.abs(grad * y0[j])
+    scales = _cancelled(base, 0.5 * total)
+    return np.where(np.isfinite(scales), scales, base)
 
 
 def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False) -> dict:
@@ -178,6 +257,7 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     if "invariants" in outputs:
         if own:
             invariants = _model_invariants(model, t, omega_body, gamma_body, attitude)
+            known = _model_drifts(model, t, invariants, omega_body, gamma_body, attitude)
         elif plan.regime == "torque-free":
             from eulersym.numerics import invariants as inv
 
@@ -215,7 +295,13 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
                 np.multiply(moments[:, 2:3], omega_pr[..., 2], out=rows[4].reshape(batch, n))
             rows = rows.reshape(len(names), batch, n)
             invariants.update(zip(names, rows))
-            known = dict(zip(names, _drifts(rows)))  # all at once
+            start = y.reshape(10, batch, n)[:, :, 0]
+            first = [*moments.T, M, g, l]
+            scales = np.empty((len(names), batch))
+            scales[:4] = _natural_scales(gen.invariants_batched, 0.0, start, first)
+            if len(names) == 5:  # p_ψ = I3 ω3: relative to the size of I3 ω
+                scales[4] = _cancelled(rows[4, :, 0], moments[:, 2] * np.linalg.norm(omega_pr[:, 0], axis=1))
+            known = dict(zip(names, _drifts(rows, scales)))  # all at once
         drift = {name: known[name] if name in known else (_drift(v) if name != "L_space_deviation" else float(np.max(v)))
                  for name, v in invariants.items()}
     else:
@@ -231,6 +317,7 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     notes = report_notes(plan, moments, P, theta_min=theta_min, theta_max=theta_max,
                          w3=omega_pr[:, 0, 2], bound=bound, turning=turning, flips=flips, tensor_given=tensor_given)
     return {
+        "error": _errors(traj),
         "omega": omega_body,
         "attitude": attitude if ("attitude" in outputs or "euler_angles" in outputs) else None,
         "euler_angles": euler_angles,
@@ -243,6 +330,13 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     }
 
 
+
+
+def _errors(traj) -> dict:
+    """The trajectory's estimate per quantity (batch,), or {} for a closed form (exact to round-off)."""
+    if traj is None or traj.error is None:
+        return {}
+    return {name: np.asarray(v, dtype=float) for name, v in traj.error.items()}
 
 
 def _symmetric(moments) -> bool:
@@ -375,12 +469,78 @@ def _model_invariants(model, t, omega, gamma, q) -> dict:
             for name, row in zip(model.invariants, rows)}
 
 
+def _model_drifts(model, t, invariants, omega, gamma, q) -> dict:
+    """Each model invariant's drift relative to its natural scale at the start (:func:`_natural_scales`)."""
+    if not invariants:
+        return {}
+    values = {f"omega{k + 1}": omega[:, 0, k] for k in range(3)}
+    values.update({f"gamma{k + 1}": gamma[:, 0, k] for k in range(3)})
+    values.update({f"q{k}": q[:, 0, k] for k in range(4)})
+    y0 = np.stack([values[name] for name in model.state])
+    params = [np.asarray(p, dtype=float) for p in model.params]
+    scales = _natural_scales(model.module.invariants_batched, float(t[0]) if model.flags.get("time") else 0.0, y0,
+                             params)
+    rows = np.stack([invariants[name] for name in model.invariants])
+    scales = np.broadcast_to(scales, rows.shape[:2])
+    return dict(zip(model.invariants, _drifts(rows, scales)))
+
+
 def _fmt_time(seconds: float) -> str:
     if seconds < 1e-3:
         return f"{seconds * 1e6:.0f} µs"
     if seconds < 1:
         return f"{seconds * 1e3:.1f} ms"
     return f"{seconds:.2f} s"
+
+
+_QUANTITY_WORDS = {"omega": "ω (relative)", "attitude": "attitude", "gamma": "vertical Γ"}
+
+
+def error_line(result) -> str:
+    """The report's line on the error: the estimate against the accuracy asked, or a closed form's exactness.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> print(error_line(NS(error={"omega": 3.2e-10, "attitude": 1.1e-10}, accuracy=1e-9, plan=NS(batch=1))))
+    estimated error ≤ 3.2e-10 (asked 1e-09): ω (relative) 3.2e-10, attitude 1.1e-10
+    >>> print(error_line(NS(error={}, accuracy=1e-9, plan=NS(batch=1, engine="closed form: elliptic"))))
+    error: exact to round-off (closed form; asked 1e-09)
+    """
+    asked = "" if result.accuracy is None else f"asked {result.accuracy:g}"
+    if not result.error:
+        what = "closed form" if str(getattr(result.plan, "engine", "")).startswith("closed form") else "not estimated"
+        return f"error: exact to round-off ({what}{'; ' + asked if asked else ''})" if what == "closed form" else (
+            f"error: {what}" + (f" ({asked})" if asked else ""))
+    values = {k: np.asarray(v, dtype=float) for k, v in result.error.items()}
+    worst = max(float(np.max(v)) for v in values.values())
+    batch = result.plan.batch
+    head = f"estimated error ≤ {worst:.2g}" + (f" ({asked})" if asked else "")
+    if batch > 1:
+        head += f", the largest over {batch} members"
+    parts = ", ".join(f"{_QUANTITY_WORDS.get(k, k)} {float(np.max(v)):.2g}" for k, v in values.items())
+    line = f"{head}: {parts}"
+    if result.accuracy is not None and worst > result.accuracy:
+        beyond = int(np.sum(np.max(np.stack(list(values.values())), axis=0) > result.accuracy))
+        line += (" — NOT reached" + (f" for {beyond} of {batch} members" if batch > 1 else "")
+                 + " (see the note: why, and what would help)")
+    return line
+
+
+def sensitivity_line(result) -> str:
+    """The report's line on the conditioning of the motion (``want = ["sensitivity"]``).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> print(sensitivity_line(NS(sensitivity=np.array([1.0, 3.0, 40.0]), lyapunov=0.2, t=np.array([0.0, 1.0, 2.0]))))
+    sensitivity: a change of the start grows up to 40× by t = 2 (largest singular value of ∂y(t)/∂y(0)); finite-time Lyapunov exponent 0.2 /s
+    """
+    s = np.atleast_2d(np.asarray(result.sensitivity, dtype=float))
+    k = int(np.argmax(np.max(s, axis=0)))
+    lam = np.max(np.asarray(result.lyapunov, dtype=float))
+    return (f"sensitivity: a change of the start grows up to {float(np.max(s)):.3g}× by t = {float(result.t[k]):.6g} "
+            f"(largest singular value of ∂y(t)/∂y(0)); finite-time Lyapunov exponent {lam:.3g} /s")
 
 
 def report(result) -> str:
@@ -400,9 +560,16 @@ def report(result) -> str:
     lines.append(f"ran: {plan.engine}; {len(result.t)} output times" + (f" × {plan.batch} members" if plan.batch > 1 else ""))
     lines.append("derivations: " + (", ".join(result.derivations) if result.derivations else "none (no SymPy needed)"))
     lines.append("propagated: " + ", ".join(result.propagated) + (f"; kernel calls: {result.n_rhs_calls}" if result.n_rhs_calls else ""))
+    lines.append(error_line(result))
     if result.drift:
         lines.append("invariants drift (max relative): " + ", ".join(f"{k} {v:.2e}" for k, v in result.drift.items()))
+    if result.sensitivity is not None:
+        lines.append(sensitivity_line(result))
     lines += result.notes
+    if getattr(result, "quantities", None):  # the model's own quantities (eulersym.scene.quantities)
+        from eulersym.scene.quantities import report_lines
+
+        lines += report_lines(result)
     lines.append("timings: " + ", ".join(f"{k} {_fmt_time(v)}" for k, v in result.timings.items()))
     return "\n".join(lines)
 

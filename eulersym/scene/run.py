@@ -8,11 +8,14 @@ Data flows one way: scene (a model, its facts) → plan → problem → method �
 
 from __future__ import annotations
 
+import math
 import time
+import warnings
 
 import numpy as np
 
-from eulersym.errors import InvalidInput
+from eulersym.errors import AccuracyNotReached, InvalidInput
+from eulersym.numerics.methods._accuracy import FLOOR, MAX_RUNS
 from eulersym.scene import chunked, cost, model_kernel, symbolic
 from eulersym.scene.plan import make_plan
 from eulersym.scene.problem import prepare
@@ -122,12 +125,29 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         if len(singular):
             out["notes"].append(chunked.singular_note(singular, batch, problem.rtol))
     timings["outputs"] = time.perf_counter() - clock
+    error = {k: np.asarray(v, dtype=float) for k, v in (out.get("error") or {}).items()}
+    sigma = lyapunov = None
+    if "sensitivity" in scene.outputs:  # the conditioning of the motion, from the variational equations
+        from eulersym.numerics.methods import sensitivity
+
+        clock = time.perf_counter()
+        sigma, lyapunov = sensitivity(problem)
+        timings["sensitivity"] = time.perf_counter() - clock
     timings["total"] = sum(timings.values())
+    if error:
+        beyond = np.max(np.stack(list(error.values())), axis=0) > scene.accuracy
+        if np.any(beyond):
+            note = _not_reached(scene, problem, error, beyond, sigma)
+            out["notes"].append(note.args[0])
+            warnings.warn(note, stacklevel=2)
     bar.done()
     single = batch == 1
 
     def squeeze(a):
         return None if a is None else (a[0] if single else a)
+
+    def number(a):
+        return None if a is None else (float(a[0]) if single else a)
 
     moments = problem.moments
     return Result(
@@ -151,7 +171,53 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         scene=scene,
         gamma=_gamma(scene, plan, traj, out, squeeze),
         summary=out.get("summary", {}),
+        error={k: number(v) for k, v in error.items()},
+        accuracy=scene.accuracy,
+        sensitivity=squeeze(sigma),
+        lyapunov=number(lyapunov),
     )
+
+
+def _not_reached(scene, problem, error, beyond, sigma) -> AccuracyNotReached:
+    """The warning for members whose estimate stayed above the accuracy asked: the amplification of a change of the
+    start (from the variational equations, for the worst member), the best error reached, what would help."""
+    from eulersym.numerics.methods import sensitivity
+
+    worst = np.max(np.stack(list(error.values())), axis=0)
+    b = int(np.argmax(np.where(beyond, worst, -np.inf)))
+    reached = float(worst[b])
+    asked = float(scene.accuracy)
+    t = problem.t
+    try:
+        s = sigma[b] if sigma is not None else sensitivity(problem.select([b]))[0][0]
+    except Exception:  # noqa: BLE001 - the warning must come even when the conditioning cannot be computed
+        s = None
+    who = "" if problem.batch == 1 else f" for {int(np.sum(beyond))} of {problem.batch} members (member {b} worst)"
+    text = (f"the accuracy asked ({asked:g}) is not reachable in double precision over t = {t[0]:g} … {t[-1]:g}"
+            f"{who}: the best estimated error is {reached:.2g}")
+    amplification = None
+    if s is not None and np.all(np.isfinite(s)):
+        amplification = float(np.max(s))
+        text += (f"; a change of the start grows up to {amplification:.3g}× over the span (largest singular value of "
+                 "the state-transition matrix, from the variational equations), and so does the round-off of every "
+                 "step")
+        floor = FLOOR * np.finfo(float).eps * amplification
+        if floor < asked / 10:  # round-off does not explain it: say so rather than blame double precision
+            text = text.replace("is not reachable in double precision", "was not reached within the control's "
+                                f"{MAX_RUNS} runs")
+            text += f" (its round-off floor, {FLOOR:g} ε × that, is only {floor:.2g}: a finer method would reach it)"
+        # the error of round-off grows about as σ(t) √(t): the last output time it stays within the accuracy
+        growth = s * np.sqrt(np.maximum(t - t[0], 0.0) / max(t[-1] - t[0], 1e-300))
+        fits = np.flatnonzero(reached * growth / max(growth[-1], 1e-300) <= asked)
+        shorter = float(t[fits[-1]]) if len(fits) and fits[-1] > 0 else None
+    else:
+        shorter = None
+    coarser = 10.0 ** math.ceil(math.log10(reached))
+    text += f". What would help: an accuracy ≥ {coarser:g}"
+    if shorter is not None and shorter < t[-1]:
+        text += f", or t_end ≤ {shorter:.3g}"
+    text += " (the result keeps its estimate: Result.error)"
+    return AccuracyNotReached(text, accuracy=asked, reached=reached, amplification=amplification)
 
 
 def _turning_angles(u) -> tuple:

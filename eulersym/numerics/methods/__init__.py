@@ -6,9 +6,12 @@ how a plan describes it, what it costs (:class:`Cost`, read by :mod:`eulersym.sw
 problem into one batch-first :class:`~eulersym.numerics.trajectory.Trajectory`. :data:`METHODS` lists them in order
 of preference — exact before integrated, geometric where asked for, a step per member before a shared one, many
 members before one — so a plan is :func:`choose`: the first method that applies, with every method before it and
-why it did not (the plan prints those worth a word, :func:`worth_saying`: a closed form's). :func:`solve` runs the chosen one; members a closed form refuses
-(:class:`~eulersym.errors.SingularConfiguration`) go to its fallback one by one. A run that fails raises
-:class:`~eulersym.errors.IntegrationFailed`.
+why it did not (the plan prints those worth a word, :func:`worth_saying`: a closed form's). :func:`solve` runs the
+chosen one; members a closed form refuses (:class:`~eulersym.errors.SingularConfiguration`) go to its fallback one by
+one. A run that fails raises :class:`~eulersym.errors.IntegrationFailed`.
+
+Every method that integrates is an :class:`Integrator`: it delivers the accuracy asked as a bound on the *global*
+error, and its trajectory carries the estimate (``Trajectory.error``; :mod:`~eulersym.numerics.methods._accuracy`).
 
 =========================  ==========================================================================================
 ``free_body_exact``        the torque-free body in closed form (Jacobi's elliptic functions; trigonometric if symmetric)
@@ -16,9 +19,10 @@ why it did not (the plan prints those worth a word, :func:`worth_saying`: a clos
 ``free_body_splitting``    the free body's 4th-order Moser–Veselov splitting (asked for, one member)
 ``batched_splitting``      a pivoted body's exact-flow splitting over members, a step each (asked for)
 ``compiled_dop853``        DOP853 compiled by numba, a heavy top per member (sweeps, numba installed)
-``batched_dop853``         DOP853 over all members at once on the batched kernels (sweeps)
 ``heavy_top_splitting``    the symmetric heavy top's Yoshida splitting (one member, loose accuracy or asked for)
-``ivp``                    ``scipy.integrate.solve_ivp`` on a kernel (one member)
+``dop853``                 eulersym's own DOP853 compiled over any kernel (one member, or a model's sweep; numba)
+``batched_dop853``         DOP853 over all members at once on the batched kernels (sweeps)
+``ivp``                    ``scipy.integrate.solve_ivp`` on a kernel (one member: RK45, Radau, LSODA by name)
 =========================  ==========================================================================================
 
 Methods live here, below the scene: they never import it. Each imports what it computes with when it runs.
@@ -61,12 +65,15 @@ from eulersym.numerics.methods._splitting import (
     HeavyTopSplitting,
     PivotedSplitting,
 )
-from eulersym.numerics.methods._integrators import BatchedDOP853, CompiledDOP853, SolveIVP
+from eulersym.numerics.methods._accuracy import Integrator
+from eulersym.numerics.methods._integrators import BatchedDOP853, CompiledDOP853, OwnDOP853, SolveIVP
+from eulersym.numerics.methods._sensitivity import sensitivity
 from eulersym.numerics.trajectory import Trajectory
 
 __all__ = [
     "METHODS",
     "Method",
+    "Integrator",
     "Problem",
     "Cost",
     "Explanation",
@@ -75,6 +82,7 @@ __all__ = [
     "worth_saying",
     "solve",
     "costs",
+    "sensitivity",
     "tolerances",
     "classify_moments",
     "symmetric_about_axis3",
@@ -85,6 +93,7 @@ __all__ = [
     "FreeBodySplitting",
     "PivotedSplitting",
     "CompiledDOP853",
+    "OwnDOP853",
     "BatchedDOP853",
     "HeavyTopSplitting",
     "SolveIVP",
@@ -97,8 +106,9 @@ METHODS = {m.name: m for m in (
     FreeBodySplitting(),
     PivotedSplitting(),
     CompiledDOP853(),
-    BatchedDOP853(),
     HeavyTopSplitting(),
+    OwnDOP853(),
+    BatchedDOP853(),
     SolveIVP(),
 )}
 
@@ -113,7 +123,7 @@ def get(name: str) -> Method:
     >>> get("rk4")
     Traceback (most recent call last):
     ...
-    eulersym.errors.InvalidInput: method='rk4' is not valid: expected one of 'batched_dop853', 'batched_splitting', 'compiled_dop853', 'free_body_exact', 'free_body_splitting', 'heavy_top_exact', 'heavy_top_splitting', 'ivp'
+    eulersym.errors.InvalidInput: method='rk4' is not valid: expected one of 'batched_dop853', 'batched_splitting', 'compiled_dop853', 'dop853', 'free_body_exact', 'free_body_splitting', 'heavy_top_exact', 'heavy_top_splitting', 'ivp'
     """
     try:
         return METHODS[name]
@@ -134,7 +144,7 @@ def choose(problem: Problem) -> tuple:
     ...             l=np.full(1, 0.1))
     >>> method, declined = choose(p)
     >>> method.name, [(m.name, why[:7]) for m, why in worth_saying(p, declined)]
-    ('ivp', [('heavy_top_exact', 'I1 ≠ I2')])
+    ('dop853', [('heavy_top_exact', 'I1 ≠ I2')])
     """
     declined = []
     for method in METHODS.values():
@@ -218,11 +228,29 @@ def _join(pieces: list) -> Trajectory:
             joined[f.name] = " + ".join(dict.fromkeys(values))
         elif f.name == "status":
             joined[f.name] = max(values)
+        elif f.name == "error":  # the integrated pieces' estimates; a closed form's members: exact (0)
+            joined[f.name] = _join_errors(pieces)
         elif all(isinstance(v, np.ndarray) for v in values):
             joined[f.name] = np.concatenate(values, axis=0)
         else:
             joined[f.name] = None
     return Trajectory(**joined)
+
+
+def _join_errors(pieces: list):
+    """The estimates of the pieces, member after member: a piece without one (a closed form) counts as exact."""
+    names = dict.fromkeys(k for traj in pieces if traj.error is not None for k in traj.error)
+    if not names:
+        return None
+    joined = {}
+    for name in names:
+        parts = []
+        for traj in pieces:
+            b = traj.batch or 1
+            parts.append(np.asarray(traj.error[name], dtype=float) if traj.error is not None and name in traj.error
+                         else np.zeros(b))
+        joined[name] = np.concatenate(parts)
+    return joined
 
 
 def costs() -> dict:

@@ -19,6 +19,7 @@ from typing import Any, ClassVar, Mapping
 import numpy as np
 
 __all__ = ["Problem", "Method", "Cost", "Explanation", "tolerances", "symmetric_about_axis3", "classify_moments",
+           "numba_available",
            "REGIMES", "SYMMETRY_RTOL"]
 
 #: The regimes a problem may be in (what acts on the body; :attr:`Problem.regime`).
@@ -37,6 +38,19 @@ def tolerances(accuracy: float) -> tuple:
     (1e-07, 1e-10)
     """
     return max(accuracy / 10, 1e-13), max(accuracy * 1e-4, 1e-16)
+
+
+def numba_available() -> bool:
+    """True when numba is installed (the compiled methods apply only then).
+
+    Examples
+    --------
+    >>> isinstance(numba_available(), bool)
+    True
+    """
+    import importlib.util
+
+    return importlib.util.find_spec("numba") is not None
 
 
 def symmetric_about_axis3(moments) -> bool:
@@ -249,6 +263,30 @@ class Problem:
     def symmetric(self) -> bool:
         """True when every member is symmetric about e3 (I1 = I2 to 1e-12)."""
         return symmetric_about_axis3(self.moments)
+
+    def select(self, idx) -> "Problem":
+        """The members ``idx`` (indices, in order) as a problem of their own — :meth:`take` for any members.
+
+        Examples
+        --------
+        >>> p = Problem(name="p", regime="torque-free", t=np.zeros(1), batch=3, members={"w": np.arange(3.0)},
+        ...             moments=np.ones((3, 3)), axes=np.eye(3), omega0=np.arange(9.0).reshape(3, 3))
+        >>> p.select([2, 0]).omega0[:, 0].tolist(), p.select([2, 0]).members["w"].tolist()
+        ([6.0, 0.0], [2.0, 0.0])
+        """
+        idx = np.asarray(idx, dtype=np.intp)
+        if len(idx) and np.all(np.diff(idx) == 1):  # a run of members: the slices of take
+            return self.take(int(idx[0]), int(idx[-1]) + 1)
+        picked = {name: (None if getattr(self, name) is None else getattr(self, name)[idx])
+                  for name in self.MEMBER_FIELDS}
+        members = {label: np.asarray(values)[idx] for label, values in self.members.items()}
+        extras = {k: (v[idx] if isinstance(v, np.ndarray) and v.shape[:1] == (self.batch,) else v)
+                  for k, v in self.extras.items()}
+        model = self.model
+        if model is not None:  # a model's kernel: its parameters per member picked as well
+            model = (model.select(idx) if hasattr(model, "select") else
+                     dataclasses.replace(model, params=tuple(np.asarray(p)[idx] for p in model.params)))
+        return dataclasses.replace(self, batch=len(idx), members=members, extras=extras, model=model, **picked)
 
     def take(self, lo: int, hi: int) -> "Problem":
         """The members ``lo:hi`` as a problem of their own (arrays sliced; times and settings shared).

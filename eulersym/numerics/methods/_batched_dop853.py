@@ -1,21 +1,49 @@
-"""The batched adaptive integrator: Dormand–Prince 8(5,3) (scipy's tableau) over many members at once, one step
-size shared by a chunk of members, the state first and the batch after (the layout of the batched kernels).
+"""The batched adaptive integrator: Dormand–Prince 8(5,3) (:mod:`~eulersym.numerics.methods._dop853_tableau`,
+the tableau SciPy carries) over many members at once, one step size shared by a chunk of members, a tolerance per
+member, the state first and the batch after (the layout of the batched kernels). NumPy only: no
+``scipy.integrate``.
 
-Imports ``scipy.integrate`` (for the tableau): only the methods that integrate import this module, when they run
-(:class:`eulersym.numerics.methods.BatchedDOP853`). Chunking, streaming and distributed execution of sweeps wrap it.
+Only the methods that integrate import this module, when they run (:class:`eulersym.numerics.methods.BatchedDOP853`).
+Chunking, streaming and distributed execution of sweeps wrap it.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from scipy.integrate import DOP853
 
 from eulersym.errors import IntegrationFailed
+from eulersym.numerics.methods import _dop853_tableau as _T
 
 __all__ = ["dop853_batched"]
 
 
-def dop853_batched(fun, y0, t_eval, *, params=(), rtol, atol, chunk=4096, progress=None, takes_out=False):
+class _Tableau:
+    """DOP853's numbers as arrays (the attribute names of SciPy's ``DOP853`` class)."""
+
+    n_stages = _T.N_STAGES
+    order = _T.ORDER
+    error_estimator_order = _T.ERROR_ESTIMATOR_ORDER
+    C = np.array(_T.C[:_T.N_STAGES])
+    A = np.zeros((_T.N_STAGES, _T.N_STAGES))
+    for _s in range(_T.N_STAGES):
+        for _j, _a in _T.A[_s]:
+            A[_s, _j] = _a
+    B = np.array(_T.B)
+    E3 = np.array(_T.E3)
+    E5 = np.array(_T.E5)
+    del _s, _j, _a
+
+
+DOP853 = _Tableau
+
+
+def _members_text(bad) -> str:
+    bad = [int(b) for b in bad]
+    return ("member " if len(bad) == 1 else "members ") + ", ".join(map(str, bad[:5])) + (", …" if len(bad) > 5 else "")
+
+
+def dop853_batched(fun, y0, t_eval, *, params=(), rtol, atol, chunk=4096, progress=None, takes_out=False,
+                   describe=None):
     """Integrate ``y' = fun(t, y)`` for a batch of states at once with Dormand–Prince 8(5,3).
 
     Parameters
@@ -25,14 +53,16 @@ def dop853_batched(fun, y0, t_eval, *, params=(), rtol, atol, chunk=4096, progre
     params : sequence
         Extra arguments of ``fun``: numbers, or arrays of shape (batch,) (one value per member; sliced per chunk).
     t_eval : ndarray (m,), increasing, ``t_eval[0]`` the start
-    rtol, atol : float
-        Tolerances as in ``scipy.integrate.solve_ivp``; the step of a chunk is accepted when the error norm of
-        every member in it is ≤ 1 (the members share one step size).
+    rtol, atol : float or array_like (batch,)
+        Tolerances as in ``scipy.integrate.solve_ivp``, one for all or one per member; the step of a chunk is
+        accepted when the error norm of every member in it is ≤ 1 (the members share one step size).
     chunk : int
         Members integrated together (bounded memory; each chunk adapts its own step).
     progress : callable(done_fraction) or None
     takes_out : bool
         ``fun`` accepts ``out=`` (the generated batched kernels do): stages are written in place.
+    describe : callable or None
+        ``describe(indices)`` → the members in words, for the message of a failure (default: their indices).
 
     Returns
     -------
@@ -46,6 +76,8 @@ def dop853_batched(fun, y0, t_eval, *, params=(), rtol, atol, chunk=4096, progre
     """
     y0 = np.asarray(y0, dtype=float)
     n, batch = y0.shape
+    rtol = np.broadcast_to(np.asarray(rtol, dtype=float), (batch,))
+    atol = np.broadcast_to(np.asarray(atol, dtype=float), (batch,))
     Y = np.empty((len(t_eval), n, batch))
     calls = 0
     for lo in range(0, max(batch, 1), chunk):
@@ -63,8 +95,16 @@ def dop853_batched(fun, y0, t_eval, *, params=(), rtol, atol, chunk=4096, progre
                     return value
                 out[...] = value
                 return out
-        c = _dop853_chunk(call, y0[:, lo:hi], t_eval, rtol, atol, Y[:, :, lo:hi],
-                          None if progress is None else (lambda f, lo=lo, hi=hi: progress((lo + f * (hi - lo)) / batch)))
+        try:
+            c = _dop853_chunk(call, y0[:, lo:hi], t_eval, rtol[lo:hi], atol[lo:hi], Y[:, :, lo:hi],
+                              None if progress is None else (lambda f, lo=lo, hi=hi: progress((lo + f * (hi - lo))
+                                                                                              / batch)))
+        except _Stopped as stop:
+            bad = lo + stop.members
+            who = describe(bad) if describe is not None else _members_text(bad)
+            failure = IntegrationFailed("batched_dop853", f"{who}: {stop.reason} at t = {stop.t:.6g}", stop.hint)
+            failure.members, failure.time, failure.cause = bad, stop.t, stop.reason  # for a sweep's own report
+            raise failure from None
         calls += c
     return Y, calls
 
@@ -106,6 +146,14 @@ _E5_RUNS = _runs(DOP853.E5)
 _E3_RUNS = _runs(DOP853.E3)
 
 
+class _Stopped(Exception):
+    """A chunk stopped: which of its members, why, when."""
+
+    def __init__(self, members, reason, t, hint):
+        super().__init__(reason)
+        self.members, self.reason, self.t, self.hint = np.asarray(members), reason, t, hint
+
+
 def _dop853_chunk(fun, y0, t_eval, rtol, atol, Y, progress):
     C = DOP853.C
     S = DOP853.n_stages
@@ -114,15 +162,21 @@ def _dop853_chunk(fun, y0, t_eval, rtol, atol, Y, progress):
     K = np.empty((S + 1, n, b))
     Y[0] = y0
     t, y = float(t_eval[0]), y0.copy()
-    f = np.array(fun(t, y), dtype=float)
+    with np.errstate(all="ignore"):  # a member out of its domain gives NaN (log, sqrt, ...): named below
+        f = np.array(fun(t, y), dtype=float)
     calls = 1
+    if not np.all(np.isfinite(f)):
+        raise _Stopped(np.flatnonzero(~np.all(np.isfinite(f), axis=0)), "the right-hand side is not finite at the "
+                       "start (an overflow, or log/sqrt/asin/acos of a value outside its domain)", t,
+                       "a start and parameters that keep the right-hand side in its domain")
     # initial step: scipy's rule (Hairer, Nørsett & Wanner), the smallest over the members
     scale = atol + np.abs(y) * rtol
     d0 = np.sqrt(np.mean((y / scale) ** 2, axis=0))
     d1 = np.sqrt(np.mean((f / scale) ** 2, axis=0))
     h0 = np.where((d0 < 1e-5) | (d1 < 1e-5), 1e-6, 0.01 * d0 / np.maximum(d1, 1e-300))
     h0 = float(np.min(h0))
-    f1 = np.asarray(fun(t + h0, y + h0 * f))
+    with np.errstate(all="ignore"):
+        f1 = np.asarray(fun(t + h0, y + h0 * f))
     calls += 1
     d2 = np.max(np.sqrt(np.mean(((f1 - f) / scale) ** 2, axis=0))) / h0
     d1m = float(np.max(d1))
@@ -135,33 +189,37 @@ def _dop853_chunk(fun, y0, t_eval, rtol, atol, Y, progress):
             h_use = min(h, target - t)
             clipped = h_use < h
             K[0] = f
-            for s in range(1, S):
-                dy = _combine(K, _A_RUNS[s])
-                dy *= h_use
-                dy += y
-                fun(t + C[s] * h_use, dy, out=K[s])
-            y_new = _combine(K, _B_RUNS)
-            y_new *= h_use
-            y_new += y
-            fun(t + h_use, y_new, out=K[S])
-            f_new = K[S].copy()
-            calls += S
-            scale = np.maximum(np.abs(y), np.abs(y_new))
-            scale *= rtol
-            scale += atol
-            err5 = _combine(K, _E5_RUNS)
-            err5 /= scale
-            err3 = _combine(K, _E3_RUNS)
-            err3 /= scale
-            e5 = np.einsum("nb,nb->b", err5, err5)
-            e3 = np.einsum("nb,nb->b", err3, err3)
-            denom = e5 + 0.01 * e3
-            with np.errstate(invalid="ignore", divide="ignore"):
+            with np.errstate(all="ignore"):  # a member leaving its domain becomes NaN, named below
+                for s in range(1, S):
+                    dy = _combine(K, _A_RUNS[s])
+                    dy *= h_use
+                    dy += y
+                    fun(t + C[s] * h_use, dy, out=K[s])
+                y_new = _combine(K, _B_RUNS)
+                y_new *= h_use
+                y_new += y
+                fun(t + h_use, y_new, out=K[S])
+                f_new = K[S].copy()
+                calls += S
+                scale = np.maximum(np.abs(y), np.abs(y_new))
+                scale *= rtol
+                scale += atol
+                err5 = _combine(K, _E5_RUNS)
+                err5 /= scale
+                err3 = _combine(K, _E3_RUNS)
+                err3 /= scale
+                e5 = np.einsum("nb,nb->b", err5, err5)
+                e3 = np.einsum("nb,nb->b", err3, err3)
+                denom = e5 + 0.01 * e3
                 norms = np.where(denom > 0, h_use * e5 / np.sqrt(denom * n), 0.0)
+                norms[~np.isfinite(denom) | ~np.all(np.isfinite(y_new), axis=0)] = np.nan  # NaN: never a small error
             err = float(np.max(norms)) if norms.size else 0.0
             if not np.isfinite(err):
-                raise IntegrationFailed("batched_dop853", "a member's state overflowed (not finite)",
-                                        "members whose motion stays finite: smaller rates or a shorter t_end")
+                bad = np.flatnonzero(~np.isfinite(norms))
+                raise _Stopped(bad, "the state or the right-hand side left the finite numbers (an overflow, or "
+                               "log/sqrt/asin/acos of a value outside its domain)", t,
+                               "a start and parameters that keep the right-hand side in its domain (or a shorter "
+                               "t_end)")
             if err < 1:
                 factor = 10.0 if err == 0 else min(10.0, 0.9 * err ** exponent)
                 t = target if h_use == target - t else t + h_use
@@ -170,8 +228,9 @@ def _dop853_chunk(fun, y0, t_eval, rtol, atol, Y, progress):
             else:
                 h = h_use * max(0.2, 0.9 * err ** exponent)
                 if h < 1e-14 * max(1.0, abs(t)):
-                    raise IntegrationFailed("batched_dop853", f"the step size underflowed at t = {t:g} (rtol = {rtol:g})",
-                                            "a looser accuracy")
+                    raise _Stopped(np.flatnonzero(norms >= 1), "the step size underflowed (no step meets the "
+                                   f"tolerance, rtol ≥ {float(np.min(rtol)):g})", t,
+                                   "a looser accuracy, or a shorter t_end (before a singularity)")
         Y[i] = y
         if progress is not None:
             progress(i / (m - 1))

@@ -28,7 +28,7 @@ Examples
 >>> y0 = np.array([[0.0, 0.0, 20.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0]])  # a sleeping top, upright
 >>> p = np.array([[1.0, 1.0, 0.5, 1.0, 9.81, 0.1]])
 >>> out = np.empty((1, 2, 10))
->>> calls = members(y0, p, np.array([0.0, 1.0]), 1e-9, 1e-12, out)
+>>> calls = members(y0, p, np.array([0.0, 1.0]), np.array([1e-9]), np.array([1e-12]), out)
 >>> bool(np.allclose(out[0, 1, 2], 20.0)), int(calls[0]) > 0
 (True, True)
 """
@@ -196,13 +196,21 @@ def _member(y0, params, t_eval, rtol, atol, out):
     return calls
 
 
-@numba.njit(parallel=True, cache=True, error_model="numpy")
 def members(y0, params, t_eval, rtol, atol, out):
-    """Every member (rows of ``y0`` (B, 10), ``params`` (B, 6): I1, I2, I3, M, g, l) over ``t_eval`` into
-    ``out`` (B, n, 10); returns the kernel calls per member as scipy counts them, 12 per step tried (one fewer is
-    made for a rejected step), or −1 (overflow) or −2 (step underflow)."""
+    """Every member (rows of ``y0`` (B, 10), ``params`` (B, 6): I1, I2, I3, M, g, l; tolerances one for all, or
+    ``rtol[b]``, ``atol[b]`` each) over ``t_eval`` into ``out`` (B, n, 10); returns the kernel calls per member as
+    scipy counts them, 12 per step tried (one fewer is made for a rejected step), or −1 (overflow) or −2 (step
+    underflow)."""
+    batch = len(y0)
+    rtol = np.ascontiguousarray(np.broadcast_to(np.asarray(rtol, dtype=np.float64), (batch,)))
+    atol = np.ascontiguousarray(np.broadcast_to(np.asarray(atol, dtype=np.float64), (batch,)))
+    return _members(y0, params, t_eval, rtol, atol, out)
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def _members(y0, params, t_eval, rtol, atol, out):
     B_ = y0.shape[0]
     calls = np.zeros(B_, dtype=np.int64)
     for b in numba.prange(B_):
-        calls[b] = _member(y0[b], params[b], t_eval, rtol, atol, out[b])
+        calls[b] = _member(y0[b], params[b], t_eval, rtol[b], atol[b], out[b])
     return calls

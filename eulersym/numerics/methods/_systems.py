@@ -34,6 +34,9 @@ class System:
         'omega', 'omega+q', 'omega+gamma+q': how the state splits.
     normalize_q : bool
         Renormalise the quaternions of the output.
+    module : module or None
+        The one generated kernel whose ``rhs_flat(t, *y, *params)`` is the whole system (for eulersym's compiled
+        DOP853); None when the system combines kernels in Python (a space-fixed torque with the attitude).
 
     Examples
     --------
@@ -51,6 +54,14 @@ class System:
     takes_out: bool = False
     layout: str = "omega"
     normalize_q: bool = True
+    module: object = None
+
+    def flat_params(self) -> np.ndarray:
+        """The parameters as one row per member (batch, k), as ``rhs_flat`` takes them after the state."""
+        batch = self.y0.shape[1]
+        if not self.params:
+            return np.zeros((batch, 0))
+        return np.stack([np.broadcast_to(np.asarray(p, dtype=float), (batch,)) for p in self.params], axis=1)
 
     def trajectory(self, t: np.ndarray, Y: np.ndarray, n_calls: int, method: str = "") -> Trajectory:
         """A batch-first :class:`Trajectory` at times ``t`` from the integrated states ``Y`` (n_times, n_state,
@@ -85,16 +96,16 @@ def system(problem) -> System:
         if problem.wants_attitude:
             gen = _kernel("free_body_quaternion")
             y0 = np.concatenate([problem.omega0, problem.q0], axis=1).T
-            return System(gen.rhs_batched, y0, I, layout="omega+q")
+            return System(gen.rhs_batched, y0, I, layout="omega+q", module=gen)
         gen = _kernel("euler_principal")
         zeros = np.zeros(problem.batch)
-        return System(gen.rhs_batched, problem.omega0.T, (*I, zeros, zeros, zeros))
+        return System(gen.rhs_batched, problem.omega0.T, (*I, zeros, zeros, zeros), module=gen)
     if problem.regime == "heavy top":
         gen = _kernel("heavy_top_euler_poisson")
         y0 = np.concatenate([problem.omega0, problem.gamma0, problem.q0], axis=1).T
         wants_q = any(o in problem.outputs for o in ("attitude", "euler_angles", "invariants"))
         return System(gen.rhs_batched, y0, (*I, problem.mass, problem.g, problem.l), takes_out=True,
-                      layout="omega+gamma+q", normalize_q=wants_q)
+                      layout="omega+gamma+q", normalize_q=wants_q, module=gen)
     return _torqued(problem, I)
 
 
@@ -104,7 +115,7 @@ def _torqued(problem, I) -> System:
     params = (*I, N[:, 0], N[:, 1], N[:, 2])
     space = problem.torque_frame == "space"
     if not problem.wants_attitude:
-        return System(euler.rhs_batched, problem.omega0.T, params)
+        return System(euler.rhs_batched, problem.omega0.T, params, module=euler)
     free = _kernel("free_body_quaternion")
 
     def fun(tt, y, I1, I2, I3, N1, N2, N3):  # y (7, batch); a space-fixed torque turned to body components
@@ -140,6 +151,7 @@ def model_system(problem) -> System:
     """A model's own kernel as a batched system: ``rhs_batched(t, y, *params, out=)``, its state in ``STATE`` order."""
     facts = problem.model
     layout = "omega+gamma+q" if "gamma1" in facts.state else "omega+q"
+    # q as integrated (not renormalised): the model's |q|² invariant reports its drift
     return System(facts.module.rhs_batched, model_state(problem), tuple(facts.params), takes_out=True, layout=layout,
-                  normalize_q=False)  # q as integrated: the model's |q|² invariant reports its drift
+                  normalize_q=False, module=facts.module if hasattr(facts.module, "rhs_flat") else None)
 
