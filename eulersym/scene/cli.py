@@ -164,6 +164,10 @@ def cli(argv: list) -> int:
     if args.scene is None:
         raise InvalidInput("SCENE", None, "a TOML file or a bundled scene name (eulersym simulate --list), or "
                                           "--template")
+    from eulersym.model import contact_scene  # bodies on a plane and on a moving pivot: their own runner
+
+    if contact_scene.handles(args.scene):
+        return contact_scene.cli(args)
     scene = load(args.scene)
     if args.figure is not None:
         if not args.plot:

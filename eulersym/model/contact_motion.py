@@ -1,0 +1,269 @@
+"""A body on a plane in motion: its start checked, its kernel integrated, lift-off caught (NumPy and SciPy only).
+
+:func:`start` builds the initial state ``y0`` of a contact kernel (:mod:`eulersym.model.rolling_kernels`) from the
+angular velocity, the attitude and the horizontal position (and, sliding, velocity), and refuses a start that does
+not touch the plane or does not press on it. :func:`integrate` runs :func:`scipy.integrate.solve_ivp` on the
+kernel's ``rhs`` (its ``jac`` for the implicit methods) with the kernel's lift-off event, and raises
+:class:`LiftOff` — with the time, the state and the normal force — when the body leaves the plane: the equations
+hold only while it touches (eulersym models no flight and no impact), so the run stops there instead of
+continuing as a wrong motion.
+
+Examples
+--------
+>>> from eulersym.model.contact_examples import examples
+>>> from eulersym.model.rolling_kernels import compile
+>>> kernel = compile(examples()["rolling-sphere"])
+>>> y0 = start(kernel, omega=(0.0, 10.0, 0.0))
+>>> motion = integrate(kernel, y0, [0.0, 0.5, 1.0])
+>>> [round(float(v), 9) for v in motion["x_cm"]]              # v = a ω = 1 m/s, a straight line
+[0.0, 0.5, 1.0]
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from eulersym.errors import CheckFailed, EulersymError, InvalidInput
+from eulersym.validation import finite_array
+
+__all__ = ["LiftOff", "ContactMotion", "start", "integrate"]
+
+_IMPLICIT = ("Radau", "BDF", "LSODA")
+_METHODS = ("DOP853", "RK45", "RK23", *_IMPLICIT)
+
+
+class LiftOff(EulersymError):
+    """The body left the plane: its normal force fell to zero at time ``t`` (the contact equations stop holding).
+
+    Attributes
+    ----------
+    t : float
+        The time of lift-off (located by the integrator's event to its tolerance).
+    state : ndarray
+        The state there, in the kernel's ``STATE`` order.
+    names : tuple of str
+        ``STATE``.
+
+    Examples
+    --------
+    >>> err = LiftOff(0.25, [1.0, 2.0], ("a", "b"))
+    >>> print(err)
+    the body left the plane at t = 0.25: its normal force fell to 0 (lift-off); the contact equations hold only while it touches — eulersym models no flight and no impact
+    """
+
+    def __init__(self, t, state, names=()):
+        self.t = float(t)
+        self.state = np.asarray(state, dtype=float)
+        self.names = tuple(names)
+        super().__init__(f"the body left the plane at t = {self.t:.10g}: its normal force fell to 0 (lift-off); the "
+                         "contact equations hold only while it touches — eulersym models no flight and no impact")
+
+    def __reduce__(self):
+        return (type(self), (self.t, self.state, self.names))
+
+
+@dataclass(frozen=True)
+class ContactMotion:
+    """The motion of a body on a plane: ``t`` (points,), ``y`` (points, state), and by name (``motion["x_cm"]``).
+
+    Attributes
+    ----------
+    t, y : ndarray
+    names : tuple of str
+        The kernel's ``STATE``.
+    contact : ndarray
+        ``(points, 5)``: the kernel's ``contact`` outputs (``x_P, y_P, N, u_x, u_y``) at each point.
+    invariants : ndarray
+        ``(points, k)``: the kernel's proven invariants at each point (``INVARIANTS``).
+    nfev : int
+        Right-hand-side evaluations.
+
+    Examples
+    --------
+    >>> m = ContactMotion(np.zeros(1), np.zeros((1, 2)), ("a", "b"), np.zeros((1, 5)), np.zeros((1, 0)), 0)
+    >>> m["b"].shape
+    (1,)
+    """
+
+    t: np.ndarray
+    y: np.ndarray
+    names: tuple
+    contact: np.ndarray
+    invariants: np.ndarray
+    nfev: int
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        outputs = ("x_P", "y_P", "N", "u_x", "u_y")
+        if name in self.names:
+            return self.y[:, self.names.index(name)]
+        if name in outputs:
+            return self.contact[:, outputs.index(name)]
+        raise InvalidInput("name", name, f"one of {', '.join(self.names + outputs)}")
+
+
+def _params(kernel, params) -> tuple:
+    if params is None:
+        return tuple(kernel.DEFAULTS)
+    if isinstance(params, dict):
+        unknown = sorted(set(params) - set(kernel.PARAMETERS))
+        if unknown:
+            raise InvalidInput("params", unknown[0], f"one of the parameters {', '.join(kernel.PARAMETERS)}")
+        values = dict(zip(kernel.PARAMETERS, kernel.DEFAULTS))
+        values.update(params)
+        return tuple(float(values[p]) for p in kernel.PARAMETERS)
+    values = tuple(finite_array("params", params, shape=(len(kernel.PARAMETERS),)).tolist())
+    return values
+
+
+def _vertical(q) -> np.ndarray:
+    """``Γ = A(q) ẑ``: the third column of ``A = R(q)ᵀ`` (q unit, scalar first)."""
+    q0, q1, q2, q3 = q
+    return np.array([2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3])
+
+
+def start(kernel, *, omega, q=(1.0, 0.0, 0.0, 0.0), position=(0.0, 0.0), velocity=None, params=None,
+          t: float = 0.0) -> np.ndarray:
+    """The initial state of a contact kernel, checked: the body touches the plane and presses on it.
+
+    Parameters
+    ----------
+    kernel : module
+        A kernel of :mod:`eulersym.model.rolling_kernels`.
+    omega : 3 floats
+        The angular velocity, body components (rad/s).
+    q : 4 floats
+        The attitude quaternion, scalar first, ``v_space = R(q) v_body`` (normalised here); ``Γ = A(q) ẑ``.
+    position : 2 or 3 floats
+        The centre of mass's position in space: ``(x, y)``, or ``(x, y, z)`` — then ``z`` must be the height at
+        which the body touches the plane (``z = −r_P·Γ``, from the kernel's ``contact``).
+    velocity : 2 or 3 floats, optional
+        The centre of mass's velocity in space. Sliding: ``(v_x, v_y)`` (default 0). Rolling: the no-slip velocity
+        is fixed by ω and the attitude; a velocity, if given, must be it.
+    params : sequence or dict, optional
+        The parameters (default: the kernel's ``DEFAULTS``).
+    t : float
+        The start time (for a torque that depends on time).
+
+    Returns
+    -------
+    ndarray
+        ``y0`` in the kernel's ``STATE`` order.
+
+    Raises
+    ------
+    eulersym.errors.InvalidInput
+        A start that does not touch the plane (``initial.position``), a rolling velocity that slips
+        (``initial.velocity``), a normal force ``N ≤ 0`` there (``initial.omega``: the body would leave the plane
+        at once), or a bad shape.
+
+    Examples
+    --------
+    >>> from eulersym.model.contact_examples import examples
+    >>> from eulersym.model.rolling_kernels import compile
+    >>> kernel = compile(examples()["rolling-sphere"])
+    >>> start(kernel, omega=(0, 0, 0), position=(0, 0, 0.2))
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: initial.position=[0.0, 0.0, 0.2] is not valid: expected a centre of mass at the height where the body touches the plane: z = 0.1 (here z = 0.2)
+    """
+    params = _params(kernel, params)
+    omega = finite_array("initial.omega", omega, shape=(3,))
+    q = finite_array("initial.q", q, shape=(4,))
+    if not np.linalg.norm(q) > 0:
+        raise InvalidInput("initial.q", q.tolist(), "a non-zero quaternion (scalar first)")
+    q = q / np.linalg.norm(q)
+    position = finite_array("initial.position", position, shape=(None,))
+    if position.size not in (2, 3):
+        raise InvalidInput("initial.position", position.tolist(), "(x, y) or (x, y, z) of the centre of mass")
+    sliding = kernel.FLAGS["contact"] == "sliding"
+    y = np.concatenate([omega, _vertical(q), q, position[:2], np.zeros(2 if sliding else 0)])
+    if sliding and velocity is not None:
+        v = finite_array("initial.velocity", velocity, shape=(None,))
+        if v.size not in (2, 3):
+            raise InvalidInput("initial.velocity", v.tolist(), "(v_x, v_y) of the centre of mass (space)")
+        y[-2:] = v[:2]
+    rates = kernel.rhs(t, y, *params)
+    if position.size == 3:
+        height = kernel.height(t, y, *params)[0]
+        if abs(position[2] - height) > 1e-9 * max(1.0, abs(height)):
+            raise InvalidInput("initial.position", position.tolist(), "a centre of mass at the height where the body "
+                               f"touches the plane: z = {height:.10g} (here z = {position[2]:.10g})")
+    if not sliding and velocity is not None:
+        v = finite_array("initial.velocity", velocity, shape=(None,))
+        rolling = np.array(rates[10:12])
+        if v.size not in (2, 3) or np.max(np.abs(v[:2] - rolling)) > 1e-9 * max(1.0, np.max(np.abs(rolling))):
+            raise InvalidInput("initial.velocity", v.tolist(), "the rolling velocity r_P × ω that no slip fixes: "
+                               f"(v_x, v_y) = ({rolling[0]:.10g}, {rolling[1]:.10g})")
+    normal = kernel.normal_force(t, y, *params)[0]
+    if not normal > 0:
+        raise InvalidInput("initial.omega", omega.tolist(), f"a start that presses on the plane: the normal force "
+                           f"there is N = {normal:.6g} <= 0 (the body would leave the plane at once)")
+    return y
+
+
+def integrate(kernel, y0, t_eval, *, params=None, method: str = "DOP853", rtol: float = 1e-10,
+              atol: float = 1e-12, max_step: float = np.inf) -> ContactMotion:
+    """Integrate a contact kernel with :func:`scipy.integrate.solve_ivp`, stopping at lift-off.
+
+    Parameters
+    ----------
+    kernel : module
+        A kernel of :mod:`eulersym.model.rolling_kernels`.
+    y0 : array of floats
+        The initial state (:func:`start`).
+    t_eval : array of floats
+        The output times, increasing; the run spans ``t_eval[0] .. t_eval[-1]``.
+    params : sequence or dict, optional
+        The parameters (default: the kernel's ``DEFAULTS``).
+    method : str
+        ``DOP853`` (default), ``RK45``, ``RK23``, or an implicit method (``Radau``, ``BDF``, ``LSODA``: the
+        kernel's Jacobian is used).
+    rtol, atol, max_step : float
+        solve_ivp's tolerances and largest step.
+
+    Returns
+    -------
+    ContactMotion
+
+    Raises
+    ------
+    LiftOff
+        The normal force fell to zero: the body left the plane at ``err.t``.
+    eulersym.errors.CheckFailed
+        The integrator failed (its message says why).
+
+    Examples
+    --------
+    >>> from eulersym.model.contact_examples import examples
+    >>> from eulersym.model.rolling_kernels import compile
+    >>> kernel = compile(examples()["chaplygin-ball"])
+    >>> motion = integrate(kernel, start(kernel, omega=(1.0, 2.0, 3.0)), np.linspace(0, 2, 5))
+    >>> bool(np.ptp(motion.invariants[:, 0]) < 1e-9 * motion.invariants[0, 0])   # the energy
+    True
+    """
+    from scipy.integrate import solve_ivp
+
+    params = _params(kernel, params)
+    y0 = finite_array("y0", y0, shape=(len(kernel.STATE),))
+    t_eval = finite_array("t_eval", t_eval, shape=(None,))
+    if t_eval.size < 1 or np.any(np.diff(t_eval) < 0):
+        raise InvalidInput("t_eval", t_eval.tolist(), "increasing output times (at least one)")
+    if method not in _METHODS:
+        raise InvalidInput("method", method, "one of " + ", ".join(_METHODS))
+    if not kernel.normal_force(float(t_eval[0]), y0, *params)[0] > 0:
+        raise InvalidInput("y0", y0.tolist(), "a state that presses on the plane (normal force N > 0)")
+    options = {"jac": kernel.jac} if method in _IMPLICIT else {}
+    span = (float(t_eval[0]), float(t_eval[-1]))
+    sol = solve_ivp(kernel.rhs, span, y0, method=method, t_eval=t_eval, args=params, events=kernel.lift_off,
+                    rtol=rtol, atol=atol, max_step=max_step, **options)
+    if sol.status == 1 and len(sol.t_events[0]):
+        raise LiftOff(sol.t_events[0][0], sol.y_events[0][0], kernel.STATE)
+    if not sol.success:
+        raise CheckFailed(f"solve_ivp ({method}) failed: {sol.message}")
+    y = sol.y.T
+    contact = kernel.contact_batched(sol.t, y.T, *params).T if len(sol.t) else np.zeros((0, 5))
+    invariants = (kernel.invariants_batched(sol.t, y.T, *params).T if len(sol.t)
+                  else np.zeros((0, len(kernel.INVARIANTS))))
+    return ContactMotion(sol.t, y, tuple(kernel.STATE), contact, invariants, int(sol.nfev))

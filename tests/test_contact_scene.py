@@ -1,0 +1,196 @@
+"""Contact and moving-pivot scene files: bundled ones run through ``eulersym simulate``; bad input is a named
+error, exit 2, no traceback, nothing written."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from eulersym.cli import main
+from eulersym.errors import EulersymError, InvalidInput
+from eulersym.model import contact_scene
+from eulersym.model.contact_motion import LiftOff
+
+SPHERE = """
+name = "ball"
+[parameters]
+M = 1.0
+a = 0.1
+[body]
+moments = ["2*M*a**2/5", "2*M*a**2/5", "2*M*a**2/5"]
+mass = "M"
+[contact]
+surface = "sphere"
+radius = "a"
+{contact}
+[initial]
+omega = {omega}
+{initial}
+[time]
+end = 1.0
+points = 11
+"""
+
+
+def _write(tmp_path, text, name="scene.toml"):
+    path = tmp_path / name
+    path.write_text(text)
+    return str(path)
+
+
+def test_every_bundled_contact_scene_loads_and_names_its_kind():
+    kinds = {name: contact_scene.load(name).kind for name in contact_scene.bundled()}
+    assert kinds == {"chaplygin-ball": "contact", "euler-disk": "contact", "kapitza-pendulum": "pivot-path",
+                     "rattleback": "contact", "rolling-sphere": "contact", "tippe-top": "contact"}
+
+
+def test_the_euler_disk_scene_rolls_in_place_and_writes_its_trace_and_normal_force(tmp_path, capsys):
+    out = tmp_path / "disk.npz"
+    assert main(["simulate", "euler-disk", "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "integrate: DOP853" in text and "Newton–Euler" in text and "lift-off" in text
+    data = np.load(out)
+    assert np.allclose(data["normal"], 0.4 * 9.81, rtol=1e-9)  # N = M g: Moffatt's steady rolling in place
+    assert np.allclose(np.hypot(*data["trace"].T), 0.0375 * np.cos(0.3), rtol=1e-9)
+
+
+def test_the_kapitza_scene_stays_upright(capsys):
+    result = contact_scene.run(contact_scene.load("kapitza-pendulum"))
+    gamma3 = result.y[:, result.names.index("gamma3")]
+    assert gamma3.min() >= np.cos(0.2) - 1e-9
+
+
+def test_the_same_scene_is_taken_from_the_kernel_cache_the_second_time(tmp_path, monkeypatch):
+    monkeypatch.setenv("EULERSYM_CACHE", str(tmp_path / "cache"))
+    scene = contact_scene.load("rolling-sphere")
+    first = contact_scene.kernel(scene)
+    assert len(list((tmp_path / "cache" / "models").iterdir())) == 1
+    again = contact_scene.kernel(scene)
+    assert again.STATE == first.STATE and again.__file__ == first.__file__
+
+
+def test_lift_off_is_a_named_error_at_its_time(tmp_path, capsys):
+    """A tippe top spun at 150 rad/s with μ = 0.1 leaves the plane (its normal force reaches 0) near t = 2.41 s."""
+    text = contact_scene._read("tippe-top")[0]
+    path = _write(tmp_path, open(contact_scene.bundled()["tippe-top"]).read()
+                  .replace("mu = 0.3 ", "mu = 0.1 ").replace("omega = [0.0, 0.0, 100.0]", "omega = [0.0, 0.0, 150.0]"))
+    assert text["parameters"]["mu"] == 0.3
+    with pytest.raises(LiftOff) as info:
+        contact_scene.run(contact_scene.load(path))
+    assert 2.3 < info.value.t < 2.5 and isinstance(info.value, EulersymError)
+    out = tmp_path / "x.npz"
+    assert main(["simulate", path, "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "left the plane at t = 2.4" in err and "Traceback" not in err and not out.exists()
+
+
+@pytest.mark.parametrize("contact, omega, initial, key", [
+    ("", "[0, 10, 0]", "", None),
+    ('radius = 0', "[0, 10, 0]", "", "contact.radius"),
+    ('mode = "skating"', "[0, 10, 0]", "", "contact.mode"),
+    ('mode = "sliding"\nfriction = "stribeck"', "[0, 10, 0]", "", "contact.friction"),
+    ('mode = "sliding"\nfriction = "coulomb"\nmu = 0.3', "[0, 10, 0]", "", "contact.width"),
+    ('g = -9.81', "[0, 10, 0]", "", "contact.g"),
+    ('colour = "red"', "[0, 10, 0]", "", "contact.colour"),
+    ("", "[0, 10]", "", "initial.omega"),
+    ("", "[0, 10, 0]", "position = [0, 0, 0.5]", "initial.position"),
+    ("", "[0, 10, 0]", "velocity = [3, 0]", "initial.velocity"),
+    ("", "[0, 10, 0]", "quaternion = [0, 0, 0, 0]", "initial.quaternion"),
+])
+def test_bad_contact_scenes_name_the_key(tmp_path, contact, omega, initial, key):
+    text = SPHERE.format(contact=contact, omega=omega, initial=initial).replace("radius = \"a\"\nradius = 0",
+                                                                                 "radius = 0")
+    if "radius = 0" in contact:
+        text = text.replace('radius = "a"\n', "")
+    path = _write(tmp_path, text)
+    if key is None:
+        assert contact_scene.run(contact_scene.load(path)).y.shape == (11, 12)
+        return
+    with pytest.raises(InvalidInput) as info:
+        contact_scene.run(contact_scene.load(path))
+    assert info.value.argument == key
+
+
+def test_a_contact_on_a_pivoted_body_is_refused(tmp_path, capsys):
+    path = _write(tmp_path, SPHERE.format(contact="", omega="[0, 1, 0]", initial="") + "[pivot]\nl = 0.1\n")
+    with pytest.raises(InvalidInput) as info:
+        contact_scene.load(path)
+    assert info.value.argument == "contact" and "pivot" in str(info.value)
+    assert main(["simulate", path]) == 2
+    assert "a pivot both hold the body" in capsys.readouterr().err
+
+
+def test_a_start_that_does_not_press_on_the_plane_is_refused(tmp_path):
+    """A tippe top tipped past the horizontal (2.5 rad) and spun about a horizontal axis at 400 rad/s: its centre of
+    mass accelerates down faster than g (z = R (1 − α Γ3), z̈ = R α cos θ ω² < −g), N < 0 at once: refused, naming ω."""
+    path = _write(tmp_path, open(contact_scene.bundled()["tippe-top"]).read()
+                  .replace("omega = [0.0, 0.0, 100.0]", "omega = [400.0, 0.0, 0.0]").replace("angle = 0.1",
+                                                                                        "angle = 2.5"))
+    with pytest.raises(InvalidInput) as info:
+        contact_scene.run(contact_scene.load(path))
+    assert info.value.argument == "initial.omega" and "normal force" in str(info.value)
+
+
+@pytest.mark.parametrize("path, key", [
+    ('["0", "0"]', "pivot.path"),
+    ('["0", "0", "a*cos(W*t)*omega1"]', "pivot.path[2]"),
+    ('["0", "0", "x*t"]', "pivot.path[2]"),
+    ('["0", "0", true]', "pivot.path[2]"),
+])
+def test_a_path_that_is_not_a_function_of_t_alone_is_refused(tmp_path, path, key, capsys):
+    text = open(contact_scene.bundled()["kapitza-pendulum"]).read().replace('path = ["0", "0", "a*cos(W*t)"]',
+                                                                            f"path = {path}")
+    scene = _write(tmp_path, text)
+    with pytest.raises(InvalidInput) as info:
+        contact_scene.load(scene)
+    assert info.value.argument == key
+    assert main(["simulate", scene]) == 2
+    assert "Traceback" not in capsys.readouterr().err
+
+
+@settings(max_examples=60, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(st.dictionaries(st.sampled_from(contact_scene.CONTACT_KEYS + ("bogus",)),
+                       st.one_of(st.none(), st.booleans(), st.integers(-3, 3), st.floats(allow_nan=True),
+                                 st.text(max_size=6), st.lists(st.integers(-2, 2), max_size=4)), max_size=5))
+def test_reading_any_contact_table_returns_a_checked_table_or_a_named_error(table):
+    try:
+        checked = contact_scene.read_contact(table)
+    except InvalidInput as exc:
+        assert exc.argument.startswith("contact")
+    else:
+        assert checked["surface"] in ("sphere", "ellipsoid", "disk", "paraboloid") and checked["g"] is not None
+
+
+def test_a_swept_parameter_runs_each_member_on_one_cached_kernel(tmp_path, capsys):
+    """Rolling spheres of radii 0.05, 0.1, 0.2 at ω = 10 rad/s: each centre at x = a ω t (v = a ω), one kernel."""
+    text = SPHERE.format(contact="", omega="[0, 10, 0]", initial="").replace("a = 0.1", "a = [0.05, 0.1, 0.2]")
+    path = _write(tmp_path, text)
+    scene = contact_scene.load(path)
+    assert scene.members == [{"a": 0.05}, {"a": 0.1}, {"a": 0.2}]
+    out = tmp_path / "sweep.npz"
+    assert main(["simulate", path, "-o", str(out)]) == 0
+    data = np.load(out)
+    assert data["state"].shape == (3, 11, 12) and np.allclose(data["sweep_a"], [0.05, 0.1, 0.2])
+    x = data["state"][:, -1, list(data["names"]).index("x_cm")]
+    assert np.allclose(x, np.array([0.05, 0.1, 0.2]) * 10 * 1.0, atol=1e-9)
+    assert capsys.readouterr().out.count("member a = ") == 3
+
+
+@pytest.mark.parametrize("value, key", [("[]", "parameters.a"), ('[0.1, "x"]', "parameters.a"),
+                                        ("[0.1, nan]", "parameters.a")])
+def test_a_bad_sweep_names_the_parameter(tmp_path, value, key):
+    path = _write(tmp_path, SPHERE.format(contact="", omega="[0, 10, 0]", initial="").replace("a = 0.1",
+                                                                                              f"a = {value}"))
+    with pytest.raises(InvalidInput) as info:
+        contact_scene.load(path)
+    assert info.value.argument == key
+
+
+def test_a_file_nested_too_deep_is_a_named_error_here_too(tmp_path):
+    path = _write(tmp_path, "[contact]\na = " + "[" * 5000 + "]" * 5000 + "\n")
+    assert not contact_scene.handles(path)  # the scene reader then refuses it with its own message
+    with pytest.raises(InvalidInput) as info:
+        contact_scene.load(path)
+    assert info.value.argument == "SCENE" and "nested" in str(info.value)
