@@ -139,7 +139,8 @@ def singular_note(singular, batch: int, rtol: float) -> str:
 
 def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
     """One chunk: the plan's engine on ``problem``, its outputs in the scene's frame, as ``{name: (members, ...)}``
-    arrays — trajectories, or the summaries of ``layout`` = ``(quantities, invariants, tilt)``. A plain function
+    arrays — trajectories, or the summaries of ``layout`` = ``(quantities, invariants, tilt)`` — and the estimated
+    global error per member (``"error:<quantity>"``, an integration's). A plain function
     of a problem's arrays: it runs on a Dask worker as well (imports the engine and kernels, never SymPy).
 
     Examples
@@ -166,6 +167,7 @@ def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
         values = {name: (gamma if name == "gamma" else out[name]) for name in quantities}
         arrays = summarize(values, invariants={k: v for k, v in out["invariants"].items() if k in invariants},
                            gamma=gamma if tilt else None)
+    arrays.update({f"error:{k}": np.broadcast_to(v, (problem.batch,)) for k, v in out["error"].items()})
     calls = np.zeros(problem.batch)
     calls[:1] = traj.n_rhs_calls  # the chunk's kernel evaluations, summed over chunks at the end
     arrays["_calls"] = calls
@@ -213,7 +215,9 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
         progress=None, threads: int = 1) -> dict:
     """Run ``problem`` in chunks of ``chunk`` members (in-process, or on ``client``'s Dask workers) and return the
     fields :func:`eulersym.scene.result.outputs` returns, plus ``"summary"`` (per member), ``"gamma"`` and
-    ``"n_calls"``. Trajectories are kept unless ``layout`` (a summary scene) is given."""
+    ``"n_calls"``. Trajectories are kept unless ``layout`` (a summary scene) is given. ``"error"``, the estimated
+    global error per member (an integration's; empty for a closed form), is each chunk's, in member order: the
+    one-pass estimate, since a chunk is a whole number of the method's groups of members."""
     grain = _grain(plan)
     if client is not None:  # several chunks per worker, so that every worker stays busy to the end
         from eulersym.sweeps.distributed import workers
@@ -237,6 +241,7 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
         gathered = chunks.run(run_chunk, problem.take, members=problem.batch, chunk=chunk, static=static,
                               client=client, progress=progress, threads=threads)
     n_calls = int(gathered.pop("_calls").sum())
+    error = {name.split(":", 1)[1]: gathered.pop(name) for name in list(gathered) if name.startswith("error:")}
     singular = np.flatnonzero(gathered.pop("_singular"))
     theta_range = (gathered.pop("_theta_min", None), gathered.pop("_theta_max", None))
     extra = [singular_note(singular, problem.batch, problem.rtol)] if len(singular) else []
@@ -255,7 +260,7 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
         notes.extend(extra)
         return {"omega": None, "attitude": None, "euler_angles": None, "polhode": None, "invariants": {},
                 "drift": drifts, "notes": notes, "turning_points": turning, "summary": summary, "gamma": None,
-                "n_calls": n_calls}
+                "n_calls": n_calls, "error": error}
     invariants = {name.split(":", 1)[1]: v for name, v in gathered.items() if name.startswith("invariant:")}
     drifts = {name: float(np.max(v)) if name in _MAXIMA else float(np.max(drift(v))) for name, v in invariants.items()}
     drifts.update({name.split(":", 1)[1]: float(np.max(v)) for name, v in gathered.items()
@@ -265,7 +270,8 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
     notes = report_notes(plan, moments, P, theta_min=theta_min, theta_max=theta_max, w3=omega3_start, bound=bound,
                          turning=turning, tensor_given=tensor_given) + extra
     return {**{name: gathered.get(name) for name in _TRAJECTORIES}, "invariants": invariants, "drift": drifts,
-            "notes": notes, "turning_points": turning, "summary": {}, "gamma": gamma, "n_calls": n_calls}
+            "notes": notes, "turning_points": turning, "summary": {}, "gamma": gamma, "n_calls": n_calls,
+            "error": error}
 
 
 def _summary_note(layout) -> str:

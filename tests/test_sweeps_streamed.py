@@ -1,0 +1,50 @@
+"""What a streamed sweep (chunks: a memory budget smaller than the sweep, ``want = ["summary"]``, Dask) carries
+from its chunks into the result, as the one-pass sweep does: the estimated global error, the model's own quantities
+reduced per member, the drift of an invariant that starts at zero."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from eulersym.numerics import methods
+from eulersym.scene import Scene, simulate
+from eulersym.scene import cost as scene_cost
+from eulersym.scene.io import save, summary
+from eulersym.scene.result import error_line
+
+TOP = dict(moments=(1.2e-3, 1.2e-3, 4.0e-4), mass=0.5, l=0.04, g=9.81, t_end=0.3, points=11, accuracy=1e-6)
+
+
+def _map(**kw):
+    return Scene(**{**TOP, **kw}, omega=(0.0, 0.0, {"start": 60.0, "stop": 95.0, "num": 7}),
+                 euler=(0.0, {"start": 0.005, "stop": 0.05, "num": 6}, 0.0))
+
+
+def _chunked(scene, plan):
+    """A memory budget that leaves room for chunks of 5 members (the splitting steps each member alone)."""
+    small = scene_cost.estimate(scene, plan)
+    grain = methods.get(plan.options["engine"]).cost.grain
+    budget = small.output_bytes + small.per_member_working * max(5, grain) * scene_cost.threads(plan)
+    assert scene_cost.estimate(scene, plan, memory=budget).chunk < scene.batch
+    return simulate(scene, memory=budget)
+
+
+@pytest.mark.parametrize("outputs", [("omega", "invariants"), ("summary", "invariants")])
+def test_the_estimated_error_of_a_streamed_sweep_is_the_one_pass_estimate(outputs, tmp_path):
+    whole = simulate(_map(method="splitting", outputs=("omega", "invariants")))
+    assert set(whole.error) >= {"omega", "attitude", "gamma"}
+    streamed = _chunked(_map(method="splitting", outputs=outputs), whole.plan)
+    assert streamed.error.keys() == whole.error.keys()
+    for key, values in whole.error.items():
+        assert values.shape == (42,) and np.array_equal(streamed.error[key], values), key
+    assert error_line(streamed) == error_line(whole) and "not estimated" not in error_line(streamed)
+    save(streamed, str(tmp_path / "map.csv"))
+    table = np.genfromtxt(tmp_path / ("map.csv" if "summary" in outputs else "map.summary.csv"), delimiter=",",
+                          names=True)
+    names, _ = summary(streamed)
+    for key, values in whole.error.items():
+        assert f"error_{key}" in names and np.array_equal(table[f"error_{key}"], values), key
+    save(streamed, str(tmp_path / "map.npz"))
+    with np.load(tmp_path / "map.npz") as z:
+        assert np.array_equal(z["error_omega"], whole.error["omega"])
