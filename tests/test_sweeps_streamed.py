@@ -48,3 +48,43 @@ def test_the_estimated_error_of_a_streamed_sweep_is_the_one_pass_estimate(output
     save(streamed, str(tmp_path / "map.npz"))
     with np.load(tmp_path / "map.npz") as z:
         assert np.array_equal(z["error_omega"], whole.error["omega"])
+
+
+def _damped(want, members=4100):
+    """The bundled ``damped`` model (its quantity ``energy = E``) over ``members`` values of its drag c."""
+    import tomllib
+
+    from eulersym.models import bundled
+
+    with open(bundled()["damped"], "rb") as f:
+        data = tomllib.load(f)
+    data["parameters"]["c"] = {"start": 0.01, "stop": 0.2, "num": members}
+    data["time"] = {"end": 1.0, "points": 5}
+    data["output"] = {"want": want}
+    return Scene.from_dict(data)
+
+
+def test_a_summary_sweep_keeps_the_models_quantities_per_member(tmp_path):
+    """Streamed in two chunks (the batched DOP853 steps 4096 members together: 4096 + 4), a summary sweep of the
+    ``damped`` model gives its energy's min, max and final value per member: the columns, the bits and the report
+    line of the one-pass sweep that keeps the trajectories."""
+    from eulersym.scene.quantities import report_lines, summary_columns
+
+    whole = simulate(_damped(["omega"]))
+    scene = _damped(["summary"])
+    small = scene_cost.estimate(scene, whole.plan)
+    budget = small.output_bytes + small.per_member_working * 4096 * scene_cost.threads(whole.plan)
+    assert scene_cost.estimate(scene, whole.plan, memory=budget).chunk == 4096 < scene.batch
+    streamed = simulate(scene, memory=budget)
+    assert streamed.omega is None and not streamed.quantities
+    head, cols = summary_columns(streamed)
+    assert head == summary_columns(whole)[0] == ["energy_min", "energy_max", "energy_final"]
+    for name, got, want in zip(head, cols, summary_columns(whole)[1]):
+        assert got.shape == (4100,) and np.array_equal(got, want), name
+    assert report_lines(streamed) == report_lines(whole) and report_lines(streamed)[0].startswith("quantity energy")
+    assert "quantity energy" in streamed.report() and any("energy" in n for n in streamed.notes)
+    names, rows = summary(streamed)
+    assert [n for n in names if n.startswith("energy_")] == head
+    save(streamed, str(tmp_path / "damped.csv"))
+    table = np.genfromtxt(tmp_path / "damped.csv", delimiter=",", names=True)
+    assert np.array_equal(table["energy_final"], whole.quantities["energy"][:, -1])

@@ -32,6 +32,7 @@ import numpy as np
 
 from eulersym.errors import SingularConfiguration
 from eulersym.numerics import methods
+from eulersym.scene.quantities import along, reduced
 from eulersym.scene.result import outputs, report_notes
 from eulersym.sweeps import chunks, zarr_store
 from eulersym.sweeps.summary import drift, summarize
@@ -167,6 +168,9 @@ def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
         values = {name: (gamma if name == "gamma" else out[name]) for name in quantities}
         arrays = summarize(values, invariants={k: v for k, v in out["invariants"].items() if k in invariants},
                            gamma=gamma if tilt else None)
+        if plan.regime == "model":  # the model's own quantities, min/max/final per member (none: nothing kept)
+            arrays.update(reduced(along(problem.model.module, problem.model.params, problem.t, out["omega"], gamma,
+                                        out["attitude"])))
     arrays.update({f"error:{k}": np.broadcast_to(v, (problem.batch,)) for k, v in out["error"].items()})
     calls = np.zeros(problem.batch)
     calls[:1] = traj.n_rhs_calls  # the chunk's kernel evaluations, summed over chunks at the end
@@ -256,7 +260,8 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
         drifts = {name[:-len(".drift")]: float(np.max(v)) for name, v in summary.items() if name.endswith(".drift")}
         notes = report_notes(plan, moments, P, theta_min=theta_min, theta_max=theta_max, w3=omega3_start,
                              bound=bound, turning=turning, tensor_given=tensor_given)
-        notes.append(f"kept per member: {len(summary)} summaries (" + _summary_note(layout) + "), no trajectories")
+        own = tuple(getattr(getattr(problem.model, "module", None), "QUANTITIES", ())) if plan.regime == "model" else ()
+        notes.append(f"kept per member: {len(summary)} summaries (" + _summary_note(layout, own) + "), no trajectories")
         notes.extend(extra)
         return {"omega": None, "attitude": None, "euler_angles": None, "polhode": None, "invariants": {},
                 "drift": drifts, "notes": notes, "turning_points": turning, "summary": summary, "gamma": None,
@@ -274,7 +279,7 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
             "error": error}
 
 
-def _summary_note(layout) -> str:
+def _summary_note(layout, own=()) -> str:
     quantities, invariants, tilt = layout
-    parts = [f"min/max/final of {', '.join(quantities)}"] + (["the largest tilt"] if tilt else [])
+    parts = [f"min/max/final of {', '.join((*quantities, *own))}"] + (["the largest tilt"] if tilt else [])
     return "; ".join(parts + ([f"drift of {', '.join(invariants)}"] if invariants else []))

@@ -566,7 +566,8 @@ def report(result) -> str:
     if result.sensitivity is not None:
         lines.append(sensitivity_line(result))
     lines += result.notes
-    if getattr(result, "quantities", None):  # the model's own quantities (eulersym.scene.quantities)
+    if getattr(result, "quantities", None) or getattr(result, "summary", None):  # the model's own quantities
+        # (eulersym.scene.quantities): along the run, or per member of a summary run
         from eulersym.scene.quantities import report_lines
 
         lines += report_lines(result)
