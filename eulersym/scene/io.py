@@ -125,10 +125,14 @@ def summary(result) -> tuple:
             gamma = result.gamma if batch > 1 else result.gamma[None]
             names.append("theta_max_deg")  # as a summary run reduces it (eulersym.sweeps.summary), column for column
             cols.append(np.degrees(largest_tilt(gamma)))
+        member = getattr(result, "member_drift", None) or {}
         for key, values in result.invariants.items():
+            names.append(f"drift_{key}")
+            if key in member:  # as the run measured it (an invariant that starts at zero: against its natural size)
+                cols.append(np.broadcast_to(np.asarray(member[key], dtype=float), (batch,)))
+                continue
             v = np.atleast_2d(values)
             ref = v[:, :1]
-            names.append(f"drift_{key}")
             cols.append(np.max(np.abs(v - ref) / np.where(np.abs(ref) > 0, np.abs(ref), 1.0), axis=1))
     from eulersym.scene.quantities import summary_columns  # each quantity's min, max and final value
 
