@@ -424,6 +424,10 @@ def test_a_chunked_sweep_reports_the_singular_members_of_every_chunk():
     chunked = simulate(scene, memory=budget)
     assert np.array_equal(whole.omega, chunked.omega) and whole.notes == chunked.notes
     assert any("2 of 2100 members (members 1, 1500)" in n for n in whole.notes)
+    # the estimate of the members integrated instead, 0 for those of the closed form: the same in every chunk
+    assert set(whole.error) >= {"omega"} and np.flatnonzero(whole.error["omega"]).tolist() == [1, 1500]
+    assert whole.error.keys() == chunked.error.keys()
+    assert all(np.array_equal(whole.error[k], chunked.error[k]) for k in whole.error)
 
 
 def test_only_the_members_the_closed_form_refuses_are_integrated(monkeypatch):

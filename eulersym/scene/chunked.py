@@ -32,15 +32,15 @@ import numpy as np
 
 from eulersym.errors import SingularConfiguration
 from eulersym.numerics import methods
+from eulersym.numerics.methods._accuracy import QUANTITIES as ESTIMATED
+from eulersym.scene.quantities import along, reduced
 from eulersym.scene.result import outputs, report_notes
 from eulersym.sweeps import chunks, zarr_store
-from eulersym.sweeps.summary import drift, summarize
+from eulersym.sweeps.summary import summarize
 
 __all__ = ["take", "motion", "singular_note", "run_chunk", "run_chunk_to", "run", "SEPARATRIX"]
 
 _TRAJECTORIES = ("omega", "attitude", "euler_angles", "polhode")
-#: Invariants reported as their largest value rather than a drift (they start at zero by definition).
-_MAXIMA = ("L_space_deviation",)
 
 
 def take(problem, lo: int, hi: int):
@@ -93,34 +93,7 @@ def motion(problem, plan, *, progress=None) -> tuple:
         singular.extend(lo + int(k) for k in found)
     if progress is not None:
         progress(1.0)
-    return _join(pieces), tuple(singular)
-
-
-def _join(pieces):
-    """One trajectory of the members of ``pieces`` in order (:func:`eulersym.numerics.methods.solve` joins the same
-    way): arrays concatenated, calls summed, a field only some pieces give dropped."""
-    import dataclasses
-
-    from eulersym.numerics.trajectory import Trajectory
-
-    joined = {}
-    for f in dataclasses.fields(Trajectory):
-        values = [getattr(traj, f.name) for traj in pieces]
-        if f.name == "t":
-            joined[f.name] = values[0]
-        elif f.name == "n_rhs_calls":
-            joined[f.name] = sum(int(v) for v in values)
-        elif f.name == "q_unit":
-            joined[f.name] = all(values)
-        elif f.name in ("method", "message"):
-            joined[f.name] = " + ".join(dict.fromkeys(values))
-        elif f.name == "status":
-            joined[f.name] = max(values)
-        elif all(isinstance(v, np.ndarray) for v in values):
-            joined[f.name] = np.concatenate(values, axis=0)
-        else:
-            joined[f.name] = None
-    return Trajectory(**joined)
+    return methods.join(pieces), tuple(singular)
 
 
 def singular_note(singular, batch: int, rtol: float) -> str:
@@ -139,7 +112,10 @@ def singular_note(singular, batch: int, rtol: float) -> str:
 
 def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
     """One chunk: the plan's engine on ``problem``, its outputs in the scene's frame, as ``{name: (members, ...)}``
-    arrays — trajectories, or the summaries of ``layout`` = ``(quantities, invariants, tilt)``. A plain function
+    arrays — trajectories, or the summaries of ``layout`` = ``(quantities, invariants, tilt)`` — each invariant's
+    drift per member (``"drift:<name>"``; ``"<name>.drift"`` among summaries), and the estimated global error per
+    member (``"error:<quantity>"`` for each of :data:`ESTIMATED`: NaN where this chunk has none — a closed form's
+    members — which :func:`run` drops or zeroes as a one-pass run joins its pieces). A plain function
     of a problem's arrays: it runs on a Dask worker as well (imports the engine and kernels, never SymPy).
 
     Examples
@@ -147,8 +123,12 @@ def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
     >>> from eulersym.scene.spec import Scene
     >>> from eulersym.scene.problem import prepare
     >>> s = Scene(moments=(1, 2, 3), omega=(0.1, [1.0, 2.0], 0.1), t_end=1, points=5)
-    >>> sorted(run_chunk(prepare(s, s.plan()), plan=s.plan()))
-    ['_calls', '_singular', 'invariant:L2', 'invariant:energy', 'omega']
+    >>> out = run_chunk(prepare(s, s.plan()), plan=s.plan())
+    >>> sorted(out)  # doctest: +NORMALIZE_WHITESPACE
+    ['_calls', '_singular', 'drift:L2', 'drift:energy', 'error:attitude', 'error:gamma', 'error:omega',
+     'invariant:L2', 'invariant:energy', 'omega']
+    >>> bool(np.isnan(out["error:omega"]).all())  # a closed form: no estimate (exact to round-off)
+    True
     """
     traj, singular = motion(problem, plan)
     out = outputs(problem, plan, traj)
@@ -158,14 +138,23 @@ def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
         if keep_gamma and gamma is not None:
             arrays["gamma"] = gamma
         arrays.update({f"invariant:{k}": v for k, v in out["invariants"].items()})
+        arrays.update({f"drift:{k}": v for k, v in out["member_drift"].items()})  # as the one pass measures it
         if plan.regime == "heavy top":  # the tilt range per member, from the principal frame's vertical
             theta = np.degrees(np.arccos(np.clip(traj.gamma[..., 2], -1.0, 1.0)))
             arrays["_theta_min"], arrays["_theta_max"] = theta.min(axis=1), theta.max(axis=1)
     else:
         quantities, invariants, tilt = layout
         values = {name: (gamma if name == "gamma" else out[name]) for name in quantities}
-        arrays = summarize(values, invariants={k: v for k, v in out["invariants"].items() if k in invariants},
-                           gamma=gamma if tilt else None)
+        arrays = summarize(values, gamma=gamma if tilt else None)
+        # each invariant's drift as the one pass measures it (an invariant that starts at zero by a cancellation:
+        # relative to its natural size; eulersym.scene.result.outputs)
+        arrays.update({f"{k}.drift": v for k, v in out["member_drift"].items() if k in invariants})
+        if plan.regime == "model":  # the model's own quantities, min/max/final per member (none: nothing kept)
+            arrays.update(reduced(along(problem.model.module, problem.model.params, problem.t, out["omega"], gamma,
+                                        out["attitude"])))
+    for name in dict.fromkeys((*ESTIMATED, *out["error"])):  # the same names from every chunk; NaN: none here
+        arrays[f"error:{name}"] = (np.broadcast_to(out["error"][name], (problem.batch,)) if name in out["error"]
+                                   else np.full(problem.batch, np.nan))
     calls = np.zeros(problem.batch)
     calls[:1] = traj.n_rhs_calls  # the chunk's kernel evaluations, summed over chunks at the end
     arrays["_calls"] = calls
@@ -188,7 +177,8 @@ def _stored(name: str):
 def run_chunk_to(piece, *, sink, **options) -> dict:
     """:func:`run_chunk` on ``piece = (problem, lo)`` (the chunk's members and the first one's index), its
     trajectories and invariants written into ``sink`` (:class:`eulersym.sweeps.zarr_store.ZarrSink`) at rows
-    ``lo:``; returns what stays small: each invariant's drift per member, the tilt range, the bookkeeping."""
+    ``lo:``; returns what stays small: each invariant's drift per member (``drift:<name>``), the tilt range, the
+    bookkeeping."""
     problem, lo = piece
     arrays = run_chunk(problem, **options)
     stored = {}
@@ -196,10 +186,7 @@ def run_chunk_to(piece, *, sink, **options) -> dict:
         key = _stored(name)
         if key is None:
             continue
-        values = arrays.pop(name)
-        stored[key] = values
-        if name.startswith("invariant:"):
-            arrays[f"drift:{key}"] = np.max(values, axis=1) if key in _MAXIMA else drift(values)
+        stored[key] = arrays.pop(name)
     sink.write(stored, lo)
     return arrays
 
@@ -213,7 +200,9 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
         progress=None, threads: int = 1) -> dict:
     """Run ``problem`` in chunks of ``chunk`` members (in-process, or on ``client``'s Dask workers) and return the
     fields :func:`eulersym.scene.result.outputs` returns, plus ``"summary"`` (per member), ``"gamma"`` and
-    ``"n_calls"``. Trajectories are kept unless ``layout`` (a summary scene) is given."""
+    ``"n_calls"``. Trajectories are kept unless ``layout`` (a summary scene) is given. ``"error"``, the estimated
+    global error per member (an integration's; empty for a closed form), is each chunk's, in member order: the
+    one-pass estimate, since a chunk is a whole number of the method's groups of members."""
     grain = _grain(plan)
     if client is not None:  # several chunks per worker, so that every worker stays busy to the end
         from eulersym.sweeps.distributed import workers
@@ -237,6 +226,11 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
         gathered = chunks.run(run_chunk, problem.take, members=problem.batch, chunk=chunk, static=static,
                               client=client, progress=progress, threads=threads)
     n_calls = int(gathered.pop("_calls").sum())
+    error = {}  # as a one-pass run joins its pieces' (methods.join): none at all, or 0 for a member exact by a closed form
+    for name in [name for name in gathered if name.startswith("error:")]:
+        values = gathered.pop(name)
+        if not np.all(np.isnan(values)):
+            error[name.split(":", 1)[1]] = np.where(np.isnan(values), 0.0, values)
     singular = np.flatnonzero(gathered.pop("_singular"))
     theta_range = (gathered.pop("_theta_min", None), gathered.pop("_theta_max", None))
     extra = [singular_note(singular, problem.batch, problem.rtol)] if len(singular) else []
@@ -248,27 +242,29 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
         if "tilt_max" in summary:
             theta_max = np.degrees(summary["tilt_max"])
             theta_min = np.degrees(np.arccos(np.clip(summary["gamma3.max"], -1.0, 1.0)))
-        drifts = {name[:-len(".drift")]: float(np.max(v)) for name, v in summary.items() if name.endswith(".drift")}
+        member = {name[:-len(".drift")]: v for name, v in summary.items() if name.endswith(".drift")}
+        drifts = {name: float(np.max(v)) for name, v in member.items()}
         notes = report_notes(plan, moments, P, theta_min=theta_min, theta_max=theta_max, w3=omega3_start,
                              bound=bound, turning=turning, tensor_given=tensor_given)
-        notes.append(f"kept per member: {len(summary)} summaries (" + _summary_note(layout) + "), no trajectories")
+        own = tuple(getattr(getattr(problem.model, "module", None), "QUANTITIES", ())) if plan.regime == "model" else ()
+        notes.append(f"kept per member: {len(summary)} summaries (" + _summary_note(layout, own) + "), no trajectories")
         notes.extend(extra)
         return {"omega": None, "attitude": None, "euler_angles": None, "polhode": None, "invariants": {},
                 "drift": drifts, "notes": notes, "turning_points": turning, "summary": summary, "gamma": None,
-                "n_calls": n_calls}
+                "n_calls": n_calls, "error": error, "member_drift": member}
     invariants = {name.split(":", 1)[1]: v for name, v in gathered.items() if name.startswith("invariant:")}
-    drifts = {name: float(np.max(v)) if name in _MAXIMA else float(np.max(drift(v))) for name, v in invariants.items()}
-    drifts.update({name.split(":", 1)[1]: float(np.max(v)) for name, v in gathered.items()
-                   if name.startswith("drift:")})  # streamed to a store: each member's drift, from its chunk
+    member = {name.split(":", 1)[1]: v for name, v in gathered.items() if name.startswith("drift:")}  # per chunk
+    drifts = {name: float(np.max(v)) for name, v in member.items()}
     gamma = gathered.get("gamma")
     theta_min, theta_max = theta_range
     notes = report_notes(plan, moments, P, theta_min=theta_min, theta_max=theta_max, w3=omega3_start, bound=bound,
                          turning=turning, tensor_given=tensor_given) + extra
     return {**{name: gathered.get(name) for name in _TRAJECTORIES}, "invariants": invariants, "drift": drifts,
-            "notes": notes, "turning_points": turning, "summary": {}, "gamma": gamma, "n_calls": n_calls}
+            "notes": notes, "turning_points": turning, "summary": {}, "gamma": gamma, "n_calls": n_calls,
+            "error": error, "member_drift": member}
 
 
-def _summary_note(layout) -> str:
+def _summary_note(layout, own=()) -> str:
     quantities, invariants, tilt = layout
-    parts = [f"min/max/final of {', '.join(quantities)}"] + (["the largest tilt"] if tilt else [])
+    parts = [f"min/max/final of {', '.join((*quantities, *own))}"] + (["the largest tilt"] if tilt else [])
     return "; ".join(parts + ([f"drift of {', '.join(invariants)}"] if invariants else []))

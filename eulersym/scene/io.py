@@ -115,21 +115,25 @@ def summary(result) -> tuple:
         for key in (k[:-len(".drift")] for k in s if k.endswith(".drift")):
             names.append(f"drift_{key}")
             cols.append(s[f"{key}.drift"])
-        return names, np.stack(cols, axis=1)
-    omega = result.omega if batch > 1 else result.omega[None]
-    names += ["omega1_end", "omega2_end", "omega3_end"]
-    cols += [omega[:, -1, j] for j in range(3)]
-    names += ["omega1_max_abs", "omega2_max_abs", "omega3_max_abs"]
-    cols += [np.abs(omega[..., j]).max(axis=1) for j in range(3)]
-    if result.gamma is not None:
-        gamma = result.gamma if batch > 1 else result.gamma[None]
-        names.append("theta_max_deg")  # as a summary run reduces it (eulersym.sweeps.summary), column for column
-        cols.append(np.degrees(largest_tilt(gamma)))
-    for key, values in result.invariants.items():
-        v = np.atleast_2d(values)
-        ref = v[:, :1]
-        names.append(f"drift_{key}")
-        cols.append(np.max(np.abs(v - ref) / np.where(np.abs(ref) > 0, np.abs(ref), 1.0), axis=1))
+    else:
+        omega = result.omega if batch > 1 else result.omega[None]
+        names += ["omega1_end", "omega2_end", "omega3_end"]
+        cols += [omega[:, -1, j] for j in range(3)]
+        names += ["omega1_max_abs", "omega2_max_abs", "omega3_max_abs"]
+        cols += [np.abs(omega[..., j]).max(axis=1) for j in range(3)]
+        if result.gamma is not None:
+            gamma = result.gamma if batch > 1 else result.gamma[None]
+            names.append("theta_max_deg")  # as a summary run reduces it (eulersym.sweeps.summary), column for column
+            cols.append(np.degrees(largest_tilt(gamma)))
+        member = getattr(result, "member_drift", None) or {}
+        for key, values in result.invariants.items():
+            names.append(f"drift_{key}")
+            if key in member:  # as the run measured it (an invariant that starts at zero: against its natural size)
+                cols.append(np.broadcast_to(np.asarray(member[key], dtype=float), (batch,)))
+                continue
+            v = np.atleast_2d(values)
+            ref = v[:, :1]
+            cols.append(np.max(np.abs(v - ref) / np.where(np.abs(ref) > 0, np.abs(ref), 1.0), axis=1))
     from eulersym.scene.quantities import summary_columns  # each quantity's min, max and final value
 
     head, extra = summary_columns(result)

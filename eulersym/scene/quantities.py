@@ -23,7 +23,7 @@ import numpy as np
 
 from eulersym.errors import InvalidInput
 
-__all__ = ["evaluate", "report_lines", "columns", "summary_columns", "names", "units"]
+__all__ = ["evaluate", "along", "reduced", "report_lines", "columns", "summary_columns", "names", "units"]
 
 
 def names(scene) -> tuple:
@@ -76,7 +76,7 @@ def _vertical(q: np.ndarray) -> np.ndarray:
 
 def evaluate(result) -> dict:
     """``{name: ndarray (n,) or (batch, n)}``: the scene's quantities along the run (empty without any, or for a
-    summary run, whose members keep no trajectory).
+    summary run, whose members keep no trajectory: its quantities are reduced per member in ``Result.summary``).
 
     Raises
     ------
@@ -88,14 +88,38 @@ def evaluate(result) -> dict:
     if not wanted or result.omega is None:
         return {}
     kernel = _kernel(scene)
-    module = kernel.module
-    batch = kernel.params[0].shape[0] if kernel.params else scene.batch
     lift = (lambda a: a[None]) if result.omega.ndim == 2 else (lambda a: a)
-    omega = lift(result.omega)
-    n = omega.shape[1]
+    values = along(kernel.module, kernel.params, result.t, lift(result.omega),
+                   None if result.gamma is None else lift(result.gamma),
+                   None if result.attitude is None else lift(result.attitude))
+    single = result.omega.ndim == 2
+    return {name: v[0].copy() if single else v for name, v in values.items()}
+
+
+def along(module, params, t, omega, gamma=None, attitude=None) -> dict:
+    """``{name: ndarray (batch, n)}``: the quantities of a model's kernel ``module`` (``quantities_batched``,
+    ``QUANTITIES``) along a motion given in the model frame — ω (batch, n, 3), the vertical Γ (batch, n, 3) or None,
+    the attitude q (batch, n, 4) or None — with each member's ``params`` (batch,); empty when the kernel has none.
+    SymPy-free: a chunk of a sweep evaluates them on a Dask worker too.
+
+    Raises
+    ------
+    eulersym.errors.InvalidInput
+        A quantity that reads the attitude when none is given (naming the quantities and ``want``).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> spin = NS(STATE=("omega1", "omega2", "omega3"), QUANTITIES=("w2",),
+    ...           quantities_batched=lambda t, y, c: [c * y[1]])
+    >>> along(spin, [np.array([2.0])], np.array([0.0, 1.0]), np.array([[[0, 1.0, 0], [0, 3.0, 0]]]))["w2"].tolist()
+    [[2.0, 6.0]]
+    """
+    wanted = tuple(getattr(module, "QUANTITIES", ()))
+    if not wanted:
+        return {}
+    batch, n = omega.shape[:2]
     needs = set(getattr(module, "QUANTITY_STATE", module.STATE))
-    attitude = None if result.attitude is None else lift(result.attitude)
-    gamma = None if result.gamma is None else lift(result.gamma)
     if attitude is None and needs & {"q0", "q1", "q2", "q3"}:
         raise InvalidInput("quantities", ", ".join(wanted), "quantities of ω and Γ only, or a run that keeps the "
                            "attitude: add \"attitude\" to [output] want (a quantity reads q, the Euler angles or "
@@ -112,13 +136,36 @@ def evaluate(result) -> dict:
             y[row] = values[..., k].reshape(-1)
         elif name in needs:  # pragma: no cover - Γ is kept whenever the state carries it
             raise InvalidInput("quantities", ", ".join(wanted), f"a run that keeps {block}")
-    params = [np.repeat(p, n) for p in kernel.params]
-    rows = module.quantities_batched(np.tile(result.t, batch), y, *params)
-    single = result.omega.ndim == 2
+    rows = module.quantities_batched(np.tile(t, batch), y, *[np.repeat(p, n) for p in params])
+    return {name: np.broadcast_to(np.asarray(row, dtype=float), (batch * n,)).reshape(batch, n).copy()
+            for name, row in zip(wanted, rows)}
+
+
+def reduced(values) -> dict:
+    """``{"<name>.min", "<name>.max", "<name>.final": ndarray (batch,)}`` of quantities ``{name: (batch, n)}``: what
+    a summary run keeps per member (:mod:`eulersym.sweeps.summary`'s names), the columns of :func:`summary_columns`.
+
+    Examples
+    --------
+    >>> reduced({"energy": np.array([[3.0, 1.0, 2.0]])})
+    {'energy.min': array([1.]), 'energy.max': array([3.]), 'energy.final': array([2.])}
+    """
     out = {}
-    for name, row in zip(module.QUANTITIES, rows):
-        values = np.broadcast_to(np.asarray(row, dtype=float), (batch * n,)).reshape(batch, n)
-        out[name] = values[0].copy() if single else values.copy()
+    for name, v in values.items():
+        out[f"{name}.min"], out[f"{name}.max"], out[f"{name}.final"] = v.min(axis=1), v.max(axis=1), v[:, -1]
+    return out
+
+
+def _reductions(result) -> dict:
+    """``{name: (min, max, final)}`` per member: from the trajectories, or from a summary run's ``Result.summary``."""
+    if result.omega is None:
+        kept = getattr(result, "summary", None) or {}
+        return {name: tuple(kept[f"{name}.{s}"] for s in ("min", "max", "final"))
+                for name in names(result.scene) if f"{name}.min" in kept}
+    out = {}
+    for name, values in result.quantities.items():
+        v = np.atleast_2d(values)
+        out[name] = (v.min(axis=1), v.max(axis=1), v[:, -1])
     return out
 
 
@@ -135,11 +182,9 @@ def report_lines(result) -> list:
     """
     out = []
     unit = units(result.scene)
-    for name, values in result.quantities.items():
-        v = np.atleast_2d(values)
-        final = v[:, -1]
+    for name, (low, high, final) in _reductions(result).items():
         end = f"{final[0]:.6g}" if len(final) == 1 else f"{final.min():.6g} … {final.max():.6g} over the members"
-        out.append(f"quantity {name}: min {np.min(v):.6g}, max {np.max(v):.6g}, final {end}"
+        out.append(f"quantity {name}: min {np.min(low):.6g}, max {np.max(high):.6g}, final {end}"
                    + (f" ({unit[name]})" if name in unit else ""))
     return out
 
@@ -178,8 +223,7 @@ def summary_columns(result) -> tuple:
     (['w_min', 'w_max', 'w_final'], [[1.0, 2.0], [1.0, 2.0], [1.0, 2.0]])
     """
     head, cols = [], []
-    for name, values in result.quantities.items():
-        v = np.atleast_2d(values)
+    for name, reductions in _reductions(result).items():
         head += [f"{name}_min", f"{name}_max", f"{name}_final"]
-        cols += [v.min(axis=1), v.max(axis=1), v[:, -1]]
+        cols += list(reductions)
     return head, cols

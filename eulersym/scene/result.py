@@ -80,6 +80,10 @@ class Result:
     lyapunov : float or ndarray (batch,), or None
         With ``"sensitivity"``: the finite-time Lyapunov exponent ln(σ_max(t_end)) / t_end (1/s) — positive and
         steady over long runs for a chaotic motion, tending to 0 for a regular one.
+    member_drift : mapping name → ndarray (batch,)
+        Each member's drift of each invariant (``drift`` is their maximum), as ``drift`` measures it: the
+        ``drift_<name>`` columns of a sweep's summary table, the same bits whether the sweep ran in one pass or in
+        chunks.
 
     Examples
     --------
@@ -115,6 +119,7 @@ class Result:
     accuracy: float | None = None
     sensitivity: np.ndarray | None = None
     lyapunov: object = None
+    member_drift: Mapping = field(default_factory=dict)
 
     def animate(self, path: str, **options) -> str:
         """Write an animation of this run to ``path`` (``.gif``, ``.mp4`` or a self-contained ``.html``); return it.
@@ -166,6 +171,19 @@ def _drift(values: np.ndarray) -> float:
 def _drifts(rows: np.ndarray, scales=None) -> list:
     """:func:`_drift` of each of ``rows`` (k, batch, n) in one pass; ``scales`` (k, batch): each invariant's natural
     scale (:func:`_natural_scales`) instead of |I(0)|."""
+    return np.maximum.reduce(_member_drifts(rows, scales), axis=1).tolist()
+
+
+def _member_drifts(rows: np.ndarray, scales=None) -> np.ndarray:
+    """Each member's drift (k, batch) of ``rows`` (k, batch, n): max_t |I(t) − I(0)| over ``scales`` (k, batch), or
+    over |I(0)| (absolute where it is 0) — what :func:`_drifts` maximises over the members, and what a sweep keeps
+    per member (a chunk's members get the bits of the one pass: every operation is per member).
+
+    Examples
+    --------
+    >>> _member_drifts(np.array([[[2.0, 2.5, 1.0], [0.0, 1e-3, 0.0]]])).tolist()
+    [[0.5, 0.001]]
+    """
     ref = rows[:, :, 0]
     denom = np.abs(ref) if scales is None else np.array(scales, dtype=float)
     denom[denom == 0] = 1.0
@@ -173,7 +191,7 @@ def _drifts(rows: np.ndarray, scales=None) -> list:
     # the ufuncs' own reductions (what ndarray.max and .min call)
     dev = np.maximum(np.maximum.reduce(rows, axis=2) - ref, ref - np.minimum.reduce(rows, axis=2))
     dev /= denom
-    return np.maximum.reduce(dev, axis=1).tolist()
+    return dev
 
 
 #: An invariant whose start |I(y0)| is below this fraction of the size of its terms started at zero by a
@@ -253,11 +271,11 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
                     gamma_body = gamma
             if "euler_angles" in outputs:
                 euler_angles = _unwrapped(_rotation_euler(rot_body, problem.convention).reshape(batch, n, 3))
-    invariants, known = {}, {}
+    invariants, member = {}, {}
     if "invariants" in outputs:
         if own:
             invariants = _model_invariants(model, t, omega_body, gamma_body, attitude)
-            known = _model_drifts(model, t, invariants, omega_body, gamma_body, attitude)
+            member = _model_drifts(model, t, invariants, omega_body, gamma_body, attitude)
         elif plan.regime == "torque-free":
             from eulersym.numerics import invariants as inv
 
@@ -301,11 +319,13 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
             scales[:4] = _natural_scales(gen.invariants_batched, 0.0, start, first)
             if len(names) == 5:  # p_ψ = I3 ω3: relative to the size of I3 ω
                 scales[4] = _cancelled(rows[4, :, 0], moments[:, 2] * np.linalg.norm(omega_pr[:, 0], axis=1))
-            known = dict(zip(names, _drifts(rows, scales)))  # all at once
-        drift = {name: known[name] if name in known else (_drift(v) if name != "L_space_deviation" else float(np.max(v)))
-                 for name, v in invariants.items()}
-    else:
-        drift = {}
+            member = dict(zip(names, _member_drifts(rows, scales)))  # all at once
+        for name, v in invariants.items():  # relative to |I(0)|; the deviation of L in space is its largest value
+            if name not in member:
+                v = np.atleast_2d(v)
+                member[name] = np.max(v, axis=1) if name == "L_space_deviation" else _member_drifts(v[None])[0]
+        member = {name: member[name] for name in invariants}
+    drift = {name: float(np.max(v)) for name, v in member.items()}
     polhode = omega_pr if "polhode" in outputs and plan.regime == "torque-free" else None  # Poinsot needs N = 0
     # ---- notes for the report ----------------------------------------------------------------------------------
     theta_min = theta_max = flips = None
@@ -324,6 +344,7 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
         "polhode": polhode,
         "invariants": invariants,
         "drift": drift,
+        "member_drift": member,
         "notes": notes,
         "turning_points": turning,
         "gamma": gamma_body if own or gamma is None else (gamma if identity else gamma @ P.T),  # the body frame's
@@ -470,7 +491,8 @@ def _model_invariants(model, t, omega, gamma, q) -> dict:
 
 
 def _model_drifts(model, t, invariants, omega, gamma, q) -> dict:
-    """Each model invariant's drift relative to its natural scale at the start (:func:`_natural_scales`)."""
+    """Each model invariant's drift per member (batch,), relative to its natural scale at the start
+    (:func:`_natural_scales`)."""
     if not invariants:
         return {}
     values = {f"omega{k + 1}": omega[:, 0, k] for k in range(3)}
@@ -482,7 +504,7 @@ def _model_drifts(model, t, invariants, omega, gamma, q) -> dict:
                              params)
     rows = np.stack([invariants[name] for name in model.invariants])
     scales = np.broadcast_to(scales, rows.shape[:2])
-    return dict(zip(model.invariants, _drifts(rows, scales)))
+    return dict(zip(model.invariants, _member_drifts(rows, scales)))
 
 
 def _fmt_time(seconds: float) -> str:
@@ -566,7 +588,8 @@ def report(result) -> str:
     if result.sensitivity is not None:
         lines.append(sensitivity_line(result))
     lines += result.notes
-    if getattr(result, "quantities", None):  # the model's own quantities (eulersym.scene.quantities)
+    if getattr(result, "quantities", None) or getattr(result, "summary", None):  # the model's own quantities
+        # (eulersym.scene.quantities): along the run, or per member of a summary run
         from eulersym.scene.quantities import report_lines
 
         lines += report_lines(result)

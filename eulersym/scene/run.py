@@ -175,6 +175,7 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         accuracy=scene.accuracy,
         sensitivity=squeeze(sigma),
         lyapunov=number(lyapunov),
+        member_drift=out.get("member_drift", {}),
     )
 
 

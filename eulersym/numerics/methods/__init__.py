@@ -81,6 +81,7 @@ __all__ = [
     "choose",
     "worth_saying",
     "solve",
+    "join",
     "costs",
     "sensitivity",
     "tolerances",
@@ -196,7 +197,7 @@ def solve(problem: Problem, name: str, *, progress=None) -> tuple:
         progress(1.0)
     if len(pieces) == 1:
         return pieces[0][2], singular
-    return _join([traj for _, _, traj, _ in pieces]), singular
+    return join([traj for _, _, traj, _ in pieces]), singular
 
 
 def _split(problem: Problem, name: str, fallback: str, lo: int, hi: int, *, failed: bool = False) -> list:
@@ -213,8 +214,20 @@ def _split(problem: Problem, name: str, fallback: str, lo: int, hi: int, *, fail
     return _split(problem, name, fallback, lo, mid) + _split(problem, name, fallback, mid, hi)
 
 
-def _join(pieces: list) -> Trajectory:
-    """One batch-first trajectory of the members of ``pieces``, in order; a field only some give is dropped."""
+def join(pieces: list) -> Trajectory:
+    """One batch-first trajectory of the members of ``pieces``, in order; a field only some give is dropped, but the
+    estimated error: a piece without one (a closed form's members) counts as exact, 0.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from eulersym.numerics.trajectory import Trajectory
+    >>> t, w = np.zeros(2), np.zeros((1, 2, 3))
+    >>> exact, integrated = Trajectory(t, w), Trajectory(t, w, error={"omega": np.array([1e-9])})
+    >>> joined = join([exact, integrated])
+    >>> joined.omega.shape, joined.error["omega"].tolist()
+    ((2, 2, 3), [0.0, 1e-09])
+    """
     joined = {}
     for f in dataclasses.fields(Trajectory):
         values = [getattr(traj, f.name) for traj in pieces]

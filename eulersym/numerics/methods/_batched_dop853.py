@@ -146,12 +146,45 @@ _E5_RUNS = _runs(DOP853.E5)
 _E3_RUNS = _runs(DOP853.E3)
 
 
+#: Stiffness test of Hairer's DOP853 (``nstiff``, 6.1, 15 and 6): every ``STIFF_EVERY`` accepted steps, and on each
+#: step while a member looks stiff, |hλ| ≈ h ‖f(y₁) − f(y₁₂)‖ / ‖y₁ − y₁₂‖ (the last two stages, both at t + h); a
+#: member past ``STIFF_HLAMBDA`` on ``STIFF_STEPS`` steps in a row (``STIFF_RESET`` calm ones start the count over)
+#: has its step held by the method's stability, not by its accuracy.
+STIFF_EVERY, STIFF_HLAMBDA, STIFF_STEPS, STIFF_RESET = 1000, 6.1, 15, 6
+#: A stiff chunk stops when the steps still needed at its held step size, (t_end − t) / h, are more than this
+#: (seconds of NumPy per step make it minutes; a few thousand steps more are left to finish).
+STIFF_REMAINING = 10_000
+
+
 class _Stopped(Exception):
     """A chunk stopped: which of its members, why, when."""
 
     def __init__(self, members, reason, t, hint):
         super().__init__(reason)
         self.members, self.reason, self.t, self.hint = np.asarray(members), reason, t, hint
+
+
+def _stiffness(K, y12, y1, h, stiff, calm) -> None:
+    """Count, per member, the accepted steps in a row whose |hλ| = h ‖K₁₂ − K₁₁‖ / ‖y₁ − y₁₂‖ exceeds
+    :data:`STIFF_HLAMBDA` (``stiff``; ``calm`` counts the others, :data:`STIFF_RESET` of which reset it), in place.
+
+    Examples
+    --------
+    >>> K = np.zeros((13, 1, 2)); K[12, 0] = [-1e4, -1.0]   # ẏ = λy: K₁₂ − K₁₁ = λ (y₁ − y₁₂)
+    >>> stiff, calm = np.zeros(2, dtype=int), np.zeros(2, dtype=int)
+    >>> _stiffness(K, np.zeros((1, 2)), np.ones((1, 2)), 1e-3, stiff, calm)
+    >>> stiff.tolist(), calm.tolist()
+    ([1, 0], [0, 1])
+    """
+    with np.errstate(all="ignore"):
+        num = np.einsum("nb,nb->b", K[-1] - K[-2], K[-1] - K[-2])
+        gap = y1 - y12
+        den = np.einsum("nb,nb->b", gap, gap)
+        hot = (den > 0) & (h * h * num > STIFF_HLAMBDA ** 2 * den)
+    stiff[hot] += 1
+    calm[hot] = 0
+    calm[~hot] += 1
+    stiff[calm >= STIFF_RESET] = 0
 
 
 def _dop853_chunk(fun, y0, t_eval, rtol, atol, Y, progress):
@@ -183,6 +216,7 @@ def _dop853_chunk(fun, y0, t_eval, rtol, atol, Y, progress):
     h1 = max(1e-6, h0 * 1e-3) if max(d1m, d2) <= 1e-15 else (0.01 / max(d1m, d2)) ** (1.0 / (DOP853.order + 1))
     h = min(100 * h0, h1, float(t_eval[-1] - t_eval[0]))
     m = len(t_eval)
+    accepted, stiff, calm = 0, np.zeros(b, dtype=int), np.zeros(b, dtype=int)
     for i in range(1, m):
         target = float(t_eval[i])
         while t < target:
@@ -221,6 +255,15 @@ def _dop853_chunk(fun, y0, t_eval, rtol, atol, Y, progress):
                                "a start and parameters that keep the right-hand side in its domain (or a shorter "
                                "t_end)")
             if err < 1:
+                accepted += 1
+                if accepted % STIFF_EVERY == 0 or stiff.any():  # dy: the last stage's point y₁₂, at t + h as y₁
+                    _stiffness(K, dy, y_new, h_use, stiff, calm)
+                    if np.any(stiff >= STIFF_STEPS) and (float(t_eval[-1]) - t) / h_use > STIFF_REMAINING:
+                        raise _Stopped(np.flatnonzero(stiff >= STIFF_STEPS), "the motion is stiff (the explicit step "
+                                       f"is held by stability at h ≈ {h_use:.2g}, |hλ| > {STIFF_HLAMBDA:g}: "
+                                       f"{(float(t_eval[-1]) - t) / h_use:.2g} steps more to t_end)", t,
+                                       "an implicit method member by member (method = \"Radau\" or \"LSODA\", one "
+                                       "member at a time), a shorter t_end, or parameters of a less stiff motion")
                 factor = 10.0 if err == 0 else min(10.0, 0.9 * err ** exponent)
                 t = target if h_use == target - t else t + h_use
                 y, f = y_new, f_new

@@ -197,16 +197,18 @@ class BatchedDOP853(Integrator):
                 bad = getattr(exc, "members", None)
                 if bad is None:
                     raise
-                failed.append((keep[bad], exc.time, exc.cause))
+                failed.append((keep[bad], exc.time, exc.cause, exc.hint))
                 keep = np.delete(keep, bad)
                 continue
             if not failed:
                 return s.trajectory(problem.t, Y, calls, self.name)
             break
-        every = np.concatenate([m for m, _, _ in failed])
-        causes = "; ".join(f"{_where(problem, m)}: {cause} at t = {t:.6g}" for m, t, cause in failed[:3])
+        every = np.concatenate([m for m, _, _, _ in failed])
+        causes = "; ".join(f"{_where(problem, m)}: {cause} at t = {t:.6g}" for m, t, cause, _ in failed[:3])
+        stiff = [hint for _, _, cause, hint in failed if cause.startswith("the motion is stiff")]
         raise IntegrationFailed(self.name, f"{len(every)} of {problem.batch} members stopped — {causes}"
                                 + ("; …" if len(failed) > 3 else ""),
+                                stiff[0] if len(stiff) == len(failed) else
                                 "members whose right-hand side stays in its domain and finite (a shorter t_end, "
                                 "other parameters)")
 
