@@ -179,7 +179,7 @@ def main(argv) -> int:
     ok &= ratio <= 1.5 and error < 1e-10
     ours, theirs, detail = _against_kane(quick=args.quick)
     ratio = theirs / ours if ours > 0 else float("inf")
-    print(f"tippe top inversion (viscous, 1 s) at achieved error ≤ 1e-8: eulersym simulate's path (compiled "
+    print(f"tippe top inversion (viscous, {detail['end']:g} s) at achieved error ≤ 1e-8: eulersym simulate's path (compiled "
           f"DOP853, lift-off checked) {ours * 1e3:.2f} ms ({detail['ours']}), KanesMethod + PyDy "
           f"{detail['generator']} in solve_ivp {theirs * 1e3:.1f} ms ({detail['theirs']}) — "
           f"{ratio_text(theirs, ours)}; PyDy's rhs agrees to {detail['agree']:.1e}; Kane derivation "
@@ -323,4 +323,5 @@ def _against_kane(quick: bool = False) -> tuple:
     theirs_s, theirs_text = _loosest(theirs, reference, tolerances, compare_theirs)
     fallback_s, fallback_text = _loosest(scene_path(False), reference, tolerances, compare_ours)
     return ours_s, theirs_s, {"ours": ours_text, "theirs": theirs_text, "generator": generator, "agree": agree,
-                              "kane_s": kane_s, "pydy_s": pydy_s, "fallback_s": fallback_s, "fallback": fallback_text}
+                              "kane_s": kane_s, "pydy_s": pydy_s, "fallback_s": fallback_s, "fallback": fallback_text,
+                              "end": end}
