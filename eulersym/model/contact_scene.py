@@ -46,7 +46,7 @@ import numpy as np
 from eulersym.errors import InvalidInput
 from eulersym.validation import choice, finite_array
 
-__all__ = ["CONTACT_KEYS", "FOLDER", "bundled", "read_contact", "read_pivot_path", "ContactScene", "handles", "load",
+__all__ = ["CONTACT_KEYS", "FOLDER", "bundled", "listing", "read_contact", "read_pivot_path", "ContactScene", "handles", "load",
            "kernel", "run", "ContactRun", "cli"]
 
 #: The keys of ``[contact]``.
@@ -70,6 +70,24 @@ def bundled() -> dict:
     ['chaplygin-ball', 'euler-disk']
     """
     return {p.stem: str(p) for p in sorted(FOLDER.glob("*.toml"))}
+
+
+def listing() -> dict:
+    """``{name: (description, path)}`` of the bundled contact and moving-pivot scenes, for ``eulersym simulate
+    --list`` (:func:`eulersym.scene.cli.cli` prints them after the other bundled scenes). Reads each file's
+    ``description`` only: nothing is derived.
+
+    Examples
+    --------
+    >>> description, path = listing()["tippe-top"]
+    >>> description.startswith("a tippe top"), path.endswith("tippe-top.toml")
+    (True, True)
+    """
+    found = {}
+    for name, path in bundled().items():
+        data, _ = _read(path)
+        found[name] = (str(data.get("description", "")), path)
+    return found
 
 
 def _table(key: str, value, valid) -> dict:
