@@ -88,3 +88,18 @@ def test_without_numba_the_engine_is_solve_ivp_with_the_event(tippe_top, monkeyp
     assert integrate(module, y0, [0.0, 0.1]).nfev == fallback.nfev
     monkeypatch.setattr("eulersym.numerics.methods._base.numba_available", lambda: False)
     assert "solve_ivp with the lift-off event" in contact_scene._plan_line(scene)
+
+
+def test_the_samples_are_capped_and_change_no_step(tippe_top, monkeypatch):
+    """Capped at the outputs, N is sampled there only; the motion at the outputs is the same (dense output changes
+    no step). Sampled at the outputs (0.01 s) the lift-off near 2.41 s — a dip of N below 0 for a few ms, between
+    two outputs — would be missed: the uncapped engine samples at least once a step (test above)."""
+    from eulersym.model import contact_motion
+
+    scene, module = tippe_top
+    y0 = start(module, omega=scene.initial["omega"], q=_attitude(scene.initial))
+    times = np.linspace(0.0, scene.end, scene.points)
+    fine = integrate(module, y0, times, rtol=1e-8, atol=1e-10, compiled=True)
+    monkeypatch.setattr(contact_motion, "MAX_SAMPLES", scene.points)
+    coarse = integrate(module, y0, times, rtol=1e-8, atol=1e-10, compiled=True)
+    assert np.array_equal(fine.y, coarse.y) and fine.nfev > coarse.nfev

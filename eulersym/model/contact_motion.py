@@ -31,6 +31,9 @@ from eulersym.validation import finite_array
 
 __all__ = ["LiftOff", "ContactMotion", "start", "integrate"]
 
+#: The most samples of the normal force the compiled engine takes in one run (:func:`_compiled_run`).
+MAX_SAMPLES = 1_000_000
+
 _IMPLICIT = ("Radau", "BDF", "LSODA")
 _METHODS = ("DOP853", "RK45", "RK23", *_IMPLICIT)
 
@@ -299,14 +302,16 @@ def _compiled_run(kernel, y0, t_eval, params, rtol, atol) -> ContactMotion:
     :func:`scipy.optimize.brentq` on ``N(s)``, the state at ``s`` integrated from that earlier sample (to the
     solver's own tolerance, ``4 ε``, as solve_ivp's event), and :class:`LiftOff` is raised there. A dip of ``N``
     below 0 and back inside one sample interval (shorter than a step, on average) is not seen — nor by solve_ivp's
-    event, which checks once a step.
+    event, which checks once a step. The samples are at most :data:`MAX_SAMPLES` (their states are held at once:
+    ~112 MB for 14 components); a run of more steps is sampled that finely, no finer (and where N changes sign
+    more than once between two samples, the root located is one of them, not necessarily the first).
     """
     from eulersym.numerics.methods import _dop853
 
     P = [params]
     intervals = t_eval.size - 1
     first = _dop853.integrate(kernel, [y0], t_eval, P, rtol=rtol, atol=atol, parallel=False)
-    sub = int(-(-int(first.steps[0]) // intervals)) if intervals else 1
+    sub = min(int(-(-int(first.steps[0]) // intervals)), max(1, MAX_SAMPLES // intervals)) if intervals else 1
     grid, run = t_eval, first
     if sub > 1:
         cuts = t_eval[:-1, None] + np.diff(t_eval)[:, None] * (np.arange(sub) / sub)  # [:, 0] is t_eval exactly
