@@ -194,3 +194,15 @@ def test_a_file_nested_too_deep_is_a_named_error_here_too(tmp_path):
     with pytest.raises(InvalidInput) as info:
         contact_scene.load(path)
     assert info.value.argument == "SCENE" and "nested" in str(info.value)
+
+
+def test_simulate_list_names_every_contact_scene_and_each_name_runs(capsys):
+    from eulersym.scene.catalog import bundled as scene_files
+
+    assert main(["simulate", "--list"]) == 0
+    text = capsys.readouterr().out
+    for name, (description, path) in contact_scene.listing().items():
+        assert f"  {name:<22} {description}\n" in text and path in text and description
+        assert name not in scene_files()  # one meaning per name: no other bundled scene is called the same
+    assert main(["simulate", "tippe-top", "--explain"]) == 0
+    assert "tippe-top" in capsys.readouterr().out

@@ -26,9 +26,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from eulersym.errors import CheckFailed, EulersymError, InvalidInput
+from eulersym.numerics.methods._base import numba_available
 from eulersym.validation import finite_array
 
 __all__ = ["LiftOff", "ContactMotion", "start", "integrate"]
+
+#: The most samples of the normal force the compiled engine takes in one run (:func:`_compiled_run`).
+MAX_SAMPLES = 1_000_000
 
 _IMPLICIT = ("Radau", "BDF", "LSODA")
 _METHODS = ("DOP853", "RK45", "RK23", *_IMPLICIT)
@@ -204,8 +208,15 @@ def start(kernel, *, omega, q=(1.0, 0.0, 0.0, 0.0), position=(0.0, 0.0), velocit
 
 
 def integrate(kernel, y0, t_eval, *, params=None, method: str = "DOP853", rtol: float = 1e-10,
-              atol: float = 1e-12, max_step: float = np.inf) -> ContactMotion:
-    """Integrate a contact kernel with :func:`scipy.integrate.solve_ivp`, stopping at lift-off.
+              atol: float = 1e-12, max_step: float = np.inf, compiled: bool | None = None) -> ContactMotion:
+    """Integrate a contact kernel, stopping at lift-off: on eulersym's compiled DOP853, else
+    :func:`scipy.integrate.solve_ivp`.
+
+    With ``method = "DOP853"``, no ``max_step`` and numba installed (the ``fast`` extra), the kernel runs on
+    :func:`eulersym.numerics.methods._dop853.integrate` (:func:`_compiled_run`): the normal force is checked on a
+    grid at least as fine as the accepted steps (as solve_ivp's event checks it once a step), and where it falls
+    to 0 the time is located by Brent's method on re-runs from the last sample that pressed on the plane. Otherwise
+    (or ``compiled=False``) solve_ivp runs with the kernel's ``lift_off`` event.
 
     Parameters
     ----------
@@ -221,7 +232,10 @@ def integrate(kernel, y0, t_eval, *, params=None, method: str = "DOP853", rtol: 
         ``DOP853`` (default), ``RK45``, ``RK23``, or an implicit method (``Radau``, ``BDF``, ``LSODA``: the
         kernel's Jacobian is used).
     rtol, atol, max_step : float
-        solve_ivp's tolerances and largest step.
+        The tolerances (SciPy's norm: local error per step ≤ atol + rtol |y|) and solve_ivp's largest step.
+    compiled : bool or None
+        Run on the compiled DOP853 (True: refused, naming what is missing, where it cannot), on solve_ivp
+        (False), or the compiled one where it applies (None).
 
     Returns
     -------
@@ -254,6 +268,12 @@ def integrate(kernel, y0, t_eval, *, params=None, method: str = "DOP853", rtol: 
         raise InvalidInput("method", method, "one of " + ", ".join(_METHODS))
     if not kernel.normal_force(float(t_eval[0]), y0, *params)[0] > 0:
         raise InvalidInput("y0", y0.tolist(), "a state that presses on the plane (normal force N > 0)")
+    applies = method == "DOP853" and not np.isfinite(max_step) and numba_available()
+    if compiled and not applies:
+        raise InvalidInput("compiled", compiled, "False or None here: the compiled DOP853 needs method = 'DOP853', "
+                           "no max_step and numba installed (the fast extra)")
+    if applies and compiled is not False:
+        return _compiled_run(kernel, y0, t_eval, params, rtol, atol)
     options = {"jac": kernel.jac} if method in _IMPLICIT else {}
     span = (float(t_eval[0]), float(t_eval[-1]))
     sol = solve_ivp(kernel.rhs, span, y0, method=method, t_eval=t_eval, args=params, events=kernel.lift_off,
@@ -262,8 +282,72 @@ def integrate(kernel, y0, t_eval, *, params=None, method: str = "DOP853", rtol: 
         raise LiftOff(sol.t_events[0][0], sol.y_events[0][0], kernel.STATE)
     if not sol.success:
         raise CheckFailed(f"solve_ivp ({method}) failed: {sol.message}")
-    y = sol.y.T
-    contact = kernel.contact_batched(sol.t, y.T, *params).T if len(sol.t) else np.zeros((0, 5))
-    invariants = (kernel.invariants_batched(sol.t, y.T, *params).T if len(sol.t)
+    return _finish(kernel, sol.t, sol.y.T, params, sol.nfev)
+
+
+def _finish(kernel, t, y, params, nfev) -> ContactMotion:
+    contact = kernel.contact_batched(t, y.T, *params).T if len(t) else np.zeros((0, 5))
+    invariants = (kernel.invariants_batched(t, y.T, *params).T if len(t)
                   else np.zeros((0, len(kernel.INVARIANTS))))
-    return ContactMotion(sol.t, y, tuple(kernel.STATE), contact, invariants, int(sol.nfev))
+    return ContactMotion(t, y, tuple(kernel.STATE), contact, invariants, int(nfev))
+
+
+def _compiled_run(kernel, y0, t_eval, params, rtol, atol) -> ContactMotion:
+    """:func:`integrate` on eulersym's compiled DOP853, lift-off caught (arguments checked by the caller).
+
+    One run over ``t_eval`` gives the motion and the number of accepted steps; where the steps outnumber the output
+    intervals it is run again with each interval cut into ``ceil(steps / intervals)`` equal parts — the same steps
+    (dense output changes no step), so the same motion at ``t_eval`` — and the normal force is evaluated at every
+    sample. At the first sample where ``N ≤ 0`` the lift-off time is located between it and the sample before by
+    :func:`scipy.optimize.brentq` on ``N(s)``, the state at ``s`` integrated from that earlier sample (to the
+    solver's own tolerance, ``4 ε``, as solve_ivp's event), and :class:`LiftOff` is raised there. A dip of ``N``
+    below 0 and back inside one sample interval (shorter than a step, on average) is not seen — nor by solve_ivp's
+    event, which checks once a step. The samples are at most :data:`MAX_SAMPLES` (their states are held at once:
+    ~112 MB for 14 components); a run of more steps is sampled that finely, no finer (and where N changes sign
+    more than once between two samples, the root located is one of them, not necessarily the first).
+    """
+    from eulersym.numerics.methods import _dop853
+
+    P = [params]
+    intervals = t_eval.size - 1
+    first = _dop853.integrate(kernel, [y0], t_eval, P, rtol=rtol, atol=atol, parallel=False)
+    sub = min(int(-(-int(first.steps[0]) // intervals)), max(1, MAX_SAMPLES // intervals)) if intervals else 1
+    grid, run = t_eval, first
+    if sub > 1:
+        cuts = t_eval[:-1, None] + np.diff(t_eval)[:, None] * (np.arange(sub) / sub)  # [:, 0] is t_eval exactly
+        grid = np.concatenate([cuts.ravel(), t_eval[-1:]])
+        run = _dop853.integrate(kernel, [y0], grid, P, rtol=rtol, atol=atol, parallel=False)
+    nfev = int(first.calls[0]) + (int(run.calls[0]) if sub > 1 else 0)
+    status, reached = int(run.status[0]), float(run.reached[0])
+    written = grid.size if status == _dop853.OK else int(np.searchsorted(grid, reached, side="right"))
+    Y = run.y[0, :written]
+    normal = kernel.normal_force_batched(grid[:written], Y.T, *params)[0]
+    pressing = normal > 0
+    if not pressing.all():
+        j = int(np.argmin(pressing))  # the first sample that does not press (j ≥ 1: y0 was checked)
+        _lift_off(kernel, grid[j - 1], Y[j - 1], grid[j], params, rtol, atol)
+    if status != _dop853.OK:
+        if not kernel.normal_force(reached, run.last[0], *params)[0] > 0:
+            _lift_off(kernel, grid[written - 1], Y[-1], reached, params, rtol, atol)
+        raise CheckFailed(f"the compiled DOP853 stopped at t = {reached:.10g}: {_dop853.STATUS[status]}")
+    return _finish(kernel, t_eval, Y[::sub], params, nfev)
+
+
+def _lift_off(kernel, ta, ya, tb, params, rtol, atol):
+    """Raise :class:`LiftOff` at the root of the normal force in ``(ta, tb]`` (``N(ta) > 0 ≥ N(tb)``)."""
+    from scipy.optimize import brentq
+
+    from eulersym.numerics.methods import _dop853
+
+    def state(s):
+        return _dop853.integrate(kernel, [ya], [ta, s], [params], rtol=rtol, atol=atol, parallel=False).y[0, -1]
+
+    def normal(s):
+        return kernel.normal_force(s, state(s), *params)[0] if s > ta else kernel.normal_force(ta, ya, *params)[0]
+
+    if normal(tb) == 0.0:
+        t = tb
+    else:
+        eps = 4 * np.finfo(float).eps
+        t = brentq(normal, ta, tb, xtol=eps, rtol=eps)
+    raise LiftOff(t, state(t), kernel.STATE)

@@ -16,8 +16,10 @@ A pivot-path scene is a pivoted model file whose ``[pivot]`` has ``path = ["x(t)
 :func:`read_contact` and :func:`read_pivot_path` check the raw TOML values (what a model reader hooks in);
 :func:`load` reads a whole file into a :class:`ContactScene`; :func:`run` derives (both routes are proven equal by
 the kernel's module, :mod:`eulersym.model.rolling`), emits into the kernel cache (:mod:`eulersym.model.cache`,
-keyed by the file's model sections and the versions), and integrates with :func:`scipy.integrate.solve_ivp`
-(DOP853), stopping at lift-off with :class:`eulersym.model.contact_motion.LiftOff` at its time.
+keyed by the file's model sections and the versions), and integrates a contact with
+:func:`eulersym.model.contact_motion.integrate` — eulersym's compiled DOP853 with the normal force sampled at least
+as often as it steps, :func:`scipy.integrate.solve_ivp` with the lift-off event without numba — stopping at
+lift-off with :class:`eulersym.model.contact_motion.LiftOff` at its time (a moving pivot: solve_ivp's DOP853).
 
 Examples
 --------
@@ -44,7 +46,7 @@ import numpy as np
 from eulersym.errors import InvalidInput
 from eulersym.validation import choice, finite_array
 
-__all__ = ["CONTACT_KEYS", "FOLDER", "bundled", "read_contact", "read_pivot_path", "ContactScene", "handles", "load",
+__all__ = ["CONTACT_KEYS", "FOLDER", "bundled", "listing", "read_contact", "read_pivot_path", "ContactScene", "handles", "load",
            "kernel", "run", "ContactRun", "cli"]
 
 #: The keys of ``[contact]``.
@@ -68,6 +70,24 @@ def bundled() -> dict:
     ['chaplygin-ball', 'euler-disk']
     """
     return {p.stem: str(p) for p in sorted(FOLDER.glob("*.toml"))}
+
+
+def listing() -> dict:
+    """``{name: (description, path)}`` of the bundled contact and moving-pivot scenes, for ``eulersym simulate
+    --list`` (:func:`eulersym.scene.cli.cli` prints them after the other bundled scenes). Reads each file's
+    ``description`` only: nothing is derived.
+
+    Examples
+    --------
+    >>> description, path = listing()["tippe-top"]
+    >>> description.startswith("a tippe top"), path.endswith("tippe-top.toml")
+    (True, True)
+    """
+    found = {}
+    for name, path in bundled().items():
+        data, _ = _read(path)
+        found[name] = (str(data.get("description", "")), path)
+    return found
 
 
 def _table(key: str, value, valid) -> dict:
@@ -422,7 +442,8 @@ class ContactRun:
 
 
 def run(scene: ContactScene, values: dict | None = None) -> ContactRun:
-    """Integrate the scene (DOP853 at ``rtol = accuracy``), stopping at lift-off; ``values`` sets parameters (a
+    """Integrate the scene (DOP853 at ``rtol = accuracy``: compiled for a contact where numba is installed, else
+    solve_ivp's), stopping at lift-off; ``values`` sets parameters (a
     sweep's member, :attr:`ContactScene.members`), the others at the file's values.
 
     Raises
@@ -494,7 +515,7 @@ def cli(args) -> int:
     --------
     >>> import argparse
     >>> cli(argparse.Namespace(scene="rolling-sphere", explain=True, output=None, plot=None))  # doctest: +ELLIPSIS
-    integrate: DOP853 (scipy solve_ivp, rtol 1e-10) on the contact kernel 'rolling-sphere' — Newton–Euler ...
+    integrate: DOP853 (..., rtol 1e-10) on the contact kernel 'rolling-sphere' — Newton–Euler ...
     0
     """
     scene = load(args.scene)
@@ -545,5 +566,10 @@ def _plan_line(scene: ContactScene) -> str:
             f"{scene.body.contact.mode}), proven equal to Gibbs–Appell; no closed form or splitting applies to a "
             "body on a plane; stops at lift-off (N = 0)" if scene.kind == "contact" else
             "the pivot's prescribed acceleration as a time-dependent apparent gravity (derived from [pivot] path)")
-    return (f"integrate: DOP853 (scipy solve_ivp, rtol {scene.accuracy:g}) on the {scene.kind} kernel "
+    from eulersym.numerics.methods._base import numba_available
+
+    engine = ("eulersym's compiled DOP853 (numba), the normal force sampled at least as often as it steps"
+              if scene.kind == "contact" and numba_available() else "scipy solve_ivp" +
+              (" with the lift-off event; numba, the fast extra, is not installed" if scene.kind == "contact" else ""))
+    return (f"integrate: DOP853 ({engine}, rtol {scene.accuracy:g}) on the {scene.kind} kernel "
             f"{scene.name!r} — {what}")

@@ -160,6 +160,10 @@ def cli(argv: list) -> int:
         for name, path in bundled().items():
             print(f"  {name:<22} {Scene.from_toml(path).description}")
             print(f"  {'':<22} {path}")
+        from eulersym.model.contact_scene import listing  # bodies on a plane and on a moving pivot: their own reader
+
+        for name, (description, path) in listing().items():
+            print(f"  {name:<22} {description}\n  {'':<22} {path}")
         return 0
     if args.scene is None:
         raise InvalidInput("SCENE", None, "a TOML file or a bundled scene name (eulersym simulate --list), or "
