@@ -220,3 +220,19 @@ def test_a_scene_quantity_that_is_not_one_is_refused_by_key(quantities, key):
     with pytest.raises(InvalidInput) as info:  # names at construction; a vector where a scalar belongs at derivation
         simulate(Scene(moments=(1, 2, 3), omega=(0.1, 1.0, 0.1), t_end=1, points=3, quantities=quantities)).quantities
     assert info.value.argument == key, info.value
+
+
+def test_a_scene_keeps_the_meaning_of_its_models_angle_quantities():
+    """The model's own phi/theta/psi keep their convention when a scene adds quantities; a table asking another is
+    refused by key; an empty table adds nothing."""
+    from eulersym.model import Model
+    from eulersym.scene import Scene
+
+    model = Model(body={"moments": [1, 2, 3]}, quantities={"yaw": "phi", "convention": "zyx"})
+    scene = Scene(model=model, omega=(0.1, 1.0, 0.1), t_end=1, quantities={"tilt": "theta"})
+    q = scene.model.to_dict()["quantities"]
+    assert q["convention"] == "zyx" and q["yaw"] == "phi" and q["tilt"] == "theta"
+    with pytest.raises(InvalidInput) as info:
+        Scene(model=model, omega=(0.1, 1.0, 0.1), t_end=1, quantities={"tilt": "theta", "convention": "zxz"})
+    assert info.value.argument == "quantities.convention"
+    assert Scene(model=model, omega=(0.1, 1.0, 0.1), t_end=1, quantities={}).model == model

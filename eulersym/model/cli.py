@@ -34,7 +34,8 @@ from eulersym.errors import CheckFailed, InvalidInput
 from eulersym.model.assemble import refuse_unprovable
 
 #: Seconds a derivation or a proof may take before it is refused naming what was being computed (a model kernel's
-#: derivation has the same budget: ``eulersym.scene.model_kernel.DERIVE_SECONDS``).
+#: derivation has the same budget: ``eulersym.scene.model_kernel.DERIVE_SECONDS``); ``derive --check`` adds as
+#: much again for each convention it proves Lagrange's equations in.
 BUDGET_SECONDS = 60.0
 
 __all__ = ["derive", "generate", "verify", "load"]
@@ -130,8 +131,9 @@ def derive(argv) -> int:
     if args is None:
         return status
     model = load(args.model)
-    refuse_unprovable(model)  # a body the exact proofs cannot take, refused by its TOML key
-    with symbolic_budget(f"deriving and proving model {model.name!r}", seconds=BUDGET_SECONDS):
+    checks = 12 if args.convention == ["all"] else len(args.convention or ["zxz"]) if args.check else 0
+    with symbolic_budget(f"deriving and proving model {model.name!r}", seconds=BUDGET_SECONDS * (1 + checks)):
+        refuse_unprovable(model)  # a body the exact proofs cannot take, refused by its TOML key
         mech = model.mechanics
         eqs = D.equations(mech)
         verdicts = integrals.invariants(mech)
@@ -262,8 +264,8 @@ def verify(argv) -> int:
     if args is None:
         return status
     model = load(args.model)
-    refuse_unprovable(model)
     with symbolic_budget(f"proving {args.integral!r} for model {model.name!r}", seconds=BUDGET_SECONDS):
+        refuse_unprovable(model)
         mech = model.mechanics
         candidate = parse(args.integral, mech, argument="--integral", shape="scalar")
         on = None

@@ -623,25 +623,35 @@ class Scene:
         return make_plan(self)
 
 
-#: The fields of a scene's start that may be swept, in order (what :attr:`Scene.sweeps` reads after the body's).
 def _with_quantities(model: Model, quantities, convention) -> Model:
     """The scene's model with the scene's own quantities (``Scene(quantities=...)``, ``[output] quantities``) added to
     any the model defines: they are emitted into the model's kernel, so they belong to the model (its digest keys the
-    cached kernel). ``phi``, ``theta``, ``psi`` in them follow the scene's ``convention`` unless the table names one."""
+    cached kernel). ``phi``, ``theta``, ``psi`` follow the table's ``convention``, else the model's own quantities'
+    (their meaning is kept), else the scene's; a table naming another than the model's own is refused by key."""
     if not isinstance(quantities, Mapping):
         raise InvalidInput("quantities", quantities, 'a table of name = "expression" (or {expression, unit})')
+    if not quantities:
+        return model  # nothing to add
     data = model.to_dict()
     own = dict(data.get("quantities", {}))
     taken = sorted(set(own) & set(quantities) - {"convention"})
     if taken:
         raise InvalidInput(f"quantities.{taken[0]}", quantities[taken[0]], "a name the model's [quantities] does not "
                                                                            "already define")
-    own.update(quantities)
-    if "convention" not in quantities and isinstance(convention, str):
+    if own:  # the model's quantities keep their convention (zxz unless they name one)
+        theirs = own.get("convention", "zxz")
+        asked = quantities.get("convention", theirs)
+        if asked != theirs:
+            raise InvalidInput("quantities.convention", asked, f"the convention of the model's own [quantities] "
+                                                               f"({theirs!r}): phi, theta, psi have one meaning in a "
+                                                               f"kernel")
+    elif "convention" not in quantities and isinstance(convention, str):
         own["convention"] = convention
+    own.update(quantities)
     return Model.from_dict({**data, "quantities": own})
 
 
+#: The fields of a scene's start that may be swept, in order (what :attr:`Scene.sweeps` reads after the body's).
 _START_FIELDS = ("euler", "convention", "quaternion", "axis", "angle", "omega", "omega_frame", "euler_rates",
                  "t_end", "points")
 

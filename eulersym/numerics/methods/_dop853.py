@@ -48,6 +48,7 @@ import os
 import types
 from dataclasses import dataclass
 from functools import lru_cache
+from pathlib import Path
 
 import numba
 import numpy as np
@@ -364,12 +365,17 @@ def _own(function):
                               function.__defaults__, function.__closure__)
 
 
+#: SHA-256 of this module's source: the adapters' templates live here, so a changed eulersym never loads an adapter
+#: compiled from older templates (the cached name carries it beside the kernel's bytes).
+_TEMPLATES = hashlib.sha256(Path(__file__).read_bytes()).hexdigest()[:16]
+
+
 def _compiled(template, module, kind: str, extra: dict):
     """``template`` (an adapter of this module) compiled as a ``cfunc`` for ``module``'s kernel, cached beside it."""
     n = len(module.STATE)
     k = len(module.PARAMETERS)
     path, text = _source_of(module)
-    tag = hashlib.sha256(text + f"|{kind}|{n}|{k}".encode()).hexdigest()[:20]
+    tag = hashlib.sha256(text + f"|{kind}|{n}|{k}|{_TEMPLATES}".encode()).hexdigest()[:20]
     glob = dict(template.__globals__)
     glob.update(extra, _N=n, _K=k)
     name = f"_dop853_{kind}_{tag}"
