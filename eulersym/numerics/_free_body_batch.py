@@ -36,6 +36,8 @@ import numpy as np
 
 from eulersym.numerics._doubledouble import PI, two_prod, two_sum
 from eulersym.numerics.elliptic import _rf, _sncndn_reduced, _third_kind
+from eulersym.numerics.exact import _euler_quaternion, _quat_exp, _rotate
+from eulersym.quaternion import multiply as _multiply  # the Hamilton product of eulersym.attitude, on rows
 
 __all__ = ["members", "BLOCK"]
 
@@ -263,34 +265,6 @@ def members(I, omega0, t, q0=None):
     return omega, q, fallback
 
 
-def _rotvec_quaternions(v):
-    """Unit quaternions of rotation vectors v (..., 3): (cos |v|/2, sin(|v|/2) v/|v|), ½ below 1e-8 rad."""
-    angle = np.sqrt(np.sum(v * v, axis=-1))
-    half = 0.5 * angle
-    small = angle < 1e-8
-    scale = np.where(small, 0.5, np.sin(half) / np.where(small, 1.0, angle))
-    return np.concatenate([np.cos(half)[..., None], v * scale[..., None]], axis=-1)
-
-
-def _multiply(p, r):
-    """Hamilton products of quaternion arrays (..., 4) that broadcast."""
-    p0, p1, p2, p3 = np.moveaxis(p, -1, 0)
-    r0, r1, r2, r3 = np.moveaxis(r, -1, 0)
-    return np.stack([p0 * r0 - p1 * r1 - p2 * r2 - p3 * r3, p0 * r1 + p1 * r0 + p2 * r3 - p3 * r2,
-                     p0 * r2 - p1 * r3 + p2 * r0 + p3 * r1, p0 * r3 + p1 * r2 - p2 * r1 + p3 * r0], axis=-1)
-
-
-def _rotate(p, v):
-    """R(p) v for unit quaternions p (..., 4) and vectors v (..., 3)."""
-    p0, p1, p2, p3 = np.moveaxis(p, -1, 0)
-    v0, v1, v2 = np.moveaxis(v, -1, 0)
-    w0 = (p2 * v2 - p3 * v1) + p0 * v0
-    w1 = (p3 * v0 - p1 * v2) + p0 * v1
-    w2 = (p1 * v1 - p2 * v0) + p0 * v2
-    return np.stack([v0 + 2.0 * (p2 * w2 - p3 * w1), v1 + 2.0 * (p3 * w0 - p1 * w2), v2 + 2.0 * (p1 * w1 - p2 * w0)],
-                    axis=-1)
-
-
 def _unit(q):
     return q / np.sqrt(np.sum(q * q, axis=-1, keepdims=True))
 
@@ -299,7 +273,7 @@ def _constant(rows, w, t, q0, omega, q):
     """ω constant (a spherical body, or ω along one principal axis): q = q0 ⊗ exp(t ω / 2)."""
     omega[rows] = w[rows, None, :]
     if q is not None:
-        turn = _rotvec_quaternions(t[None, :, None] * w[rows, None, :])
+        turn = _quat_exp(t[None, :, None] * w[rows, None, :])
         q[rows] = _unit(_multiply(_unit(q0[rows])[:, None, :], turn))
 
 
@@ -324,10 +298,10 @@ def _symmetric(rows, I, w, t, q0, omega, q):
         if q is not None:
             unit = _unit(q0[sel])
             L_space = _rotate(unit, I[sel] * w[sel])
-            left = _rotvec_quaternions(t[None, :, None] * (L_space / iperp[:, None])[:, None, :])
+            left = _quat_exp(t[None, :, None] * (L_space / iperp[:, None])[:, None, :])
             e = np.zeros((len(sel), 1, 3))
             e[:, 0, k] = 1.0
-            right = _rotvec_quaternions(-rate[:, None, None] * t[None, :, None] * e)
+            right = _quat_exp(-rate[:, None, None] * t[None, :, None] * e)
             q[sel] = _unit(_multiply(_multiply(left, unit[:, None, :]), right))
 
 
@@ -504,16 +478,7 @@ def _elliptic_attitude(rows, q0, t, q, L, Ia, Ib, Ic, A, Bamp, C, mc, rootmc, K,
         flip = np.where(np.mod(jj, 2.0) == 0.0, 1.0, -1.0)
         psi = 0.5 * math.pi - psi_p
         phi = col(L / Ic) * tt + col(L * (Ic - Ia) / (Ia * Ic * lam[0])) * (Wt - W0)
-        half_c = np.sqrt(np.maximum(0.5 * (1.0 + lc), 0.0))
-        half_s = np.sqrt(np.maximum(0.5 * (1.0 - lc), 0.0))
-        pos = lc >= 0
-        half_s = np.where(pos, stheta / (2.0 * np.where(half_c > 0, half_c, 1.0)), half_s)
-        half_c = np.where(pos, half_c, stheta / (2.0 * np.where(half_s > 0, half_s, 1.0)))
-        cp, sp = flip * np.cos(0.5 * psi), flip * np.sin(0.5 * psi)
-        inner = np.stack([half_c * cp, half_s * cp, -half_s * sp, half_c * sp], axis=-1)
-        zero = np.zeros_like(phi)
-        outer = np.stack([np.cos(0.5 * phi), zero, zero, np.sin(0.5 * phi)], axis=-1)
-        return _multiply(outer, inner)
+        return _euler_quaternion(lc, stheta, psi, phi, flip)
 
     q_inv0 = inv(s0, c0, d0, j0, W0, np.zeros((1, 1)))[:, 0]
     P = np.zeros((len(rows), 3, 3))

@@ -474,7 +474,13 @@ def _invariable_quaternion(sol, t, whole, W0, secular=None, halves0=None):
         rate, per = secular
         phi = _reduce_secular(rate, t, per, halves - halves0, _FOUR_PI)
         phi += (L * (Ic - Ia) / (Ia * Ic * sol.lam)) * (part - W0)
-    # half angles of θ without cancellation
+    return _euler_quaternion(lc, stheta, psi, phi, flip)
+
+
+def _euler_quaternion(lc, stheta, psi, phi, flip):
+    """``qz(φ) ⊗ qx(θ) ⊗ qz(ψ)`` of the attitude relative to the invariable frame, from ``cos θ = lc`` and
+    ``sin θ = stheta`` (θ's half angles formed without cancellation on either side of π/2) and ``flip = ±1`` the sign
+    of ψ's half-angle pair (``qz(ψ + 2π) = −qz(ψ)``); arrays that broadcast (one member, or members × times)."""
     half_c = np.sqrt(np.maximum(0.5 * (1.0 + lc), 0.0))
     half_s = np.sqrt(np.maximum(0.5 * (1.0 - lc), 0.0))
     pos = lc >= 0
@@ -484,8 +490,7 @@ def _invariable_quaternion(sol, t, whole, W0, secular=None, halves0=None):
     inner = np.stack([half_c * cp, half_s * cp, -half_s * sp, half_c * sp], axis=-1)  # qx(θ) ⊗ qz(ψ)
     zero = np.zeros_like(phi)
     outer = np.stack([np.cos(0.5 * phi), zero, zero, np.sin(0.5 * phi)], axis=-1)  # qz(φ)
-    q = quaternion_multiply(outer, inner)
-    return q
+    return quaternion_multiply(outer, inner)
 
 
 def free_rigid_body_attitude_exact(I, omega0, q0, t, *, check_body=True):
