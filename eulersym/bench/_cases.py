@@ -139,18 +139,14 @@ def _diag(a, b, c):
 
 def _euler_q(phi, theta, psi):
     """The unit quaternion of zxz angles (v_space = R v_body, R = R_z(φ) R_x(θ) R_z(ψ))."""
+    from eulersym.attitude import hamilton
+
     def about(axis, angle):
         q = [math.cos(angle / 2), 0.0, 0.0, 0.0]
         q[axis] = math.sin(angle / 2)
         return q
 
-    def times(p, r):
-        return [p[0] * r[0] - p[1] * r[1] - p[2] * r[2] - p[3] * r[3],
-                p[0] * r[1] + p[1] * r[0] + p[2] * r[3] - p[3] * r[2],
-                p[0] * r[2] - p[1] * r[3] + p[2] * r[0] + p[3] * r[1],
-                p[0] * r[3] + p[1] * r[2] - p[2] * r[1] + p[3] * r[0]]
-
-    return tuple(times(times(about(3, phi), about(1, theta)), about(3, psi)))
+    return tuple(hamilton(hamilton(about(3, phi), about(1, theta)), about(3, psi)))
 
 
 def _gc_start():
