@@ -11,6 +11,11 @@ Budgets nest: each block has its own deadline (and memory limit); the timer fire
 is spent inside an inner block — even one whose caller catches :class:`BudgetExceeded` and carries on — the timer
 fires again as soon as the inner block ends, until the outer block has ended too.
 
+The timer raises only where the exception can reach the block: Python drops (reports as "unraisable") an exception
+raised in a ``__del__``, a garbage-collector callback or anything the collector runs, so when the timer finds the
+interpreter there it does not raise; it fires again ``retry`` seconds later, and raises in the budgeted code itself
+(after ``patience`` seconds of that it raises wherever it is, so that a budget always ends).
+
 Examples
 --------
 >>> import time
@@ -25,6 +30,7 @@ stopped
 from __future__ import annotations
 
 import contextlib
+import gc
 import os
 import signal
 import threading
@@ -34,6 +40,9 @@ __all__ = ["BudgetExceeded", "time_budget", "symbolic_budget", "resident_memory"
 
 #: Seconds between two looks at the resident memory while a memory limit is watched.
 memory_tick = 0.05
+#: Seconds until the timer fires again when it found the interpreter where an exception would be dropped, and the
+#: most seconds it waits so (past them it raises wherever the interpreter is: a budget always ends).
+retry, patience = 1e-3, 1.0
 
 
 class BudgetExceeded(BaseException):
@@ -58,10 +67,10 @@ class _OuterSpent(BaseException):
 class _Frame:
     """One armed budget: a deadline (``time.monotonic``) and an optional resident-memory limit in bytes."""
 
-    __slots__ = ("deadline", "memory", "spent", "rss")
+    __slots__ = ("deadline", "memory", "spent", "rss", "spent_at")
 
     def __init__(self, deadline: float, memory: int | None):
-        self.deadline, self.memory, self.spent, self.rss = deadline, memory, None, 0
+        self.deadline, self.memory, self.spent, self.rss, self.spent_at = deadline, memory, None, 0, 0.0
 
 
 _frames: list[_Frame] = []  # the budgets armed in the main thread, outermost first
@@ -98,13 +107,54 @@ def _tick(signum, frame) -> None:
     rss = resident_memory() if any(f.memory is not None for f in _frames) else 0
     for f in _frames:  # outermost first: an outer budget that is spent wins
         if f.spent is None and now >= f.deadline:
-            f.spent = "time"
+            f.spent, f.spent_at = "time", now
         elif f.spent is None and f.memory is not None and rss > f.memory:
-            f.spent, f.rss = "memory", rss
+            f.spent, f.rss, f.spent_at = "memory", rss, now
         if f.spent is not None:
+            if now - f.spent_at < patience and _dropped_here(frame):
+                signal.setitimer(signal.ITIMER_REAL, retry)
+                return
             _arm(at_least=memory_tick)  # again, should a catcher carry on, until its block has ended
             raise BudgetExceeded(f) if f is _frames[-1] else _OuterSpent(f)
     _arm()
+
+
+_collecting = False  # a garbage collection is running (set by _watch_collections while a budget is armed)
+
+
+def _watch_collections(phase, info) -> None:
+    global _collecting
+    _collecting = phase == "start"
+
+
+def _watch(on: bool) -> None:
+    """Follow the collector's runs (``gc.callbacks``) from the outermost budget's start to its end."""
+    global _collecting
+    _collecting = False
+    if on:
+        gc.callbacks.append(_watch_collections)
+    else:
+        gc.callbacks.remove(_watch_collections)
+
+
+def _code(callback):
+    """The code object a gc callback runs (a function, a bound method, or an object's ``__call__``)."""
+    function = getattr(callback, "__func__", callback)
+    return getattr(function, "__code__", None) or getattr(getattr(type(callback), "__call__", None), "__code__", None)
+
+
+def _dropped_here(frame) -> bool:
+    """Whether an exception raised in ``frame`` would be dropped by Python rather than reach the budgeted block:
+    the collector is running (its callbacks, finalizers and weak-reference callbacks), or the stack holds a
+    ``__del__`` or a gc callback (one that runs before or after ``_watch_collections`` in ``gc.callbacks``)."""
+    if _collecting:
+        return True
+    callbacks = {_code(c) for c in gc.callbacks}
+    while frame is not None:
+        if frame.f_code.co_name == "__del__" or frame.f_code in callbacks:
+            return True
+        frame = frame.f_back
+    return False
 
 
 @contextlib.contextmanager
@@ -136,6 +186,8 @@ def _budget(seconds: float | None, memory: int | None):
     with _quiet():
         outermost = not _frames
         previous = signal.signal(signal.SIGALRM, _tick) if outermost else None
+        if outermost:
+            _watch(True)
         _frames.append(frame)
         _arm()
     try:
@@ -152,6 +204,7 @@ def _budget(seconds: float | None, memory: int | None):
                 if signal.SIGALRM in signal.sigpending():  # fired while held back: consume it here
                     signal.sigwait({signal.SIGALRM})
                 signal.signal(signal.SIGALRM, previous)
+                _watch(False)
             else:
                 _arm()
 
