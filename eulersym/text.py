@@ -325,10 +325,10 @@ def _entries() -> list[ClosedForm]:
         E("4.5.sleeping_top", "4.5", "The sleeping top is stable if ω3² ≥ 4 M g l I1 / I3².",
           sleeping_bound, "top.sleeping_top_threshold()", _call("eulersym.top:sleeping_top_threshold")),
         E("4.5.sleeping_top_model", "4.5",
-          "The same bound from the general machinery: the lagrange-top model's spin about the vertical, axis up, "
+          "The same bound from a model file: the lagrange-top model's spin about the vertical, axis up, "
           "changes from unstable to stable at s² = 4 M g l I1 / I3².",
-          sleeping_bound, "model.chapter.sleeping_top_threshold() (steady motions + proven conditions of the "
-          "lagrange-top model)", _call("eulersym.model.chapter:sleeping_top_threshold")),
+          sleeping_bound, "model.chapter.sleeping_top_threshold() (the lagrange-top model's equations, shown "
+          "steady and linearised there)", _call("eulersym.model.chapter:sleeping_top_threshold")),
         # Example 4.1 ------------------------------------------------------------------------------------------
         E("ex4.1.Ixx", "Example 4.1", "Cube about a corner: I_xx = (2/3) M a².", sp.Rational(2, 3) * M * a**2,
           "inertia.cube(M, a, origin='corner')[0, 0]",
