@@ -19,7 +19,9 @@ of the child processes beside the wall seconds (CPU time is what a loaded machin
   call ≤ 200 µs per call (baseline: ``solve_ivp`` DOP853 to the same two times at rtol 1e-10), and its cost per
   output point flat from 10⁴ to 10⁶ points (exponent of time against points ≤ 1.05).
 
-Run ``eulersym bench startup`` (``--runs N``; ``--quick``: 3 rounds).
+Run ``eulersym bench startup`` (``--runs N``; ``--quick``: 3 rounds; ``--only scenes|kernel|numba|check|oracle``,
+repeatable: those parts alone — ``scenes`` needs neither SymPy nor numba, so it also runs in an environment that
+holds eulersym's wheel and NumPy and SciPy only).
 """
 
 from __future__ import annotations
@@ -129,6 +131,9 @@ for name in ("heavy-top-nutation", "tennis-racket", "sleeping-top-map"):
 print(" ".join(m for m in ("scipy.special", "scipy.integrate", "sympy") if m in sys.modules))
 """
 
+#: The parts ``--only`` may name, in the order they run.
+_PARTS = ("scenes", "kernel", "numba", "check", "oracle")
+
 _KERNEL_IMPORT = ("import time; t0 = time.perf_counter(); import numpy; t1 = time.perf_counter(); "
                   "import eulersym.generated.heavy_top_euler_poisson; t2 = time.perf_counter(); print(t1 - t0, t2 - t1)")
 
@@ -214,11 +219,13 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="eulersym bench startup", description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=7, help="alternated rounds, medians quoted (default 7)")
     parser.add_argument("--quick", action="store_true", help="3 rounds (a smoke run)")
+    parser.add_argument("--only", choices=_PARTS, action="append", help="run only these parts (repeatable)")
     try:
         args = parser.parse_args(argv or [])
     except SystemExit as exc:
         return int(exc.code or 0)
     runs = 3 if args.quick else max(1, args.runs)
+    only = set(args.only or _PARTS)
     floors = []
 
     def floor(name, measured, limit, met):
@@ -229,9 +236,45 @@ def main(argv: list[str] | None = None) -> int:
           f"{load_text()}")
     if "PYTHONDONTWRITEBYTECODE" in os.environ:
         print("note: PYTHONDONTWRITEBYTECODE is set here; the timed processes run with the bytecode cache on")
+    print(f"eulersym is {_installed()}")
     print()
 
-    # 1. The flagship scene, the plain SciPy script, NumPy's import.
+    if "scenes" in only:
+        _scenes(runs, floor)
+    if "kernel" in only:
+        _kernel(runs, floor)
+    if "numba" in only:
+        _numba(runs, floor)
+    if "check" in only:
+        _check(runs, floor)
+    if "oracle" in only:
+        _oracle_floors(runs, floor)
+
+    missed = floors.count(False)
+    print(f"\n{'all floors met' if not missed else f'{missed} floor(s) missed'} ({load_text()})")
+    return 0 if not missed else 1
+
+
+def _installed() -> str:
+    """How eulersym is installed here: an editable install adds a finder to every start (its .pth file imports
+    pathlib, re and urllib, and each eulersym import asks it first); a wheel does not.
+
+    Examples
+    --------
+    >>> _installed().split()[0] in ("editable", "installed", "run")
+    True
+    """
+    import eulersym
+
+    if any("__editable__" in getattr(finder, "__module__", "") for finder in sys.meta_path):
+        return "editable (pip install -e): every process here, `import numpy` too, pays its finder at start-up"
+    if "site-packages" in os.path.dirname(eulersym.__file__):
+        return f"installed (a wheel) in {os.path.dirname(os.path.dirname(eulersym.__file__))}"
+    return f"run from a source tree, {os.path.dirname(os.path.dirname(eulersym.__file__))}"
+
+
+def _scenes(runs: int, floor) -> None:
+    """The flagship scene, the plain SciPy script, NumPy's import; closed-form scenes without heavy imports."""
     with tempfile.TemporaryDirectory() as folder:
         script = os.path.join(folder, "tennis_racket_scipy.py")
         with open(script, "w") as fh:
@@ -257,12 +300,17 @@ def main(argv: list[str] | None = None) -> int:
     floor("closed-form scenes without heavy imports", ", ".join(heavy) or "none of scipy.special, scipy.integrate",
           "none", not heavy)
 
-    # 2. A generated kernel's import beyond NumPy's, inside fresh processes.
+
+def _kernel(runs: int, floor) -> None:
+    """A generated kernel's import beyond NumPy's, inside fresh processes."""
     numpy_in, kernel_in = _inner(_KERNEL_IMPORT, runs)
     print(f"\nimport numpy (inside a fresh process)    {numpy_in * 1e3:7.1f} ms")
     floor("import a generated kernel beyond NumPy", f"{kernel_in * 1e3:.1f} ms", "≤ 30 ms", kernel_in <= 0.030)
 
-    # 3. numba's first call with a warm on-disk cache.
+
+
+def _numba(runs: int, floor) -> None:
+    """numba's first call in a fresh process with a warm on-disk cache."""
     from eulersym.numerics import _fast
 
     print()
@@ -283,7 +331,9 @@ def main(argv: list[str] | None = None) -> int:
     else:
         print("numba is not installed (the fast extra): its first call is not measured")
 
-    # 4-5. check and verify beyond SymPy's import.
+
+def _check(runs: int, floor) -> None:
+    """``eulersym check`` and ``eulersym verify`` beyond SymPy's import."""
     verify = [PY, "-m", "eulersym", "verify", "(I1 - I3)/I1*omega3", "--against", "symmetric_precession_rate"]
     res = _alternated({"eulersym check": [PY, "-m", "eulersym", "check"],
                        "eulersym verify (one hand derivation)": verify,
@@ -299,7 +349,10 @@ def main(argv: list[str] | None = None) -> int:
     floor("eulersym verify beyond SymPy's import", f"{ver[0] - sympy_t[0]:.2f} s (CPU {ver[1] - sympy_t[1]:.2f} s)",
           "≤ 0.5 s", ver[0] - sympy_t[0] <= 0.5)
 
-    # 6. The exact oracle, in process.
+
+
+def _oracle_floors(runs: int, floor) -> None:
+    """The exact free-body oracle, in process."""
     print()
     per_call, baseline, exponent, per_point = _oracle(runs)
     print(f"free_rigid_body_exact, 2 times, new body    {per_call * 1e6:7.1f} µs CPU per call (median)")
@@ -309,10 +362,6 @@ def main(argv: list[str] | None = None) -> int:
           per_call <= 200e-6)
     print("  per output point: " + ", ".join(f"10^{k}: {v * 1e9:.0f} ns" for k, v in per_point.items()))
     floor("free_rigid_body_exact cost exponent, 10⁴ → 10⁶ points", f"{exponent:.3f}", "≤ 1.05", exponent <= 1.05)
-
-    missed = floors.count(False)
-    print(f"\n{'all floors met' if not missed else f'{missed} floor(s) missed'} ({load_text()})")
-    return 0 if not missed else 1
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -5,7 +5,6 @@ The lowest module of :mod:`eulersym.scene`: it imports nothing of the package.
 
 from __future__ import annotations
 
-import difflib
 import math
 import numbers
 from dataclasses import dataclass
@@ -26,6 +25,8 @@ def did_you_mean(key: str, valid) -> str:
     >>> did_you_mean("t_ned", ("t_end", "points"))
     "one of 'points', 't_end' (did you mean 't_end'?)"
     """
+    import difflib  # for a message only: a scene that is not refused never loads it
+
     valid = sorted(valid)
     close = difflib.get_close_matches(key, valid, n=1, cutoff=0.5)
     hint = f" (did you mean {close[0]!r}?)" if close else ""
