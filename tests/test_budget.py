@@ -53,7 +53,7 @@ def test_a_budget_ends_an_endless_symbolic_computation():
         with time_budget(0.1):
             while True:
                 sp.expand((x + y) ** 60)
-    assert time.monotonic() - start < 2
+    assert time.monotonic() - start < 3
 
 
 def test_a_budget_spent_inside_a_gc_callback_is_raised_in_the_block(unraisable, slow_gc_callback):
@@ -66,7 +66,7 @@ def test_a_budget_spent_inside_a_gc_callback_is_raised_in_the_block(unraisable, 
             _busy(5)
     assert slow_gc_callback == ["start"]  # the callback ran to its end
     assert unraisable == []
-    assert reached and time.monotonic() - start < 1  # raised in the block, right after the collection
+    assert reached and time.monotonic() - start < 3  # raised in the block after the collection, not after _busy(5)
 
 
 def test_a_budget_spent_inside_a_del_is_raised_in_the_block(unraisable):
@@ -85,7 +85,7 @@ def test_a_budget_spent_inside_a_del_is_raised_in_the_block(unraisable):
             _busy(5)
     assert finished == [True]
     assert unraisable == []
-    assert time.monotonic() - start < 1
+    assert time.monotonic() - start < 3
 
 
 def test_a_budget_ends_even_where_the_interpreter_stays_in_a_finalizer(unraisable, monkeypatch):
@@ -104,7 +104,7 @@ def test_a_budget_ends_even_where_the_interpreter_stays_in_a_finalizer(unraisabl
             del obj
             _busy(5)
     assert unraisable == [BudgetExceeded]
-    assert time.monotonic() - start < 2
+    assert time.monotonic() - start < 3
 
 
 def test_an_outer_budget_spent_inside_a_gc_callback_ends_its_own_block(unraisable, slow_gc_callback):
