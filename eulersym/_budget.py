@@ -14,7 +14,8 @@ fires again as soon as the inner block ends, until the outer block has ended too
 The timer raises only where the exception can reach the block: Python drops (reports as "unraisable") an exception
 raised in a ``__del__``, a garbage-collector callback or anything the collector runs, so when the timer finds the
 interpreter there it does not raise; it fires again ``retry`` seconds later, and raises in the budgeted code itself
-(after ``patience`` seconds of that it raises wherever it is, so that a budget always ends).
+(after ``patience`` seconds of that it raises wherever it is, so that a budget always ends). Raising inside the
+collector would not end it sooner anyway: it drops the exception and goes on with the next finalizer.
 
 Examples
 --------
@@ -41,8 +42,9 @@ __all__ = ["BudgetExceeded", "time_budget", "symbolic_budget", "resident_memory"
 #: Seconds between two looks at the resident memory while a memory limit is watched.
 memory_tick = 0.05
 #: Seconds until the timer fires again when it found the interpreter where an exception would be dropped, and the
-#: most seconds it waits so (past them it raises wherever the interpreter is: a budget always ends).
-retry, patience = 1e-3, 1.0
+#: most seconds it waits so (a full collection of a large heap takes seconds; past them it raises wherever the
+#: interpreter is — ending a finalizer that runs away —, so that a budget always ends).
+retry, patience = 1e-3, 10.0
 
 
 class BudgetExceeded(BaseException):
