@@ -29,14 +29,13 @@ import numpy as np
 
 from eulersym.errors import InvalidInput
 from eulersym.numerics import methods
-from eulersym.scene.problem import prepared_per_chunk
 from eulersym.scene.values import values_of
 from eulersym.sweeps import cost as model, zarr_store
 from eulersym.sweeps.summary import summary_names
 
 __all__ = ["ONE_MEMBER_WORK_BUDGET", "PHASE_LIMIT", "rate_bound", "largest", "refuse_phase", "estimate", "check",
-           "budgets", "describe", "summary_layout", "wants_summary", "threads", "method_cost", "resident_bytes",
-           "baseline_bytes"]
+           "budgets", "describe", "summary_layout", "wants_summary", "prepared_per_chunk", "threads", "method_cost",
+           "resident_bytes", "baseline_bytes"]
 
 #: The work budget of a one-member run (integrated by scalar kernels): about an hour of kernel calls. A sweep has
 #: :data:`eulersym.sweeps.cost.DEFAULT_WORK_BUDGET`.
@@ -144,6 +143,25 @@ def spread_of(scene) -> tuple:
         return float(d.min()), float(d.max())
     eig = np.linalg.eigvalsh(tensor)
     return float(np.min(eig)), float(np.max(eig))
+
+
+def prepared_per_chunk(scene) -> bool:
+    """True when :func:`eulersym.scene.problem.prepare` prepares ``scene`` a chunk at a time by default
+    (:class:`eulersym.scene.problem.PerChunk`, what the estimate counts as held): a sweep that is streamed whatever
+    its size — summaries kept per member, or trajectories written to a Zarr store
+    (:func:`eulersym.sweeps.zarr_store.streaming`) — and that asks for no sensitivity (which needs every start).
+
+    Examples
+    --------
+    >>> from eulersym.scene import Scene
+    >>> prepared_per_chunk(Scene(moments=(1, 2, 3), omega=(0, [1, 2], 0), t_end=1, outputs=("summary",)))
+    True
+    >>> prepared_per_chunk(Scene(moments=(1, 2, 3), omega=(0, [1, 2], 0), t_end=1))
+    False
+    """
+    outputs = scene.outputs
+    return (scene.batch > 1 and "sensitivity" not in outputs
+            and ("summary" in outputs or zarr_store.target() is not None))
 
 
 def wants_summary(scene) -> bool:

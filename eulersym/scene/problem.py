@@ -19,9 +19,10 @@ from typing import Any
 import numpy as np
 
 from eulersym.numerics.methods import Problem, tolerances
+from eulersym.scene.cost import prepared_per_chunk
 from eulersym.scene.frames import Rotation, quaternion_to_rotation, rotation_to_quaternion
 
-__all__ = ["Problem", "PerChunk", "prepare", "member_moments", "prepared_per_chunk"]
+__all__ = ["Problem", "PerChunk", "prepare", "member_moments"]
 
 
 def _field(scene, members, name: str, batch: int) -> np.ndarray:
@@ -142,32 +143,12 @@ class PerChunk(Problem):
         return self.take(0, self.batch)
 
 
-def prepared_per_chunk(scene) -> bool:
-    """True when :func:`prepare` prepares ``scene`` a chunk at a time by default: a sweep that is streamed whatever
-    its size — summaries kept per member, or trajectories written to a Zarr store
-    (:func:`eulersym.sweeps.zarr_store.streaming`) — and that asks for no sensitivity (which needs every start).
-
-    Examples
-    --------
-    >>> from eulersym.scene import Scene
-    >>> prepared_per_chunk(Scene(moments=(1, 2, 3), omega=(0, [1, 2], 0), t_end=1, outputs=("summary",)))
-    True
-    >>> prepared_per_chunk(Scene(moments=(1, 2, 3), omega=(0, [1, 2], 0), t_end=1))
-    False
-    """
-    from eulersym.sweeps.zarr_store import target
-
-    outputs = scene.outputs
-    return (scene.batch > 1 and "sensitivity" not in outputs
-            and ("summary" in outputs or target() is not None))
-
-
 def prepare(scene, plan, *, kernel=None, per_chunk: bool | None = None, **extras) -> Problem:
     """The :class:`~eulersym.numerics.methods.Problem` of ``scene`` under ``plan``: the model's facts in the
     principal frame (:func:`eulersym.scene.regime.classify`), the start turned into it, per member. ``kernel``: the
     model's own kernel (the regime 'model'); ``extras`` are kept for methods that need more. ``per_chunk``: a
     :class:`PerChunk` problem, whose starts are computed a chunk at a time (None: for a sweep that is streamed in
-    any case, :func:`prepared_per_chunk`).
+    any case, :func:`eulersym.scene.cost.prepared_per_chunk`).
 
     Examples
     --------
