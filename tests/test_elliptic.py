@@ -226,3 +226,23 @@ def test_the_closed_forms_need_no_scipy_special():
 def test_module_docstring_names_its_public_functions():
     for name in elliptic.__all__:
         assert getattr(elliptic, name).__doc__
+
+def test_the_landen_columns_are_the_scalar_sequence_member_by_member():
+    """The sweeps' one array Landen sequence (:func:`eulersym.numerics.elliptic._agm_landen_columns`): each member's
+    a's, b's and AGM bit for bit those of the scalar sequence, to the depth of the slowest member (the scalar
+    sequence's length at the smallest √m_c), a non-finite member ignored."""
+    from eulersym.numerics.elliptic import _agm_landen, _agm_landen_columns
+
+    rng = np.random.default_rng(23)
+    rootmc = np.concatenate([[1.0, 1e-6, 1e-3, 0.5], np.sqrt(rng.uniform(1e-12, 1.0, 200))])
+    avals, bvals, agm = _agm_landen_columns(rootmc)
+    assert len(avals) == len(_agm_landen(float(rootmc.min()))[0])
+    for k, value in enumerate(rootmc):
+        a, b, mean = _agm_landen(float(value))
+        depth = len(a)
+        assert [float(col[k, 0]) for col in avals[:depth]] == list(a)
+        assert [float(col[k, 0]) for col in bvals[:depth]] == list(b)
+        if depth == len(avals):
+            assert float(agm[k, 0]) == mean
+    with_nan = _agm_landen_columns(np.array([0.5, np.nan]))
+    assert len(with_nan[0]) == len(_agm_landen(0.5)[0])

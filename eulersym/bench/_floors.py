@@ -16,7 +16,7 @@ import numpy as np
 
 from eulersym.numerics.elliptic import _rf, _sncndn_reduced
 
-__all__ = ["free_body_floor", "heavy_top_floor", "ns_per_kernel_call"]
+__all__ = ["free_body_floor", "heavy_top_floor", "heavy_top_omega_floor", "ns_per_kernel_call"]
 
 
 def _landen(rootmc, levels=5):
@@ -30,14 +30,20 @@ def _landen(rootmc, levels=5):
     return avals, bvals, agm[:, None]
 
 
-def _sncndn_floor(u, K, landen):
-    """sn, cn, dn of u (B, n) with the period 4K reduced in double and Landen on [0, K] (no reflection)."""
+def _sncndn_floor(u, K, landen, rootmc=None):
+    """sn, cn, dn of u (B, n) with the period 4K reduced in double and Landen on [0, K] (no reflection); with
+    ``rootmc`` (B, 1), Landen on [0, K/2] and the quarter-period reflection above (cn near K to its own digits)."""
     r = np.mod(u, 4 * K)
     half = r >= 2 * K
     r = np.where(half, r - 2 * K, r)
     back = r > K
     x = np.where(back, 2 * K - r, r)
-    sn, cn, dn = _sncndn_reduced(x, *landen)
+    if rootmc is None:
+        sn, cn, dn = _sncndn_reduced(x, *landen)
+    else:
+        near = x > 0.5 * K
+        sz, cz, dz = _sncndn_reduced(np.where(near, K - x, x), *landen)
+        sn, cn, dn = np.where(near, cz / dz, sz), np.where(near, rootmc * sz / dz, cz), np.where(near, rootmc / dz, dz)
     sign = np.where(half, -1.0, 1.0)
     return sign * sn, np.where(back, -sign, sign) * cn, dn
 
@@ -79,9 +85,9 @@ def free_body_floor(I, w, t):
     return out
 
 
-def heavy_top_floor(I1, I3, mgl, w, q, t):
-    """cos θ (B, n) of heavy symmetric tops: the largest root of the cubic by Newton from above, the others from the
-    deflated quadratic, λ, m, K, τ0 in double, then u = u1 + Δ sn²(λ t + τ0) with sn by Landen at a fixed depth."""
+def _lagrange_roots(I1, I3, mgl, w, q):
+    """The Lagrange top's constants in plain double (Goldstein's a, b, α, β; the cubic's roots u1 ≤ u2 ≤ u3 of
+    f(u) = (α − βu)(1 − u²) − (b − au)²) and the start's vertical Γ0 = R(q)ᵀ ẑ in the body."""
     q0, q1, q2, q3 = q.T
     G1, G2, G3 = 2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3
     beta = 2 * mgl / I1
@@ -96,7 +102,14 @@ def heavy_top_floor(I1, I3, mgl, w, q, t):
     disc = np.sqrt(np.maximum(Bq * Bq - 4 * A3 * Cq, 0.0))
     qq = -0.5 * (Bq + np.copysign(disc, Bq))
     r1, r2 = qq / A3, Cq / np.where(qq != 0, qq, 1.0)
-    u1, u2 = np.minimum(r1, r2), np.maximum(r1, r2)
+    return a, b, beta, np.minimum(r1, r2), np.maximum(r1, r2), u3, (G1, G2, G3), (A3, B3, C3, D3)
+
+
+def heavy_top_floor(I1, I3, mgl, w, q, t):
+    """cos θ (B, n) of heavy symmetric tops: the largest root of the cubic by Newton from above, the others from the
+    deflated quadratic, λ, m, K, τ0 in double, then u = u1 + Δ sn²(λ t + τ0) with sn by Landen at a fixed depth.
+    Less work than the sweep's ω (no ψ): informational, not its floor (:func:`heavy_top_omega_floor` is)."""
+    a, b, beta, u1, u2, u3, (G1, G2, G3), _ = _lagrange_roots(I1, I3, mgl, w, q)
     delta, span = u2 - u1, u3 - u1
     m = delta / span
     lam = np.sqrt(np.abs(beta) * span) / 2
@@ -108,6 +121,56 @@ def heavy_top_floor(I1, I3, mgl, w, q, t):
     x = np.abs(np.mod(tau + K[:, None], 2 * K[:, None]) - K[:, None])
     sn, _, _ = _sncndn_reduced(x, *landen)
     return u1[:, None] + delta[:, None] * sn * sn
+
+
+def heavy_top_omega_floor(I1, I3, mgl, w, q, t):
+    """ω (B, n, 3) of heavy symmetric tops, the sweep's own output, the textbook way in plain double (Goldstein §5.7,
+    zxz angles): u = cos θ = u1 + Δ sn²(τ), τ = λt + τ0, and
+
+    ψ(t) = ψ0 + (ω3 − a) t − (b − a)/(2(1 − u1)λ) [W₊]_{τ0}^{τ} + (b + a)/(2(1 + u1)λ) [W₋]_{τ0}^{τ},
+
+    the partial fractions of ψ̇ = ω3 − u(b − au)/(1 − u²), with W_n(τ) = ∫₀^τ dy/(1 − n sn² y) (n₊ = Δ/(1 − u1),
+    n₋ = −Δ/(1 + u1)) by Carlson's R_F and R_J at every time (:func:`scipy.special.elliprf`, ``elliprj``: compiled,
+    vectorised) and its quasi-period 2Π(n); then θ̇ = −u̇/sin θ, φ̇ = (b − au)/(1 − u²) and ω1 = φ̇ sin θ sin ψ + θ̇ cos ψ,
+    ω2 = φ̇ sin θ cos ψ − θ̇ sin ψ. The same outputs as the sweep, with no care for the edges (poles, separatrix)."""
+    from scipy.special import elliprf, elliprj
+
+    a, b, beta, u1, u2, u3, (G1, G2, G3), (A3, B3, C3, D3) = _lagrange_roots(I1, I3, mgl, w, q)
+    for _ in range(2):  # the two smaller roots polished on the cubic itself (the deflation loses digits near a pole)
+        u1, u2 = (x - (((A3 * x + B3) * x + C3) * x + D3) / ((3 * A3 * x + 2 * B3) * x + C3) for x in (u1, u2))
+    delta, span = u2 - u1, u3 - u1
+    m = delta / span
+    mc = np.clip(1 - m, 1e-300, 1.0)
+    lam = np.sqrt(np.abs(beta) * span) / 2
+    landen = _landen(np.sqrt(mc), levels=12)
+    K = np.pi / (2 * landen[2][:, 0])
+    s2 = np.clip((G3 - u1) / np.where(delta > 0, delta, 1.0), 0, 1)
+    du0 = G1 * w[:, 1] - G2 * w[:, 0]  # u̇(0) = −sin θ θ̇
+    tau0 = np.copysign(np.sqrt(s2) * _rf(1 - s2, 1 - m * s2, 1.0), du0)
+    col = lambda v: v[:, None]  # noqa: E731
+    tau = col(lam) * t[None, :] + col(tau0)
+    sn, cn, dn = _sncndn_floor(tau, col(K), landen, col(np.sqrt(mc)))
+    j = np.round(tau / col(2 * K))
+    sign = np.sign(tau - j * col(2 * K))
+    s, c2, d2 = np.abs(sn), cn * cn, dn * dn
+    rf = elliprf(c2, d2, 1.0)
+    psi = col(np.arctan2(G1, G2) + 0.0) + col(w[:, 2] - a) * t[None, :]
+    for n, coef in ((delta / (1 - u1), -(b - a) / (2 * (1 - u1) * lam)), (-delta / (1 + u1), (b + a) / (2 * (1 + u1) * lam))):
+        whole = K + n / 3 * elliprj(0.0, mc, 1.0, 1 - n)  # Π(n)
+        W = 2 * j * col(whole) + sign * (s * rf + col(n / 3) * s ** 3 * elliprj(c2, d2, 1.0, 1 - col(n) * s * s))
+        s0 = np.sqrt(s2)
+        W0 = np.sign(tau0) * (s0 * _rf(1 - s2, 1 - m * s2, 1.0) + n / 3 * s0 ** 3 * elliprj(1 - s2, 1 - m * s2, 1.0, 1 - n * s2))
+        psi += col(coef) * (W - col(W0))
+    u = col(u1) + col(delta) * sn * sn
+    sin_theta = np.sqrt(1 - u * u)
+    theta_dot = -2 * col(delta * lam) * sn * cn * dn / sin_theta
+    phi_dot_sin = (col(b) - col(a) * u) / sin_theta
+    sp, cp = np.sin(psi), np.cos(psi)
+    out = np.empty(u.shape + (3,))
+    out[..., 0] = phi_dot_sin * sp + theta_dot * cp
+    out[..., 1] = phi_dot_sin * cp - theta_dot * sp
+    out[..., 2] = col(w[:, 2])
+    return out
 
 
 def ns_per_kernel_call(calls: int = 2_000_000) -> float:

@@ -35,7 +35,7 @@ import math
 import numpy as np
 
 from eulersym.numerics._doubledouble import PI, two_prod, two_sum
-from eulersym.numerics.elliptic import _rf, _sncndn_reduced, _third_kind
+from eulersym.numerics.elliptic import _agm_landen_columns, _rf, _sncndn_reduced, _third_kind
 from eulersym.numerics.exact import _euler_quaternion, _quat_exp, _rotate
 from eulersym.quaternion import multiply as _multiply  # the Hamilton product of eulersym.attitude, on rows
 
@@ -100,20 +100,6 @@ def _dd_agm(b):
         b = (np.where(going, nb[0], b[0]), np.where(going, nb[1], b[1]))
     s = _dd_add(a, b)
     return 0.5 * s[0], 0.5 * s[1]
-
-
-def _landen(rootmc):
-    """The descending Landen (AGM) sequences of members ``rootmc`` (B,), one depth for all: the depth the smallest
-    √m_c needs (|a − b| ≤ 1e-9 a, as :func:`eulersym.numerics.elliptic._agm_landen`); a list of (B, 1) columns."""
-    a, b = np.ones_like(rootmc), rootmc.copy()
-    avals, bvals = [], []
-    for _ in range(64):
-        avals.append(a[:, None])
-        bvals.append(b[:, None])
-        if np.all(np.abs(a - b) <= 1e-9 * a):
-            break
-        a, b = 0.5 * (a + b), np.sqrt(a * b)
-    return avals, bvals, (0.5 * (a + b))[:, None]
 
 
 def _sncndn_period(r, K, rootmc, landen):
@@ -394,7 +380,7 @@ def _elliptic(rows, I, w, t, q0, omega, q):
             continue
         k = slice(lo, hi)
         part = rows[k]
-        landen = _landen(rootmc[k])
+        landen = _agm_landen_columns(rootmc[k])
         u0 = start(k)
         r, j = reduce_phase(t[None, :], (col(lam[0][k]), col(lam[1][k])), (col(u0[0]), col(u0[1])),
                             (col(period[0][k]), col(period[1][k])))

@@ -18,31 +18,16 @@ import math
 
 import numpy as np
 
-from eulersym.numerics.elliptic import _agm_landen, _rf, _rj, _sncndn, _third_kind
+from eulersym.numerics.elliptic import _agm_landen_columns, _rf, _rj, _sncndn, _third_kind
 
 __all__ = ["batch_motion"]
-
-
-def _landen(mc):
-    """The descending Landen sequence of complementary parameters mc (B, 1), 1e-12 ≤ mc ≤ 1, every member with the
-    number of AGM levels the call's smallest m_c needs (|a − b| ≤ 1e-9 a, as
-    :func:`eulersym.numerics.elliptic._agm_landen`; a sweep calls this a block of 1024 members at a time)."""
-    rootmc = np.sqrt(mc)
-    finite = rootmc[np.isfinite(rootmc)]
-    levels = len(_agm_landen(float(np.clip(finite.min(), 1e-6, 1.0)))[0]) if finite.size else 12
-    a, b = np.ones_like(rootmc), rootmc
-    avals, bvals = [], []
-    for _ in range(levels):
-        avals.append(a)
-        bvals.append(b)
-        a, b = 0.5 * (a + b), np.sqrt(a * b)
-    return avals, bvals, 0.5 * (a + b)
 
 
 def _jacobi(u, mc, landen=None):
     """sn, cn, dn of u (B, n) for complementary parameters mc (B, 1): the algorithm of
     :func:`eulersym.numerics.elliptic.jacobi_sncndn` (descending Landen from √m_c, quarter-period reflection)."""
-    return _sncndn(u, np.sqrt(mc), _landen(mc) if landen is None else landen)
+    rootmc = np.sqrt(mc)
+    return _sncndn(u, rootmc, _agm_landen_columns(rootmc) if landen is None else landen)
 
 
 def _quadratic_roots(A, B, C):
@@ -263,7 +248,7 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
     tau = col(lam) * tt + col(tau0)
     j = np.round(tau / col(2 * K))
     r = tau - j * col(2 * K)
-    landen = _landen(col(mc))
+    landen = _agm_landen_columns(np.sqrt(mc))
     sn, cn, dn = _jacobi(r, col(mc), landen)
     parity = 1.0 - 2.0 * np.mod(j, 2.0)
     sn_t, cn_t = parity * sn, parity * cn

@@ -83,6 +83,29 @@ def _agm_landen(rootmc: float) -> tuple[tuple[float, ...], tuple[float, ...], fl
     return tuple(avals), tuple(bvals), 0.5 * (a + b)
 
 
+def _agm_landen_columns(rootmc) -> tuple[list, list, np.ndarray]:
+    """The AGM sequences of many members at once: a₀ = 1, b₀ = √m_c per member (``rootmc`` of shape (B,) or (B, 1)),
+    one depth for all — the depth the slowest member needs, as :func:`_agm_landen` stops (|a − b| ≤ 1e-9 a), members
+    whose √m_c is not finite ignored. Returns (a's, b's, AGM) as columns (B, 1), the arithmetic of
+    :func:`_agm_landen` member by member (what the sweeps' closed forms hand to :func:`_sncndn`).
+
+    >>> avals, bvals, agm = _agm_landen_columns(np.array([1.0, 0.5]))
+    >>> len(avals), agm.shape, float(agm[1, 0]) == _agm_landen(0.5)[2]
+    (5, (2, 1), True)
+    """
+    b = np.asarray(rootmc, dtype=np.float64).reshape(-1, 1)
+    a = np.ones_like(b)
+    ignored = ~np.isfinite(b)
+    avals, bvals = [], []
+    for _ in range(64):
+        avals.append(a)
+        bvals.append(b)
+        if np.all((np.abs(a - b) <= 1e-9 * a) | ignored):
+            break
+        a, b = 0.5 * (a + b), np.sqrt(a * b)
+    return avals, bvals, 0.5 * (a + b)
+
+
 def complete_elliptic_k(mc: float) -> float:
     """Complete elliptic integral of the first kind K as a function of the complementary parameter m_c = 1 − m.
 

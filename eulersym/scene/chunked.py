@@ -78,6 +78,8 @@ def motion(problem, plan, *, progress=None) -> tuple:
     >>> singular, bool(np.all(np.isfinite(traj.omega)))
     ((1,), True)
     """
+    if hasattr(problem, "whole"):  # prepared a chunk at a time (eulersym.scene.problem.PerChunk): every member now
+        problem = problem.whole()
     name = plan.options["engine"]
     grain = methods.get(name).cost.grain
     if problem.batch <= grain:
@@ -158,9 +160,11 @@ def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
     calls = np.zeros(problem.batch)
     calls[:1] = traj.n_rhs_calls  # the chunk's kernel evaluations, summed over chunks at the end
     arrays["_calls"] = calls
-    flags = np.zeros(problem.batch)
-    flags[list(singular)] = 1.0  # members integrated instead of the closed form
+    flags = np.zeros(problem.batch, dtype=bool)
+    flags[list(singular)] = True  # members integrated instead of the closed form
     arrays["_singular"] = flags
+    if "top.sleeping_top_threshold" in plan.derive:  # the start's ω3 against the derived bound (the report's note)
+        arrays["_omega3_start"] = problem.omega0[:, 2]
     return arrays
 
 
@@ -234,7 +238,7 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
     singular = np.flatnonzero(gathered.pop("_singular"))
     theta_range = (gathered.pop("_theta_min", None), gathered.pop("_theta_max", None))
     extra = [singular_note(singular, problem.batch, problem.rtol)] if len(singular) else []
-    omega3_start = problem.omega0[:, 2]
+    omega3_start = gathered.pop("_omega3_start", None)
     P, moments = problem.axes, problem.moments
     if layout is not None:
         summary = gathered

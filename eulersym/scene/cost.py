@@ -34,8 +34,8 @@ from eulersym.sweeps import cost as model, zarr_store
 from eulersym.sweeps.summary import summary_names
 
 __all__ = ["ONE_MEMBER_WORK_BUDGET", "PHASE_LIMIT", "rate_bound", "largest", "refuse_phase", "estimate", "check",
-           "budgets", "describe", "summary_layout", "wants_summary", "threads", "method_cost", "resident_bytes",
-           "baseline_bytes"]
+           "budgets", "describe", "summary_layout", "wants_summary", "prepared_per_chunk", "threads", "method_cost",
+           "resident_bytes", "baseline_bytes"]
 
 #: The work budget of a one-member run (integrated by scalar kernels): about an hour of kernel calls. A sweep has
 #: :data:`eulersym.sweeps.cost.DEFAULT_WORK_BUDGET`.
@@ -44,6 +44,10 @@ ONE_MEMBER_WORK_BUDGET = 1e9
 PHASE_LIMIT = 2.0 ** 52
 #: Floats per member of a model's own kernel's body numbers (the regime 'model').
 _MODEL_BODY = 17
+#: Floats per member of a prepared problem's starts and body: ω0, q0, Γ0, the moments, M, g, l.
+_STARTS = 16
+#: Floats per member each chunk hands back besides its outputs: three error estimates and the kernel calls.
+_BOOKKEEPING = 4
 
 #: Invariants a regime reports (the most: the cost model counts the largest case).
 _INVARIANTS = {"torque-free": ("energy", "L2", "L_space_deviation", "q_norm2"),
@@ -139,6 +143,25 @@ def spread_of(scene) -> tuple:
         return float(d.min()), float(d.max())
     eig = np.linalg.eigvalsh(tensor)
     return float(np.min(eig)), float(np.max(eig))
+
+
+def prepared_per_chunk(scene) -> bool:
+    """True when :func:`eulersym.scene.problem.prepare` prepares ``scene`` a chunk at a time by default
+    (:class:`eulersym.scene.problem.PerChunk`, what the estimate counts as held): a sweep that is streamed whatever
+    its size — summaries kept per member, or trajectories written to a Zarr store
+    (:func:`eulersym.sweeps.zarr_store.streaming`) — and that asks for no sensitivity (which needs every start).
+
+    Examples
+    --------
+    >>> from eulersym.scene import Scene
+    >>> prepared_per_chunk(Scene(moments=(1, 2, 3), omega=(0, [1, 2], 0), t_end=1, outputs=("summary",)))
+    True
+    >>> prepared_per_chunk(Scene(moments=(1, 2, 3), omega=(0, [1, 2], 0), t_end=1))
+    False
+    """
+    outputs = scene.outputs
+    return (scene.batch > 1 and "sensitivity" not in outputs
+            and ("summary" in outputs or zarr_store.target() is not None))
 
 
 def wants_summary(scene) -> bool:
@@ -246,6 +269,8 @@ def threads(plan) -> int:
 #: this machine: numba and LLVM with the compiled DOP853 loaded from numba's cache ~150 MB; NumPy methods a few MB).
 _IMPORTS = {"dop853-members": ("numba", 150 * 2**20)}
 _SMALL_IMPORTS = 8 * 2**20
+#: What writing to a Zarr store adds (zarr, numcodecs and the writer's event loop and buffers: ~40 MB measured here).
+_ZARR_WRITER = 40 * 2**20
 
 
 def resident_bytes() -> int:
@@ -265,8 +290,8 @@ def resident_bytes() -> int:
 
 
 def baseline_bytes(plan) -> int:
-    """What the process will hold besides the run's arrays: resident now (interpreter, imports) and what the plan's
-    method imports when it runs (:data:`_IMPORTS`).
+    """What the process will hold besides the run's arrays: resident now (interpreter, imports), what the plan's
+    method imports when it runs (:data:`_IMPORTS`) and, streaming to a Zarr store, the store's writer.
 
     Examples
     --------
@@ -279,6 +304,8 @@ def baseline_bytes(plan) -> int:
     module, extra = _IMPORTS.get(method_cost(plan).name, (None, _SMALL_IMPORTS))
     if module is not None and module in sys.modules:
         extra = _SMALL_IMPORTS
+    if zarr_store.target() is not None and "zarr" not in sys.modules:
+        extra += _ZARR_WRITER
     return resident_bytes() + extra
 
 
@@ -286,7 +313,14 @@ def _one(scene, plan, *, memory, chunk, kernel, rate=None) -> model.Estimate:
     summary = wants_summary(scene)
     regime = plan.regime
     n_summary = _n_summaries(summary_layout(scene, regime, kernel)) if summary else 0
-    inputs = 20 + len(scene.sweeps)  # the prepared problem's per-member arrays, the swept values
+    # per member besides the outputs: the swept values, what every chunk hands back (the error estimates, the kernel
+    # calls); the starts and the body (ω0, q0, Γ0, moments, M, g, l) unless prepared a chunk at a time, which keeps
+    # the tilt range and the start's ω3 of a heavy top instead
+    inputs = len(scene.sweeps) + _BOOKKEEPING
+    if not prepared_per_chunk(scene):
+        inputs += _STARTS
+    elif regime == "heavy top":
+        inputs += 3
     if regime == "model":  # the own kernel's parameters per member
         inputs += _MODEL_BODY + len(scene.model.parameters)
     low, high = _spread(scene)

@@ -19,7 +19,7 @@ from eulersym.labels import quantity_label
 from eulersym.scene.result import report
 from eulersym.sweeps.summary import largest_tilt
 
-__all__ = ["report", "save", "stream", "plot", "figure", "summary", "summary_path", "quantity_label", "clean_leftovers",
+__all__ = ["report", "save", "stream", "plot", "figure", "summary", "summary_table", "summary_path", "quantity_label", "clean_leftovers",
            "check_target",
            "require_matplotlib", "OUTPUT_SUFFIXES", "PLOT_SUFFIXES"]
 
@@ -145,6 +145,44 @@ def summary(result) -> tuple:
     return names, np.stack(cols, axis=1)
 
 
+#: Summaries a summary scene keeps (:attr:`Result.summary`) that :func:`summary` already has as a column of its own.
+_AS_COLUMN = {"tilt_max": "theta_max_deg", **{f"omega{j}.final": f"omega{j}_end" for j in (1, 2, 3)}}
+
+
+def _column_name(key: str) -> str:
+    """The table's name of a kept summary: ``<quantity>_<min|max|final>``, ``drift_<invariant>``."""
+    if key in _AS_COLUMN:
+        return _AS_COLUMN[key]
+    name, _, reduction = key.rpartition(".")
+    if not name:
+        return key
+    return f"drift_{name}" if reduction == "drift" else f"{name}_{reduction}"
+
+
+def summary_table(result) -> tuple:
+    """``(column names, array (batch, k))``: the per-member table a sweep writes (``.csv``, ``.npz``, ``.zarr``) —
+    :func:`summary`'s columns, then every other summary a summary scene kept (``want = ["summary"]``:
+    :attr:`Result.summary`), named as the table names them (``omega1_min``, ``gamma3_final``, ``energy_max``), each
+    quantity once.
+
+    Examples
+    --------
+    >>> from eulersym.scene import Scene, simulate
+    >>> run = simulate(Scene(moments=(1, 2, 3), omega=(0.1, [1, 2], 0), t_end=1, points=3, outputs=("summary",)))
+    >>> names, rows = summary_table(run)
+    >>> names[2:5], "omega1_min" in names, len(set(names)) == len(names) == rows.shape[1]
+    (['omega1_end', 'omega2_end', 'omega3_end'], True, True)
+    """
+    names, rows = summary(result)
+    have = set(names)
+    more = [(_column_name(key), values) for key, values in (result.summary or {}).items()
+            if _column_name(key) not in have]
+    if not more:
+        return names, rows
+    return names + [n for n, _ in more], np.concatenate(
+        [rows, np.stack([np.asarray(v, dtype=float) for _, v in more], axis=1)], axis=1)
+
+
 def save(result, path: str) -> list:
     """Write a Result to ``.npz`` (arrays by name) or ``.csv`` (one row per time, and per member for a sweep);
     return the paths written.
@@ -178,18 +216,15 @@ def save(result, path: str) -> list:
         if result.accuracy is not None:
             arrays["accuracy"] = np.array(float(result.accuracy))  # asked; error_* (integrations only): estimated
         arrays.update({f"sweep_{k}": v for k, v in result.sweep.items()})
-        if sweep or result.summary:
-            names, rows = summary(result)
+        if sweep or result.summary:  # want = ["summary"]: every summary kept, each once
+            names, rows = summary_table(result)
             arrays.update({f"summary_{name}": rows[:, j] for j, name in enumerate(names)})
-        arrays.update({f"summary_{name}": v for name, v in result.summary.items()})  # want = ["summary"]: all kept
         _atomic(path, lambda tmp: np.savez(tmp, **arrays))
         return [path]
     if suffix != ".csv":
         raise InvalidInput("-o", path, "a file ending in .npz, .csv or .zarr")
     if result.omega is None:  # a summary scene (want = ["summary"]): one row per member, every summary kept
-        names, rows = summary(result)
-        names += list(result.summary)
-        rows = np.concatenate([rows, np.stack(list(result.summary.values()), axis=1)], axis=1)
+        names, rows = summary_table(result)
         _atomic(path, lambda tmp: np.savetxt(tmp, rows, delimiter=",", header=",".join(names), comments="",
                                              fmt="%.17g"))
         return [path]
@@ -251,8 +286,11 @@ def _save_zarr(result, path: str) -> str:
             import zarr
 
             group = zarr.open_group(staging, mode="r+")
-            for name, values in result.summary.items():
-                values = np.asarray(values, dtype=float)
+            names, rows = summary_table(result)  # over member: the member index and swept values are coordinates
+            for j, name in enumerate(names):
+                if name == "member" or name in coords:
+                    continue
+                values = np.ascontiguousarray(rows[:, j])
                 group.create_array(name, shape=values.shape, chunks=values.shape, dtype="f8",
                                    dimension_names=["member"], compressors=None)[:] = values
             with warnings.catch_warnings():

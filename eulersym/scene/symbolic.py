@@ -35,6 +35,10 @@ def sleeping_threshold(moments, M, g, l, record: list):
 
     record.append("top.sleeping_top_threshold")
     moments = np.asarray(moments, dtype=float)
+    shared = [np.asarray(x, dtype=float) for x in (moments, M, g, l)]
+    if len(moments) > 1 and all(x.strides[0] == 0 for x in shared):  # one body broadcast to every member
+        one = sleeping_threshold(*(x[:1] for x in shared), [])
+        return np.broadcast_to(one, (len(moments),))
     return np.asarray(_closed_forms.sleeping_top_threshold(moments[:, 0], moments[:, 2], np.asarray(M, dtype=float),
                                                            np.asarray(g, dtype=float), np.asarray(l, dtype=float)),
                       dtype=float)

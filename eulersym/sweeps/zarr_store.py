@@ -29,7 +29,6 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import os
-import shutil
 import warnings
 from dataclasses import dataclass
 
@@ -137,6 +136,8 @@ def create(path: str, *, members: int, chunk: int, t, first, coords=None, attrs=
     entry of ``first`` (one member's arrays, shape (1, time[, component])), chunked by ``chunk`` members, with the
     output times, the member index and ``coords`` (label → values per member) as coordinates, and ``attrs`` (the
     plan, the scene) as the group's attributes. Returns the :class:`ZarrSink` that writes into it."""
+    import shutil  # here, not at import: shutil loads bz2 and lzma, which a scene's start-up does not need
+
     import zarr
 
     require_zarr(path)
