@@ -6,6 +6,7 @@ their short versions, seconds each."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 
@@ -15,7 +16,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import accuracy_reference as R
-from eulersym.errors import AccuracyNotReached, IntegrationFailed
+from eulersym.errors import ACCURACY_NOT_REACHED_EXIT, AccuracyNotReached, IntegrationFailed, accuracy_status
 from eulersym.model import Model
 from eulersym.scene import Scene, simulate
 
@@ -265,9 +266,27 @@ def test_an_accuracy_double_precision_cannot_carry_is_refused_with_its_amplifica
     assert max(result.error.values()) == pytest.approx(warning.reached) and "NOT reached" in result.report()
     shorter = float(text.split("t_end ≤ ")[1].split(" ")[0])
     assert 5.0 < shorter < 40.0
+    status, message = accuracy_status(result)  # eulersym simulate's exit status: reported, written, and 3
+    assert status == ACCURACY_NOT_REACHED_EXIT == 3 and message.startswith("accuracy 1e-09 not reached: estimated")
     with warnings.catch_warnings():
         warnings.simplefilter("error", AccuracyNotReached)
-        simulate(_chaotic(shorter, 1e-9))
+        assert accuracy_status(simulate(_chaotic(shorter, 1e-9))) == (0, "")
+
+
+def test_a_sweep_names_the_members_that_do_not_reach_the_accuracy_and_exits_3():
+    """Three spins of the tumbling top over 30 s: the fast middle one amplifies round-off ~10⁷× and cannot get 1e-9;
+    the status names it (index, swept value, estimate), the others are not named."""
+    scene = dataclasses.replace(_chaotic(30.0, 1e-9), omega=(3.0, 3.0, [0.5, 3.0, 6.0]))
+    with pytest.warns(AccuracyNotReached):
+        result = simulate(scene)
+    worst = np.max(np.stack([np.asarray(v) for v in result.error.values()]), axis=0)
+    beyond = np.flatnonzero(worst > 1e-9)
+    status, message = accuracy_status(result)
+    assert status == 3 and len(beyond) >= 1
+    assert message.startswith(f"accuracy 1e-09 not reached for {len(beyond)} of 3 members: ")
+    for b in range(3):
+        assert (f" {b} (omega[2] = " in message or f": {b} (omega[2] = " in message) == (b in beyond), (b, message)
+    assert accuracy_status(dataclasses.replace(result, error={k: np.minimum(v, 1e-9) for k, v in result.error.items()})) == (0, "")
 
 
 # ---- the conditioning of a motion --------------------------------------------------------------------------------
