@@ -306,6 +306,27 @@ def test_a_sweep_names_the_members_that_do_not_reach_the_accuracy_and_exits_3():
     assert accuracy_status(dataclasses.replace(result, error={k: np.minimum(v, 1e-9) for k, v in result.error.items()})) == (0, "")
 
 
+def test_the_round_off_floor_s_amplification_is_the_conditioning_s_size():
+    """The control measures the amplification A cheaply (rtol 1e-4, about 20 output times: its size, not its digits);
+    it must stay the size of σ_max from the variational equations at 1e-9 over every output time — near a
+    separatrix, on a chaotic top, and over a long horizon (where a looser rtol went 24× wrong)."""
+    from eulersym.numerics import methods
+    from eulersym.numerics.methods import sensitivity
+    from eulersym.scene.problem import prepare
+
+    scenes = [Scene(moments=(1.0, 2.0, 3.0), omega=(1e-4, 1.0, 1e-4), t_end=50.0, points=101, accuracy=1e-9,
+                    method="DOP853", outputs=("omega", "attitude")),
+              _chaotic(20.0, 1e-9),
+              Scene(moments=(1.0, 2.0, 3.0), omega=(0.3, 1.0, 0.2), t_end=5000.0, points=201, accuracy=1e-10,
+                    method="DOP853", outputs=("omega",))]
+    for scene in scenes:
+        plan = scene.plan()
+        problem = prepare(scene, plan)
+        cheap = methods.get(plan.options["engine"]).amplification(problem)[0]
+        full = np.max(sensitivity(problem)[0])
+        assert 0.5 * full <= cheap <= 1.2 * full, (scene.t_end, cheap, full)
+
+
 # ---- the conditioning of a motion --------------------------------------------------------------------------------
 def test_sensitivity_is_the_growth_of_a_change_of_the_start():
     """σ(t) from the variational equations against the growth of an actual change of the start (two runs, 1e-7
