@@ -23,6 +23,8 @@ __all__ = [
     "EulersymWarning",
     "CacheRepaired",
     "AccuracyNotReached",
+    "accuracy_status",
+    "ACCURACY_NOT_REACHED_EXIT",
 ]
 
 _MAX_REPR = 120
@@ -231,6 +233,8 @@ class AccuracyNotReached(EulersymWarning):
     returns the best motion it could get, with its estimated error (``Result.error``), never a silently worse one;
     the message gives the amplification (the largest singular value of the state-transition matrix, from the
     variational equations), the best accuracy reached, and what would help (a coarser accuracy, a shorter span).
+    ``eulersym simulate`` still prints and writes that result, names the members beyond the accuracy, and exits with
+    status :data:`ACCURACY_NOT_REACHED_EXIT` (3; :func:`accuracy_status`).
 
     Attributes
     ----------
@@ -263,3 +267,66 @@ class AccuracyNotReached(EulersymWarning):
 
 def _rebuild_not_reached(message, accuracy, reached, amplification):
     return AccuracyNotReached(message, accuracy=accuracy, reached=reached, amplification=amplification)
+
+
+#: The exit status of ``eulersym simulate`` when the run finished — its report printed, its result written — but its
+#: estimated error exceeds the accuracy asked, for the motion or for some members of a sweep (0: reached; 1: a check
+#: failed; 2: bad usage or input, nothing written). :func:`accuracy_status` decides it from the result.
+ACCURACY_NOT_REACHED_EXIT = 3
+
+
+def accuracy_status(result, *, shown: int = 10) -> tuple:
+    """``(exit status, message)`` of a finished run against the accuracy it asked: ``(0, "")`` when every estimate is
+    within it (or nothing was estimated: a closed form is exact to round-off), else
+    ``(ACCURACY_NOT_REACHED_EXIT, message)``, the message naming the members beyond it (index, swept values and
+    estimate; the first ``shown``, the worst first) — what ``eulersym simulate`` prints and returns after writing the
+    result. The run has already warned (:class:`AccuracyNotReached`: why, and what would help).
+
+    Parameters
+    ----------
+    result : eulersym.scene.Result
+        Read through ``error`` (quantity → estimate, a float or one per member), ``accuracy`` and ``sweep`` (label →
+        the members' values).
+    shown : int
+        Members named at most.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> accuracy_status(NS(error={"omega": 3e-10}, accuracy=1e-9, sweep={}))
+    (0, '')
+    >>> accuracy_status(NS(error={}, accuracy=1e-9, sweep={}))  # a closed form
+    (0, '')
+    >>> print(accuracy_status(NS(error={"omega": 6e-12, "gamma": 2e-12}, accuracy=1e-12, sweep={}))[1])
+    accuracy 1e-12 not reached: estimated error 6e-12 (the result is reported and written with its estimate)
+    >>> import numpy as np
+    >>> sweep = NS(error={"omega": np.array([1e-10, 4e-9, 2e-9])}, accuracy=1e-9, sweep={"omega3": np.array([1., 2., 3.])})
+    >>> status, message = accuracy_status(sweep)
+    >>> status
+    3
+    >>> print(message)
+    accuracy 1e-09 not reached for 2 of 3 members: 1 (omega3 = 2; estimated 4e-09), 2 (omega3 = 3; estimated 2e-09) (the result is reported and written with each member's estimate)
+    """
+    import numpy as np
+
+    asked = getattr(result, "accuracy", None)
+    error = getattr(result, "error", None) or {}
+    if asked is None or not error:
+        return 0, ""
+    worst = np.max(np.stack([np.atleast_1d(np.asarray(v, dtype=float)) for v in error.values()]), axis=0)
+    beyond = np.flatnonzero(~(worst <= asked))  # NaN counts as not reached
+    if not len(beyond):
+        return 0, ""
+    if len(worst) == 1:
+        return ACCURACY_NOT_REACHED_EXIT, (f"accuracy {asked:g} not reached: estimated error {float(worst[0]):.2g} "
+                                           "(the result is reported and written with its estimate)")
+    sweep = getattr(result, "sweep", None) or {}
+    order = beyond[np.argsort(-worst[beyond], kind="stable")][:max(1, int(shown))]
+    names = []
+    for b in order:
+        values = "; ".join(f"{label} = {float(np.asarray(v)[b]):.6g}" for label, v in sweep.items())
+        names.append(f"{int(b)} ({values + '; ' if values else ''}estimated {float(worst[b]):.2g})")
+    more = ", …" if len(beyond) > len(order) else ""
+    return ACCURACY_NOT_REACHED_EXIT, (f"accuracy {asked:g} not reached for {len(beyond)} of {len(worst)} members: "
+                                       + ", ".join(names) + more
+                                       + " (the result is reported and written with each member's estimate)")

@@ -51,3 +51,26 @@ def test_the_bench_runs_and_words_its_floors(capsys):
     assert "delivered ≤ asked: 1 of 1 (floor all) — met" in out
     assert "estimated error ≤" in out and "(asked 1e-06)" in out
     assert "kernel evaluations" in out
+
+
+def test_the_engines_are_compared_at_one_tolerance_and_at_comparable_error(capsys):
+    """The sweep part's engine comparison (what the 4× floor compared when it was set) runs on a few members: both
+    engines' single runs at each tolerance, their errors against the sweep at 1e-12, and the ratio of a pair whose
+    per-member run delivers no more error than the batched one."""
+    pytest.importorskip("numba")
+    import warnings
+
+    from eulersym.errors import AccuracyNotReached
+    from eulersym.scene import simulate
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyNotReached)
+        reference = simulate(accuracy._sweep_scene(64, "auto", 1e-12)).omega
+    out = accuracy.engines(64, reference, rtols=(1e-7, 1e-9))
+    assert set(out["rows"]) == {"auto 1e-07", "auto 1e-09", "DOP853 1e-07", "DOP853 1e-09"}
+    assert all(row["p99"] <= row["max"] < 1e-3 for row in out["rows"].values())
+    assert out["rows"]["auto 1e-09"]["max"] < out["rows"]["auto 1e-07"]["max"]  # a tighter run delivers less
+    for batched, lo, hi, *ratios in out["pairs"]:
+        target = out["rows"][f"DOP853 {batched:g}"]["p99"]
+        assert out["rows"][f"auto {lo:g}"]["p99"] <= target <= out["rows"][f"auto {hi:g}"]["p99"] and min(ratios) > 0
+    assert "single runs at rtol 1e-07, compiled_dop853" in capsys.readouterr().out

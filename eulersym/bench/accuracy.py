@@ -22,7 +22,9 @@ Three parts, each beside its floors (issue 21), measured in the same run:
    members (default 10⁴, sized for two shared cores; the issue's 10⁵ with ``--members 100000``) at accuracy 1e-6 by
    the plan's default and by ``method = "DOP853"``, every member against the same sweep at accuracy 1e-12. Floors:
    every member within 1e-6 (ω relative to its scale), the default ≥ 4× faster than DOP853 at that equal delivered
-   error.
+   error. Beside it, the two engines without the control (:func:`engines`): single runs of every member at rtol 1e-7
+   … 1e-9, their delivered errors and their ratio at comparable delivered error — what the 4× compared when it was
+   set (single runs at one tolerance, which deliver different errors: the batched step is shared by 4096 members).
 
 ``--quick`` runs the asymmetric top and the gyrostat at 1e-6 and 1e-9 and a 2000-member sweep (a smoke test: floors
 are reported, not enforced). ``--references`` recomputes the stored references (about two minutes) and fails if they
@@ -45,7 +47,7 @@ import numpy as np
 
 from eulersym.bench.report import floor_line, load_text, ratio_text
 
-__all__ = ["main", "true_error", "promise", "ladder", "sweep", "check_references", "FLOORS"]
+__all__ = ["main", "true_error", "promise", "ladder", "sweep", "engines", "check_references", "FLOORS"]
 
 #: The issue's floors: estimate within [LOW, HIGH] × the true error; the promise's cost ≤ COST × a single run;
 #: the sweep's default ≥ SWEEP_SPEED × faster than DOP853.
@@ -233,7 +235,54 @@ def sweep(members, *, accuracy=1e-6, reference_accuracy=1e-12, repeats=2, log=pr
             f"{out[method]['estimate_max'] if est is not None else math.nan:.2g}", flush=True)
     log(f"  reference sweep (accuracy {reference_accuracy:g}): {ref_seconds:.3g} s, its own estimate ≤ "
         f"{out['reference_estimate']:.2g} (members beyond {reference_accuracy:g} are refused with their amplification)")
+    out["engines"] = engines(members, ref.omega, accuracy=accuracy, log=log)
     return out
+
+
+def engines(members, reference, *, accuracy=1e-6, rtols=(1e-7, 1e-8, 1e-9), repeats=1, log=print) -> dict:
+    """The two sweep engines without the control: single runs of every member at one tolerance each (what the
+    floor's 4× compared when it was set), their time (wall and CPU, the best of ``repeats``) and delivered error
+    against ``reference`` (ω (members, times, 3), the sweep at 1e-12). The per-member DOP853 and the batched one
+    deliver different errors at one tolerance (the batched step is shared by 4096 members, so the hardest member sets
+    everyone's), so the ratio that compares like with like pairs the batched run at one tolerance with the
+    per-member runs whose delivered errors (p99) bracket its own: ``pairs`` holds (batched rtol, per-member rtol
+    with no more error, with no less error, wall ratios against each, CPU ratios against each)."""
+    scale = np.max(np.linalg.norm(reference, axis=2), axis=1)
+    rows = {}
+    for method in ("auto", "DOP853"):
+        engine, problem, _ = _prepared(_sweep_scene(members, method, accuracy))
+        engine.attempt(problem.select(np.arange(min(64, problem.batch))), np.full(min(64, problem.batch), rtols[0]))
+        for rtol in rtols:
+            best = (math.inf, math.inf)
+            for _ in range(max(1, repeats)):
+                wall, cpu = time.perf_counter(), time.process_time()
+                traj = engine.attempt(problem, np.full(problem.batch, rtol))
+                best = min(best, (time.perf_counter() - wall, time.process_time() - cpu))
+            e = np.max(np.linalg.norm(np.asarray(traj.omega) - reference, axis=2), axis=1) / scale
+            rows[(method, rtol)] = {"seconds": best[0], "cpu": best[1], "max": float(e.max()),
+                                    "p99": float(np.quantile(e, 0.99)), "beyond": int(np.sum(e > accuracy))}
+            log(f"  single runs at rtol {rtol:g}, {engine.name:<15}: {best[0]:.3g} s wall, {best[1]:.3g} s CPU; error "
+                f"max {e.max():.2g}, p99 {rows[(method, rtol)]['p99']:.2g}, {rows[(method, rtol)]['beyond']} beyond "
+                f"{accuracy:g}", flush=True)
+    pairs = []
+    for b in rtols:  # the batched run at b between the per-member runs whose delivered errors (p99) bracket its own
+        target = rows[("DOP853", b)]["p99"]
+        below = [r for r in rtols if rows[("auto", r)]["p99"] <= target]  # no more error: the loosest of them
+        above = [r for r in rtols if rows[("auto", r)]["p99"] >= target]  # no less error: the tightest of them
+        if below and above:
+            lo, hi = max(below), min(above)
+            pairs.append((b, lo, hi, rows[("DOP853", b)]["seconds"] / rows[("auto", lo)]["seconds"],
+                          rows[("DOP853", b)]["seconds"] / rows[("auto", hi)]["seconds"],
+                          rows[("DOP853", b)]["cpu"] / rows[("auto", lo)]["cpu"],
+                          rows[("DOP853", b)]["cpu"] / rows[("auto", hi)]["cpu"]))
+    for b, lo, hi, wall_lo, wall_hi, cpu_lo, cpu_hi in pairs:
+        log(f"  engines at comparable delivered error: batched at rtol {b:g} (p99 {rows[('DOP853', b)]['p99']:.2g}) "
+            f"÷ per-member at rtol {hi:g} … {lo:g} (p99 {rows[('auto', hi)]['p99']:.2g} … "
+            f"{rows[('auto', lo)]['p99']:.2g}) = {wall_hi:.2f} … {wall_lo:.2f}× wall, {cpu_hi:.2f} … {cpu_lo:.2f}× CPU",
+            flush=True)
+    log(f"  at the same rtol {rtols[0]:g}: {rows[('DOP853', rtols[0])]['seconds'] / rows[('auto', rtols[0])]['seconds']:.2f}× "
+        "wall (the batched run delivering less error)", flush=True)
+    return {"rows": {f"{m} {r:g}": v for (m, r), v in rows.items()}, "pairs": pairs}
 
 
 def check_references(names, log=print) -> bool:

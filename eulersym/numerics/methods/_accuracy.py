@@ -56,7 +56,8 @@ from eulersym.numerics.methods._base import Method, Problem
 from eulersym.numerics.trajectory import Trajectory
 
 __all__ = ["Integrator", "deliver", "richardson", "deviation", "estimate", "worst", "QUANTITIES", "SAFETY",
-           "ROUNDOFF_RTOL", "MAX_RUNS", "select", "splice"]
+           "ROUNDOFF_RTOL", "MAX_RUNS", "PAIR_SPAN", "AMPLIFICATION_RTOL", "AMPLIFICATION_TIMES", "select",
+           "splice"]
 
 #: The integrated quantities an estimate covers (those a trajectory has).
 QUANTITIES = ("omega", "attitude", "gamma")
@@ -73,22 +74,41 @@ MAX_RUNS = 7
 #: The next run aims this far below the accuracy (its tolerance from proportionality).
 AIM = 2.0
 #: Two runs whose tolerances differ by more than this make no pair: the new run gets a partner 10× looser (the
-#: error's ratio over a wide span strays from proportionality: Kovalevskaya's top shrinks its error 20–30× per
-#: decade of rtol from 1e-6 to 1e-10, 10× from 1e-11 on).
-PAIR_SPAN = 30.0
+#: error's ratio over a wide span strays from proportionality). Measured on the five motions of ``eulersym bench
+#: accuracy`` (true errors on a ladder of rtol, 4 per decade): over two decades the error falls 94–254× below rtol
+#: 1e-6 (Kovalevskaya's top 255–730× above it, 20–30× per decade); σ = 3 keeps the estimate of a pair ρ apart within
+#: [½, 10] × the truth for true ratios (ρ − 1)/6 + 1 … 3.3 (ρ − 1) + 1, i.e. 17 … 328 at ρ = 100. (30 until
+#: session 29: a pilot that missed by 30–100× paid a fourth run, a third of the control's work.)
+PAIR_SPAN = 100.0
+#: The same below :data:`ROUNDOFF_RTOL`, where the error's ratio falls towards 1 (round-off): the span it had before.
+ROUNDOFF_SPAN = 30.0
 #: Near round-off the error cannot fall below about ``FLOOR · ε · A``, A the largest growth of a change of the start
 #: over the span (the variational equations): the start's own rounding (into the principal frame, the quaternion's
 #: norm) and the steps' grow with the motion. Measured on the bench's motions at rtol 1e-15 … 1e-16: 0.2–9.6 ε A.
 FLOOR = 6.0
+#: The variational integration that measures A, for its size, not its digits (FLOOR spans 0.2–9.6): at rtol 1e-4
+#: and at most AMPLIFICATION_TIMES output times (evenly picked, the last kept) — until session 29 at 1e-7 and every
+#: output time. On the bench's five motions, a chaotic top (σ = 1.5e4 over 20 s) and a free body over 5000 s, A so
+#: measured is 0.81–1.0 × A at 1e-7 over every output time, and costs 0.2–1.3 × a single run at rtol 1e-14 (was
+#: 0.3–2.5×); a looser rtol is not cheaper by much and can be wrong (the free body's A at 1e-3: 24× too large).
+AMPLIFICATION_RTOL = 1e-4
+AMPLIFICATION_TIMES = 20
 
 
 def _norms(x, axis=-1):
     return np.sqrt(np.einsum("...i,...i->...", x, x)) if x.shape[axis] else np.zeros(x.shape[:-1])
 
 
-def _vertical(q):
-    """Γ = R(q)ᵀ ẑ of (not necessarily unit) quaternions (..., 4)."""
-    q = q / _norms(q)[..., None]
+def _farthest(a, b) -> np.ndarray:
+    """The largest Euclidean distance over the output times between (batch, m, k) arrays: (batch,)."""
+    d = a - b
+    return np.sqrt(np.max(np.einsum("bmk,bmk->bm", d, d), axis=1, initial=0.0))
+
+
+def _vertical(q, *, unit=False):
+    """Γ = R(q)ᵀ ẑ of (not necessarily unit, or with ``unit`` unit) quaternions (..., 4)."""
+    if not unit:
+        q = q / _norms(q)[..., None]
     a, b, c, d = np.moveaxis(q, -1, 0)
     return np.stack([2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d], axis=-1)
 
@@ -109,17 +129,16 @@ def deviation(a: Trajectory, b: Trajectory, *, vertical: bool = False) -> dict:
     """
     out = {}
     wa, wb = np.asarray(a.omega), np.asarray(b.omega)
-    scale = np.max(_norms(wb), axis=1, initial=0.0)
-    scale = np.where(scale > 0, scale, 1.0)
-    out["omega"] = np.max(_norms(wa - wb), axis=1, initial=0.0) / scale
+    scale = np.sqrt(np.max(np.einsum("bmk,bmk->bm", wb, wb), axis=1, initial=0.0))
+    out["omega"] = _farthest(wa, wb) / np.where(scale > 0, scale, 1.0)
     if a.q is not None and b.q is not None:
         qa = np.asarray(a.q) / _norms(np.asarray(a.q))[..., None]
         qb = np.asarray(b.q) / _norms(np.asarray(b.q))[..., None]
-        out["attitude"] = np.max(_norms(qa - qb), axis=1, initial=0.0)
+        out["attitude"] = _farthest(qa, qb)
     if a.gamma is not None and b.gamma is not None:
-        out["gamma"] = np.max(_norms(np.asarray(a.gamma) - np.asarray(b.gamma)), axis=1, initial=0.0)
+        out["gamma"] = _farthest(np.asarray(a.gamma), np.asarray(b.gamma))
     elif vertical and a.q is not None and b.q is not None:
-        out["gamma"] = np.max(_norms(_vertical(np.asarray(a.q)) - _vertical(np.asarray(b.q))), axis=1, initial=0.0)
+        out["gamma"] = _farthest(_vertical(qa, unit=True), _vertical(qb, unit=True))
     return out
 
 
@@ -217,10 +236,15 @@ class Integrator(Method):
 
     def amplification(self, problem: Problem) -> np.ndarray:
         """The largest growth of a change of the start over the span, per member (the variational equations,
-        :func:`~eulersym.numerics.methods._sensitivity.sensitivity`, at a loose tolerance: a few digits suffice)."""
+        :func:`~eulersym.numerics.methods._sensitivity.sensitivity`, at :data:`AMPLIFICATION_RTOL`: its size, not
+        its digits)."""
         from eulersym.numerics.methods._sensitivity import sensitivity
 
-        sigma, _ = sensitivity(problem, rtol=1e-7)
+        t = np.asarray(problem.t)
+        if len(t) > AMPLIFICATION_TIMES:  # σ sampled at fewer times: the dense output's stages in fewer steps
+            t = np.unique(np.concatenate([t[::-(-len(t) // AMPLIFICATION_TIMES)], t[-1:]]))
+            problem = dataclasses.replace(problem, t=t)
+        sigma, _ = sensitivity(problem, rtol=AMPLIFICATION_RTOL)
         return np.max(sigma, axis=1)
 
     def run(self, problem: Problem, *, progress=None) -> Trajectory:
@@ -264,25 +288,28 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
     active = worst(err) > accuracy
     while np.any(active):
         idx = members[active]
+        whole = len(idx) == problem.batch  # every member (one alone): no copies of the trajectory or the problem
         previous = worst(best.error)[idx]
-        current = select(best, idx)
-        sub = problem.select(idx)
+        current = best if whole else select(best, idx)
+        sub = problem if whole else problem.select(idx)
         s_old = setting[idx]
         s_new = _refine(method, s_old, previous, accuracy)
         partner, s_partner, extra = current, s_old, 0
-        far = _ratio(method, s_old, s_new) > PAIR_SPAN
+        far = _ratio(method, s_old, s_new) > np.where(_near(method, s_new), ROUNDOFF_SPAN, PAIR_SPAN)
         if method.adaptive and np.any(far):  # a pair 10× apart: one more run, 10× looser than the new one
             s_partner = np.where(far, 10.0 * s_new, s_old)
             where = np.flatnonzero(far)
-            extra_run = method.attempt(sub.select(where), s_partner[where])
-            partner = splice(current, where, extra_run)
+            every = len(where) == len(idx)
+            extra_run = method.attempt(sub if every else sub.select(where), s_partner[where])
+            partner = extra_run if every else splice(current, where, extra_run)
             extra = int(extra_run.n_rhs_calls)
         fresh = method.attempt(sub, s_new)
         runs[idx] += 1
         e_new = estimate(deviation(partner, fresh, vertical=vertical), _ratio(method, s_partner, s_new),
                          tight=_near(method, s_new))
         fresh = dataclasses.replace(fresh, error=e_new, n_rhs_calls=int(fresh.n_rhs_calls) + extra)
-        best = splice(best, idx, fresh)
+        best = (dataclasses.replace(fresh, n_rhs_calls=int(best.n_rhs_calls) + int(fresh.n_rhs_calls)) if whole
+                else splice(best, idx, fresh))
         setting[idx] = s_new
         w_new = worst(e_new)
         # stalled: the estimate no longer falls where round-off can explain it (a fixed step; an adaptive method near

@@ -137,19 +137,31 @@ class OwnDOP853(Integrator):
         return Explanation(engine=f"integrate: DOP853 on {system}",
                            steps=(("integrate", what, why),), kernels=kernels, runner="dop853")
 
+    _inputs = (None, None)  # (the problem, its system's arrays): the control's runs share one problem
+
     def attempt(self, problem: Problem, setting) -> object:
         from eulersym.numerics.methods import _dop853
-        from eulersym.numerics.methods._systems import system
 
-        s = system(problem)
+        s, y0, params = self._prepared(problem)
         rtol = np.asarray(setting, dtype=float)
-        run = _dop853.integrate(s.module, s.y0.T, problem.t, s.flat_params(), rtol=rtol, atol=rtol * ATOL_RATIO,
+        run = _dop853.integrate(s.module, y0, problem.t, params, rtol=rtol, atol=rtol * ATOL_RATIO,
                                 max_steps=MAX_STEPS)
         _failed(self.name, problem, run, _state_names(problem, s.layout))
         traj = s.trajectory(problem.t, np.transpose(run.y, (1, 2, 0)), int(run.calls.sum()), self.name)
         import dataclasses
 
         return dataclasses.replace(traj, message="DOP853 (eulersym's, compiled)")
+
+    def _prepared(self, problem: Problem) -> tuple:
+        """(system, y0 (batch, n), parameters (batch, k)) of ``problem``, made once for the control's runs of it."""
+        from eulersym.numerics.methods._systems import system
+
+        last, inputs = self._inputs  # one tuple, read at once: another thread's problem is never taken for this one
+        if last is not problem:
+            s = system(problem)
+            inputs = (s, np.ascontiguousarray(s.y0.T), s.flat_params())
+            self._inputs = (problem, inputs)
+        return inputs
 
 
 class BatchedDOP853(Integrator):

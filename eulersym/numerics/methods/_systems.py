@@ -59,9 +59,10 @@ class System:
     def flat_params(self) -> np.ndarray:
         """The parameters as one row per member (batch, k), as ``rhs_flat`` takes them after the state."""
         batch = self.y0.shape[1]
-        if not self.params:
-            return np.zeros((batch, 0))
-        return np.stack([np.broadcast_to(np.asarray(p, dtype=float), (batch,)) for p in self.params], axis=1)
+        out = np.empty((batch, len(self.params)))
+        for k, p in enumerate(self.params):  # a column each (scalars broadcast): no stack of broadcast views
+            out[:, k] = p
+        return out
 
     def trajectory(self, t: np.ndarray, Y: np.ndarray, n_calls: int, method: str = "") -> Trajectory:
         """A batch-first :class:`Trajectory` at times ``t`` from the integrated states ``Y`` (n_times, n_state,
