@@ -5,7 +5,6 @@ bench's), and the scene's achieved error is within what it asked."""
 
 from __future__ import annotations
 
-import importlib.util
 import re
 
 import numpy as np
@@ -39,8 +38,6 @@ def test_the_bench_runs_and_words_its_floor(capsys):
     out = capsys.readouterr().out
     achieved = float(re.search(r"accuracy 1e-09: eulersym .* achieved ([0-9.e+-]+), estimated", out).group(1))
     assert 0 < achieved <= 1e-9  # the scene delivers its accuracy against the 38-digit truth
-    if all(importlib.util.find_spec(m) for m in ("pydy", "Cython")):
-        assert "PyDy Cython + solve_ivp DOP853 at rtol" in out
-        assert "eulersym's scene vs PyDy's Cython rhs in solve_ivp at the same achieved error:" in out
-    else:  # CI installs [test], not [bench]: the row says why
-        assert "is not installed (`pip install eulersym[bench]`)" in out
+    # the test extra installs PyDy and Cython (CI runs this row, not its "not installed" note)
+    assert "PyDy Cython + solve_ivp DOP853 at rtol" in out
+    assert "eulersym's scene vs PyDy's Cython rhs in solve_ivp at the same achieved error:" in out

@@ -207,4 +207,4 @@ def test_bench_models_quick_runs_end_to_end(capsys):
     assert main(["--quick"]) in (0, 1)
     out = capsys.readouterr().out
     assert "beyond SymPy" in out and "hand-written vectorised NumPy" in out and "DISAGREES" not in out
-    assert "PyDy lambdify" in out or "pydy is not installed" in out
+    assert "PyDy lambdify" in out  # the test extra installs PyDy: CI runs the peer's row
