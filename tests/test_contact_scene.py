@@ -51,9 +51,9 @@ def test_the_euler_disk_scene_rolls_in_place_and_writes_its_trace_and_normal_for
     assert main(["simulate", "euler-disk", "-o", str(out)]) == 0
     text = capsys.readouterr().out
     assert "integrate: DOP853" in text and "Newton–Euler" in text and "lift-off" in text
-    data = np.load(out)
-    assert np.allclose(data["normal"], 0.4 * 9.81, rtol=1e-9)  # N = M g: Moffatt's steady rolling in place
-    assert np.allclose(np.hypot(*data["trace"].T), 0.0375 * np.cos(0.3), rtol=1e-9)
+    data = np.load(out)  # the contact outputs are the run's quantities: one column each
+    assert np.allclose(data["quantity_N"], 0.4 * 9.81, rtol=1e-9)  # N = M g: Moffatt's steady rolling in place
+    assert np.allclose(np.hypot(data["quantity_x_P"], data["quantity_y_P"]), 0.0375 * np.cos(0.3), rtol=1e-9)
 
 
 def test_the_kapitza_scene_stays_upright(capsys):
@@ -172,10 +172,10 @@ def test_a_swept_parameter_runs_each_member_on_one_cached_kernel(tmp_path, capsy
     out = tmp_path / "sweep.npz"
     assert main(["simulate", path, "-o", str(out)]) == 0
     data = np.load(out)
-    assert data["state"].shape == (3, 11, 12) and np.allclose(data["sweep_a"], [0.05, 0.1, 0.2])
-    x = data["state"][:, -1, list(data["names"]).index("x_cm")]
+    assert data["omega"].shape == (3, 11, 3) and np.allclose(data["sweep_parameters.a"], [0.05, 0.1, 0.2])
+    x = data["quantity_x_cm"][:, -1]
     assert np.allclose(x, np.array([0.05, 0.1, 0.2]) * 10 * 1.0, atol=1e-9)
-    assert capsys.readouterr().out.count("member a = ") == 3
+    assert "sweep of 3 members" in capsys.readouterr().out
 
 
 @pytest.mark.parametrize("value, key", [("[]", "parameters.a"), ('[0.1, "x"]', "parameters.a"),
@@ -203,6 +203,6 @@ def test_simulate_list_names_every_contact_scene_and_each_name_runs(capsys):
     text = capsys.readouterr().out
     for name, (description, path) in contact_scene.listing().items():
         assert f"  {name:<22} {description}\n" in text and path in text and description
-        assert name not in scene_files()  # one meaning per name: no other bundled scene is called the same
+        assert scene_files()[name] == path and text.count(f"  {name} ") == 1  # in the one catalogue, once
     assert main(["simulate", "tippe-top", "--explain"]) == 0
     assert "tippe-top" in capsys.readouterr().out

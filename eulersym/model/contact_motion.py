@@ -49,6 +49,8 @@ class LiftOff(EulersymError):
         The state there, in the kernel's ``STATE`` order.
     names : tuple of str
         ``STATE``.
+    members : str or None
+        In a sweep: the members that left the plane, each with its time (the first's is ``t``).
 
     Examples
     --------
@@ -57,15 +59,17 @@ class LiftOff(EulersymError):
     the body left the plane at t = 0.25: its normal force fell to 0 (lift-off); the contact equations hold only while it touches — eulersym models no flight and no impact
     """
 
-    def __init__(self, t, state, names=()):
+    def __init__(self, t, state, names=(), members=None):
         self.t = float(t)
         self.state = np.asarray(state, dtype=float)
         self.names = tuple(names)
-        super().__init__(f"the body left the plane at t = {self.t:.10g}: its normal force fell to 0 (lift-off); the "
+        self.members = members
+        where = f"{members}: the first" if members else "the body"
+        super().__init__(f"{where} left the plane at t = {self.t:.10g}: its normal force fell to 0 (lift-off); the "
                          "contact equations hold only while it touches — eulersym models no flight and no impact")
 
     def __reduce__(self):
-        return (type(self), (self.t, self.state, self.names))
+        return (type(self), (self.t, self.state, self.names, self.members))
 
 
 @dataclass(frozen=True)

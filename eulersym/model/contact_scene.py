@@ -182,7 +182,7 @@ def read_pivot_path(value) -> tuple:
     return tuple(_entry(f"pivot.path[{k}]", x) for k, x in enumerate(value))
 
 
-def _expression(key: str, value, mech):
+def expression(key: str, value, mech):
     """A checked entry as SymPy: numbers exact, formulas read by the whitelist parser in the parameters' names."""
     import sympy as sp
 
@@ -202,11 +202,11 @@ def contact(table: dict, mech):
         value = table.get(key)
         if value is None:
             return None
-        if isinstance(value, tuple):
-            if value and isinstance(value[0], tuple):
-                return [[_expression(f"contact.{key}", x, mech) for x in row] for row in value]
-            return tuple(_expression(f"contact.{key}[{k}]", x, mech) for k, x in enumerate(value))
-        return _expression(f"contact.{key}", value, mech)
+        if isinstance(value, (tuple, list)):
+            if value and isinstance(value[0], (tuple, list)):
+                return [[expression(f"contact.{key}", x, mech) for x in row] for row in value]
+            return tuple(expression(f"contact.{key}[{k}]", x, mech) for k, x in enumerate(value))
+        return expression(f"contact.{key}", value, mech)
 
     shape = surface(table["surface"], radius=get("radius"), semi_axes=get("semi_axes"),
                     curvatures=get("curvatures"), centre=get("centre") or (0, 0, 0), axes=get("axes"))
@@ -341,12 +341,12 @@ def load(path_or_name) -> ContactScene:
     if table is not None:
         from eulersym.model.rolling import BodyOnPlane
 
-        body = BodyOnPlane(mech, contact(table, mech), gravity=_expression("contact.g", table["g"], mech))
+        body = BodyOnPlane(mech, contact(table, mech), gravity=expression("contact.g", table["g"], mech))
         kind = "contact"
     else:
         from eulersym.model.moving_pivot import moving_pivot
 
-        body = moving_pivot(mech, [_expression(f"pivot.path[{k}]", x, mech) if not isinstance(x, str) else x
+        body = moving_pivot(mech, [expression(f"pivot.path[{k}]", x, mech) if not isinstance(x, str) else x
                                    for k, x in enumerate(path)])
         kind = "pivot-path"
     import sympy as sp
