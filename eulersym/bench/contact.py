@@ -57,14 +57,13 @@ os.environ["EULERSYM_CACHE"] = tempfile.mkdtemp()
 t0 = time.perf_counter()
 import sympy
 t1, c1 = time.perf_counter(), time.process_time()
-from eulersym.model.contact_scene import load
-from eulersym.model.rolling import check
-from eulersym.model.rolling_integrals import invariants
+from eulersym.model import Model
 from eulersym.model.rolling_kernels import source
-scene = load("tippe-top")
-report = check(scene.body)
-proven = {n: bool(v.conserved) for n, v in invariants(scene.body).items()}
-text = source(scene.body)
+from eulersym.scene import bundled
+model = Model.from_toml(bundled()["tippe-top"])
+report = model.check()
+proven = {n: bool(v.conserved) for n, v in model.invariants().items()}
+text = source(model.body_on_plane)
 t2, c2 = time.perf_counter(), time.process_time()
 print(json.dumps({"sympy": t1 - t0, "work": t2 - t1, "cpu": c2 - c1, "ok": bool(report.ok), "proven": proven,
                   "lines": text.count(chr(10))}))
@@ -120,6 +119,20 @@ def _states(n: int, seed: int = 20261126) -> np.ndarray:
     return np.concatenate([w, G, q, rng.normal(size=(2, n)), rng.normal(size=(2, n)) * 0.1])
 
 
+def _bundled(name: str) -> str:
+    from eulersym.scene import bundled
+
+    return bundled()[name]
+
+
+def _kernel(path: str):
+    """The model kernel of the model in ``path``, from the kernel cache (derived and stored on a miss)."""
+    from eulersym.model import Model
+    from eulersym.scene import model_kernel
+
+    return model_kernel.ensure(Model.from_toml(path), [])[0]
+
+
 def _cold() -> dict:
     proc = subprocess.run([sys.executable, "-c", _COLD], capture_output=True, text=True, timeout=600)
     if proc.returncode != 0:
@@ -128,9 +141,7 @@ def _cold() -> dict:
 
 
 def _kernel_vs_hand(n: int, repeat: int) -> tuple:
-    from eulersym.model.contact_scene import kernel, load
-
-    module = kernel(load("tippe-top"))
+    module = _kernel(_bundled("tippe-top"))
     params = tuple(module.DEFAULTS)
     y = _states(n)
     ours = module.rhs_batched(0.0, y, *params)
@@ -270,16 +281,16 @@ def _against_kane(quick: bool = False) -> tuple:
     from scipy.integrate import solve_ivp
 
     from eulersym.model.contact_motion import integrate
-    from eulersym.model.contact_scene import FOLDER, kernel, load
 
-    text = (FOLDER / "tippe-top.toml").read_text()
+    with open(_bundled("tippe-top"), encoding="utf-8") as f:
+        text = f.read()
     text = text.replace('friction = "coulomb"', 'friction = "viscous"').replace('width = "eps"\n', "")
     text = text.replace("mu = 0.3 ", "mu = 1.2 ").replace("eps = 0.05 ", "# eps = 0.05 ")
     with tempfile.TemporaryDirectory() as folder:
         path = os.path.join(folder, "tippe-top-viscous.toml")
         with open(path, "w") as f:
             f.write(text)
-        module = kernel(load(path))
+        module = _kernel(path)
     params = tuple(module.DEFAULTS)
     if dict(zip(module.PARAMETERS, params)) != {k: v for k, v in _VISCOUS.items() if k != "g"}:
         raise RuntimeError(f"the viscous tippe top's parameters are {dict(zip(module.PARAMETERS, params))}")

@@ -14,9 +14,9 @@ Every method that integrates is an :class:`Integrator`: it delivers the accuracy
 error, and its trajectory carries the estimate (``Trajectory.error``; :mod:`~eulersym.numerics.methods._accuracy`).
 
 =========================  ==========================================================================================
-``contact_dop853``         a body on a plane: compiled DOP853 on its contact kernel, lift-off an error at its time
 ``free_body_exact``        the torque-free body in closed form (Jacobi's elliptic functions; trigonometric if symmetric)
 ``heavy_top_exact``        Lagrange's top in closed form (every member in one call)
+``contact_dop853``         a body on a plane: compiled DOP853 on its contact kernel, lift-off an error at its time
 ``free_body_splitting``    the free body's 4th-order Moser–Veselov splitting (asked for, one member)
 ``batched_splitting``      a pivoted body's exact-flow splitting over members, a step each (asked for)
 ``compiled_dop853``        DOP853 compiled by numba, a heavy top per member (sweeps, numba installed)
@@ -105,9 +105,9 @@ __all__ = [
 
 #: Every method, in order of preference: name → the method.
 METHODS = {m.name: m for m in (
-    ContactDOP853(),
     FreeBodyClosedForm(),
     LagrangeTopClosedForm(),
+    ContactDOP853(),
     FreeBodySplitting(),
     PivotedSplitting(),
     CompiledDOP853(),

@@ -4,9 +4,9 @@ watched for lift-off.
 The kernel is the one :mod:`eulersym.model.rolling_kernels` emits for a :class:`~eulersym.model.Model` with
 ``[contact]`` (cached by the model's digest like every model kernel; ``problem.model``). Each member starts from its
 checked state (:func:`eulersym.model.contact_motion.start`: it touches the plane, presses on it, and a rolling body
-does not slip) and runs on :func:`eulersym.numerics.methods._dop853.integrate`, the normal force sampled at least as
-often as the integrator steps and a lift-off located by Brent's method (:func:`eulersym.model.contact_motion.
-integrate`). A member that leaves the plane stops the whole run with :class:`eulersym.model.contact_motion.LiftOff`
+does not slip); the members run at once on :func:`eulersym.numerics.methods._dop853.integrate` (each its own step,
+over the cores), the normal force sampled at least as often as the integrator steps and a lift-off located by Brent's
+method (:func:`eulersym.model.contact_motion.integrate_members`). A member that leaves the plane stops the whole run with :class:`eulersym.model.contact_motion.LiftOff`
 naming every such member and its time — nothing is returned for the others, so nothing half-done is written.
 
 The global error is estimated as for every integrator (:mod:`~eulersym.numerics.methods._accuracy`): the members run at
@@ -96,37 +96,44 @@ class ContactDOP853(Method):
                                            "from the run before it, 10× or more looser)")
 
     def _attempt(self, problem: Problem, rtol: np.ndarray, progress) -> Trajectory:
-        from eulersym.model.contact_motion import LiftOff, integrate, start
+        from eulersym.model.contact_motion import LiftOff, integrate, integrate_members, start
 
         kernel = problem.model
         module = kernel.module
         position = problem.extras.get("position")
         velocity = problem.extras.get("velocity")
         t = problem.t
-        Y, calls, lifted = [], 0, []
-        for b in range(problem.batch):
-            params = tuple(float(np.asarray(p)[b]) for p in kernel.params)
-            tol = float(rtol[b])
-            y0 = start(module, omega=problem.omega0[b], q=problem.q0[b],
-                       position=(0.0, 0.0) if position is None else position[b],
-                       velocity=None if velocity is None else velocity[b], params=params)
-            try:
-                motion = integrate(module, y0, t, params=params, rtol=tol, atol=tol * 1e-2)
-            except LiftOff as exc:
-                lifted.append((b, exc))
-                continue
-            Y.append(motion.y.T)
-            calls += motion.nfev
-            if progress is not None:
-                progress((b + 1) / problem.batch)
+        params = np.stack([np.broadcast_to(np.asarray(p, dtype=float), (problem.batch,)) for p in kernel.params],
+                          axis=1) if kernel.params else np.zeros((problem.batch, 0))
+        y0 = np.stack([start(module, omega=problem.omega0[b], q=problem.q0[b],
+                             position=(0.0, 0.0) if position is None else position[b],
+                             velocity=None if velocity is None else velocity[b], params=tuple(params[b]))
+                       for b in range(problem.batch)])
+        if numba_available():  # every member at once, each its own step, over the cores
+            Y, calls, lifted = integrate_members(module, y0, t, params, rtol=rtol, atol=rtol * 1e-2)
+            state = np.moveaxis(Y, 2, 1)  # (batch, n_state, n)
+            calls = int(np.sum(calls))
+        else:  # solve_ivp with the kernel's lift-off event, member by member
+            rows, calls, lifted = [], 0, []
+            for b in range(problem.batch):
+                try:
+                    motion = integrate(module, y0[b], t, params=tuple(params[b]), rtol=float(rtol[b]),
+                                       atol=float(rtol[b]) * 1e-2, compiled=False)
+                except LiftOff as exc:
+                    lifted.append((b, exc))
+                    continue
+                rows.append(motion.y.T)
+                calls += motion.nfev
+            state = np.stack(rows) if not lifted else None
         if lifted:
             raise _lift_off(problem, lifted)
-        state = np.stack(Y)  # (batch, n_state, n)
+        if progress is not None:
+            progress(1.0)
         omega = np.moveaxis(state[:, 0:3], 1, 2)
         gamma = np.moveaxis(state[:, 3:6], 1, 2)
         q = np.moveaxis(state[:, 6:10], 1, 2)
-        return Trajectory(t=t, omega=omega, q=q, gamma=gamma, state=state, n_rhs_calls=int(calls),
-                          method=self.name)
+        return Trajectory(t=t, omega=omega, q=q, gamma=gamma, state=np.ascontiguousarray(state),
+                          n_rhs_calls=int(calls), method=self.name)
 
 
 def _lift_off(problem: Problem, lifted: list):
