@@ -101,3 +101,34 @@ def test_a_position_without_a_contact_is_refused_by_its_key():
     with pytest.raises(InvalidInput) as info:
         Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1, position=(0, 0))
     assert info.value.argument == "position"
+
+
+def test_a_200_member_tippe_top_spin_sweep_equals_200_single_runs_and_inverts_above_the_threshold():
+    """Rauch-Wojciechowski & Rutstam's threshold λ_thres = √(m g R³ I3 α)(1+α)²/√(1+α−γ) on Jellett's λ (∝ the spin
+    at one start): 200 spins from 0.5 to 1.7 λ_thres in one sweep; each member equals its own single run to the
+    accuracy asked; within 5 s none below 0.8 λ_thres reaches its stem, all above 1.25 do, and the inverted members
+    are those above one spin (a single switch)."""
+    from eulersym.model.contact_motion import start
+    from eulersym.scene import model_kernel
+
+    model = Model.from_toml(bundled()["tippe-top"])
+    module = model_kernel.ensure(model, [])[0]
+    p = dict(zip(module.PARAMETERS, module.DEFAULTS))
+    M, R, alpha, I3, gamma = p["M"], p["R"], p["alpha"], p["I3"], p["gamma_ratio"]
+    threshold = np.sqrt(M * 9.81 * R ** 3 * I3 * alpha) * (1 + alpha) ** 2 / np.sqrt(1 + alpha - gamma)
+    q = (np.cos(0.05), np.sin(0.05), 0.0, 0.0)  # 0.1 rad about x, as the scene starts
+    jellett = module.invariants(0.0, start(module, omega=(0, 0, 1.0), q=q), *module.DEFAULTS)
+    spin = threshold / abs(jellett[module.INVARIANTS.index("Jellett")])  # the spin at λ_thres
+    factors = np.linspace(0.5, 1.7, 200)
+    settings = dict(model=model, axis=(1, 0, 0), angle=0.1, t_end=5.0, points=26, accuracy=1e-6)
+    sweep = simulate(Scene(omega=(0, 0, {"start": 0.5 * spin, "stop": 1.7 * spin, "num": 200}), **settings))
+    assert sweep.plan.batch == 200 and sweep.plan.options["engine"] == "contact_dop853"
+    for b, factor in enumerate(factors):
+        single = simulate(Scene(omega=(0, 0, float(factor * spin)), **settings))
+        scale = np.max(np.abs(single.omega))
+        assert np.max(np.abs(sweep.omega[b] - single.omega)) <= 1e-6 * scale
+        assert np.max(np.abs(sweep.gamma[b] - single.gamma)) <= 1e-6
+    on_stem = np.all(sweep.gamma[:, -5:, 2] < -0.99, axis=1)
+    assert not on_stem[factors < 0.8].any() and on_stem[factors > 1.25].all()
+    switch = int(np.argmax(on_stem))
+    assert on_stem[switch:].all() and not on_stem[:switch].any()  # one switch, between 0.8 and 1.25 λ_thres

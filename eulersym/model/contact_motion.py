@@ -297,14 +297,14 @@ def _finish(kernel, t, y, params, nfev) -> ContactMotion:
     return ContactMotion(t, y, tuple(kernel.STATE), contact, invariants, int(nfev))
 
 
-def integrate_members(kernel, y0, t_eval, params, *, rtol, atol) -> tuple:
+def integrate_members(kernel, y0, t_eval, params, *, rtol, atol, steps=None) -> tuple:
     """Every member of a contact kernel at once on eulersym's compiled DOP853 (each member its own step, the members
     over the cores), lift-off caught per member (arguments checked by the caller).
 
-    One run over ``t_eval`` gives the motions and each member's number of accepted steps; where the steps outnumber
-    the output intervals it is run again with each interval cut into ``ceil(steps / intervals)`` equal parts (the
-    largest member's count, shared) — the same steps (dense output changes no step), so the same motion at
-    ``t_eval`` — and the normal force is evaluated at every sample. At a member's first sample where ``N ≤ 0`` the
+    One run over ``t_eval`` (cut for ``steps`` when given) gives the motions and each member's number of accepted
+    steps; where the steps outnumber the samples it is run again with each interval cut into
+    ``ceil(steps / intervals)`` equal parts (the largest member's count, shared) — the same steps (dense output
+    changes no step), so the same motion at ``t_eval`` — and the normal force is evaluated at every sample. At a member's first sample where ``N ≤ 0`` the
     lift-off time is located between it and the sample before by :func:`scipy.optimize.brentq` on ``N(s)``, the
     state at ``s`` integrated from that earlier sample (to the solver's own tolerance, ``4 ε``, as solve_ivp's
     event). A dip of ``N`` below 0 and back inside one sample interval (shorter than a step, on average) is not
@@ -319,12 +319,16 @@ def integrate_members(kernel, y0, t_eval, params, *, rtol, atol) -> tuple:
     t_eval : ndarray (m,)
     params : ndarray (batch, k)
     rtol, atol : ndarray (batch,)
+    steps : int, optional
+        The accepted steps the members are expected to take at most (a run at a nearby tolerance): the samples are
+        then cut for that many at once, in one run — and the run is made again finer only if a member took more.
 
     Returns
     -------
     tuple
-        ``(y, calls, lifted)``: the states at ``t_eval`` (batch, m, n) (a member that lifted off: unspecified), the
-        right-hand-side evaluations per member, and ``[(member, LiftOff), ...]``.
+        ``(y, calls, lifted, steps)``: the states at ``t_eval`` (batch, m, n) (a member that lifted off:
+        unspecified), the right-hand-side evaluations per member, ``[(member, LiftOff), ...]``, and the accepted
+        steps per member.
 
     Raises
     ------
@@ -338,15 +342,26 @@ def integrate_members(kernel, y0, t_eval, params, *, rtol, atol) -> tuple:
     rtol = np.broadcast_to(np.asarray(rtol, dtype=float), (len(y0),))
     atol = np.broadcast_to(np.asarray(atol, dtype=float), (len(y0),))
     batch, intervals = len(y0), t_eval.size - 1
-    first = _dop853.integrate(kernel, y0, t_eval, params, rtol=rtol, atol=atol, parallel=batch > 1)
-    most = int(np.max(first.steps)) if batch else 0
-    sub = min(int(-(-most // intervals)), max(1, MAX_SAMPLES // max(1, intervals * batch))) if intervals else 1
-    grid, run = t_eval, first
-    if sub > 1:
+    cap = max(1, MAX_SAMPLES // max(1, intervals * batch))
+
+    def cut(most):  # output intervals cut into equal parts, at least as many as the steps (within the cap)
+        return min(int(-(-int(most) // intervals)), cap) if intervals else 1
+
+    def sampled(sub):
+        if sub <= 1:
+            return t_eval
         cuts = t_eval[:-1, None] + np.diff(t_eval)[:, None] * (np.arange(sub) / sub)  # [:, 0] is t_eval exactly
-        grid = np.concatenate([cuts.ravel(), t_eval[-1:]])
-        run = _dop853.integrate(kernel, y0, grid, params, rtol=rtol, atol=atol, parallel=batch > 1)
-    calls = first.calls + (run.calls if sub > 1 else 0)
+        return np.concatenate([cuts.ravel(), t_eval[-1:]])
+
+    sub = cut(steps) if steps is not None else 1
+    run = _dop853.integrate(kernel, y0, sampled(sub), params, rtol=rtol, atol=atol, parallel=batch > 1)
+    calls = run.calls
+    need = cut(np.max(run.steps)) if batch else 1
+    if need > sub:  # a member stepped more often than it was sampled: again, as finely as it steps
+        sub = need
+        run = _dop853.integrate(kernel, y0, sampled(sub), params, rtol=rtol, atol=atol, parallel=batch > 1)
+        calls = calls + run.calls
+    grid = sampled(sub)
     ok = run.status == _dop853.OK
     written = np.where(ok, grid.size, np.searchsorted(grid, run.reached, side="right"))
     n, G = y0.shape[1], grid.size
@@ -368,12 +383,12 @@ def integrate_members(kernel, y0, t_eval, params, *, rtol, atol) -> tuple:
                                   + (f" (member {b})" if batch > 1 else "") + f": {_dop853.STATUS[int(run.status[b])]}")
         except LiftOff as exc:
             lifted.append((b, exc))
-    return run.y[:, ::sub], calls, lifted
+    return run.y[:, ::sub], calls, lifted, run.steps
 
 
 def _compiled_run(kernel, y0, t_eval, params, rtol, atol) -> ContactMotion:
     """:func:`integrate` on eulersym's compiled DOP853 (:func:`integrate_members` with one member)."""
-    y, calls, lifted = integrate_members(kernel, [y0], t_eval, [params], rtol=rtol, atol=atol)
+    y, calls, lifted, _ = integrate_members(kernel, [y0], t_eval, [params], rtol=rtol, atol=atol)
     if lifted:
         raise lifted[0][1]
     return _finish(kernel, t_eval, y[0], params, int(calls[0]))
