@@ -124,6 +124,10 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
                           threads=cost.threads(plan) if client is None else 1)
         timings["motion"] += time.perf_counter() - clock
         clock = time.perf_counter()
+        if plan.regime == "contact" and "state_quantities" not in out:
+            out["notes"].append("the contact outputs (contact point, normal force, slip, height) are kept only when "
+                                "the sweep runs in one pass: this run streamed its members in chunks (a summary, "
+                                "Dask, or more members than one chunk holds)")
     else:
         out = outputs(problem, plan, traj, bound=bound, turning=turning, tensor_given=tensor_given)
         if len(singular):

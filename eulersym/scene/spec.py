@@ -178,6 +178,11 @@ class Scene:
         angles ``euler``; converted to body ω by the derived kinematics (the committed kernel
         ``eulersym.generated.kinematics`` for 'zxz', the same composition of elementary rotations for the other
         sequences), numerically, without SymPy.
+    position, velocity : 2 or 3 numbers, optional
+        A body on a plane (a model with ``[contact]``; ``[initial] position``/``velocity`` in a file): its centre of
+        mass's start in space, ``(x, y)`` (default the origin; ``(x, y, z)``: z must be the height at which it
+        touches), and, sliding, its velocity ``(v_x, v_y)`` (default 0; rolling, it is fixed by ω and must equal
+        it if given). Checked when the run starts: it touches the plane, presses on it (N > 0), and does not slip.
     t_end : number
         End time (> 0); outputs at ``points`` evenly spaced times from 0 to t_end (default 1001).
     outputs : sequence of str
