@@ -369,7 +369,7 @@ def _against_kane(quick: bool = False) -> tuple:
     times = np.linspace(0.0, end, 1 + int(round(100 * end)))
 
     def scene_path(compiled):
-        def run(rtol):  # eulersym simulate's path for a contact scene (contact_scene.run), on the same kernel
+        def run(rtol):  # the engine of eulersym simulate's path for a contact scene, on the same kernel
             return integrate(module, y0, times, params=params, rtol=rtol, atol=rtol * 1e-2, compiled=compiled).y[-1]
         return run
 
