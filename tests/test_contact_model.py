@@ -132,3 +132,20 @@ def test_a_200_member_tippe_top_spin_sweep_equals_200_single_runs_and_inverts_ab
     assert not on_stem[factors < 0.8].any() and on_stem[factors > 1.25].all()
     switch = int(np.argmax(on_stem))
     assert on_stem[switch:].all() and not on_stem[:switch].any()  # one switch, between 0.8 and 1.25 λ_thres
+
+
+def test_the_contact_trace_is_the_figure_chosen_for_a_body_on_a_plane_and_draws_the_runs_quantities(tmp_path):
+    pytest.importorskip("matplotlib")
+    from eulersym.figures import fitting, plot
+    from eulersym.figures.contact_trace import figure
+
+    run = simulate(Scene(model=Model(**SPHERE), omega=(0, 10, 0), t_end=1, points=11))
+    assert fitting(run) == ["panels", "contact-trace"]
+    fig = figure(run)
+    above, force = fig.axes[:2]
+    x_P, y_P = above.get_lines()[0].get_data()
+    assert np.array_equal(x_P, run.quantities["x_P"]) and np.array_equal(y_P, run.quantities["y_P"])
+    assert np.allclose(force.get_lines()[0].get_ydata(), 9.81)  # N = M g: a sphere rolling on a straight line
+    paths = plot(run, str(tmp_path / "ball.png"))
+    assert [p.rsplit("/", 1)[1] for p in paths] == ["ball.png", "ball.contact-trace.png"]
+    assert open(paths[1], "rb").read(4) == b"\x89PNG"
