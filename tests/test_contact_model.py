@@ -149,3 +149,29 @@ def test_the_contact_trace_is_the_figure_chosen_for_a_body_on_a_plane_and_draws_
     paths = plot(run, str(tmp_path / "ball.png"))
     assert [p.rsplit("/", 1)[1] for p in paths] == ["ball.png", "ball.contact-trace.png"]
     assert open(paths[1], "rb").read(4) == b"\x89PNG"
+
+
+@pytest.mark.parametrize("argv", [
+    ["derive", "--model", "{path}"],
+    ["verify", "--model", "{path}", "--integral", "dot(omega, inertia*omega)"],
+    ["generate", "--model", "{path}", "--dir", "{dir}"],
+    ["generate", "--model", "{path}", "--target", "c", "--dir", "{dir}"],
+])
+def test_the_free_body_commands_refuse_a_body_on_a_plane_by_its_key(argv, tmp_path, capsys):
+    """derive/verify/generate --model derive the free or pivoted body's equations: on a contact body they would
+    answer for another body (the Chaplygin ball's ω·Iω is not conserved while it rolls) — refused, exit 2."""
+    path = bundled()["chaplygin-ball"]
+    assert main([a.format(path=path, dir=tmp_path) for a in argv]) == 2
+    err = capsys.readouterr().err
+    assert "--model='chaplygin-ball'" in err and "[contact]" in err and "Traceback" not in err
+    assert not any(tmp_path.iterdir())
+    assert not Model.from_toml(path).prove("dot(omega, inertia*omega)").conserved  # the model itself answers right
+
+
+def test_a_contact_model_answers_for_its_own_body_or_refuses_by_name():
+    model = Model(**SPHERE)
+    assert [s.name for s in model.equations().state] == list(model.compile().STATE)  # Newton–Euler with the contact
+    for call in (model.lagrangian, model.steady_motions):
+        with pytest.raises(InvalidInput) as info:
+            call()
+        assert info.value.argument == "model" and "[contact]" in str(info.value)

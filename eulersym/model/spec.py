@@ -1073,6 +1073,10 @@ class Model:
         >>> eqs.omega_dot[2]
         1/4
         """
+        if self.body_on_plane is not None:  # the contact force a multiplier (eulersym.model.rolling)
+            from eulersym.model import rolling
+
+            return rolling.newton_euler(self.body_on_plane)
         from eulersym.model import derive
 
         return derive.equations(self.mechanics)
@@ -1087,6 +1091,11 @@ class Model:
         >>> L.diff(phi), L.diff(psi)  # a free symmetric body: precession and spin angles are cyclic
         (0, 0)
         """
+        if self.contact is not None:
+            raise InvalidInput("model", self.name, "a model without [contact] for a Lagrangian: a body on a plane "
+                               "has none that gives its motion (the contact constraint is nonholonomic, and "
+                               "Lagrange's equations without multipliers would be wrong); its two routes are "
+                               "Newton–Euler with the contact force a multiplier and Gibbs–Appell (model.check())")
         from eulersym.model import derive
 
         return derive.lagrangian(self.mechanics, convention)
@@ -1161,6 +1170,10 @@ class Model:
         >>> [f.name for f in Model(body={"moments": [1, 2, 3]}).steady_motions()]
         ['rotation about e1', 'rotation about e2', 'rotation about e3']
         """
+        if self.contact is not None:  # the free body's search would answer for another body
+            raise InvalidInput("model", self.name, "a model without [contact] for steady_motions() here: the steady "
+                               "motions of a body on a plane come from its own search (eulersym.model.rolling_steady), "
+                               "not yet reached from Model")
         from eulersym.model.steady import steady_motions
 
         return steady_motions(self, **options)
