@@ -9,14 +9,16 @@ import pytest
 
 from eulersym.errors import EulersymError, InvalidInput
 from eulersym.model.contact_motion import LiftOff, integrate, start
-from eulersym.model import contact_scene
-from eulersym.model.contact_scene import _attitude, kernel, load
+from eulersym.scene import Scene, bundled, model_kernel
+
+#: The bundled tippe top's start: 0.1 rad about x (scalar first).
+Q0 = (np.cos(0.05), np.sin(0.05), 0.0, 0.0)
 
 
 @pytest.fixture(scope="module")
 def tippe_top():
-    scene = load("tippe-top")
-    return scene, kernel(scene)
+    scene = Scene.from_toml(bundled()["tippe-top"])
+    return scene, model_kernel.ensure(scene.model, [])[0]
 
 
 def _lift_off(module, y0, times, params, rtol, compiled):
@@ -30,7 +32,7 @@ def test_lift_off_is_found_at_the_time_solve_ivps_event_finds(tippe_top, rtol):
     """150 rad/s with μ = 0.1: the normal force reaches 0 near t = 2.41 s; both engines stop there, with N = 0."""
     scene, module = tippe_top
     params = dict(zip(module.PARAMETERS, module.DEFAULTS), mu=0.1)
-    y0 = start(module, omega=(0.0, 0.0, 150.0), q=_attitude(scene.initial), params=params)
+    y0 = start(module, omega=(0.0, 0.0, 150.0), q=Q0, params=params)
     times = np.linspace(0.0, 6.0, 601)
     ours = _lift_off(module, y0, times, params, rtol, True)
     theirs = _lift_off(module, y0, times, params, rtol, False)
@@ -47,8 +49,8 @@ def test_the_inversion_agrees_with_solve_ivp_and_with_a_tight_reference(tippe_to
     """The bundled tippe top (100 rad/s, 6 s, accuracy 1e-8) turns over; the compiled run matches solve_ivp's and
     both are within the accuracy's reach of a run at rtol 1e-13."""
     scene, module = tippe_top
-    y0 = start(module, omega=scene.initial["omega"], q=_attitude(scene.initial))
-    times = np.linspace(0.0, scene.end, scene.points)
+    y0 = start(module, omega=scene.omega, q=Q0)
+    times = np.linspace(0.0, scene.t_end, scene.points)
     tol = scene.accuracy
     ours = integrate(module, y0, times, rtol=tol, atol=tol * 1e-2, compiled=True)
     theirs = integrate(module, y0, times, rtol=tol, atol=tol * 1e-2, compiled=False)
@@ -64,7 +66,7 @@ def test_the_inversion_agrees_with_solve_ivp_and_with_a_tight_reference(tippe_to
 
 def test_the_compiled_engine_is_refused_where_it_cannot_run(tippe_top):
     scene, module = tippe_top
-    y0 = start(module, omega=scene.initial["omega"], q=_attitude(scene.initial))
+    y0 = start(module, omega=scene.omega, q=Q0)
     with pytest.raises(InvalidInput) as info:
         integrate(module, y0, [0.0, 0.1], method="RK45", compiled=True)
     assert info.value.argument == "compiled" and "max_step" in str(info.value)
@@ -72,7 +74,7 @@ def test_the_compiled_engine_is_refused_where_it_cannot_run(tippe_top):
 
 def test_a_single_output_time_and_a_repeated_one(tippe_top):
     scene, module = tippe_top
-    y0 = start(module, omega=scene.initial["omega"], q=_attitude(scene.initial))
+    y0 = start(module, omega=scene.omega, q=Q0)
     assert integrate(module, y0, [0.0], compiled=True).y.shape == (1, 14)
     motion = integrate(module, y0, [0.0, 0.05, 0.05, 0.1], compiled=True)
     assert np.array_equal(motion.y[1], motion.y[2])
@@ -82,12 +84,13 @@ def test_without_numba_the_engine_is_solve_ivp_with_the_event(tippe_top, monkeyp
     from eulersym.model import contact_motion
 
     scene, module = tippe_top
-    y0 = start(module, omega=scene.initial["omega"], q=_attitude(scene.initial))
+    y0 = start(module, omega=scene.omega, q=Q0)
     fallback = integrate(module, y0, [0.0, 0.1], compiled=False)
     monkeypatch.setattr(contact_motion, "numba_available", lambda: False)
     assert integrate(module, y0, [0.0, 0.1]).nfev == fallback.nfev
-    monkeypatch.setattr("eulersym.numerics.methods._base.numba_available", lambda: False)
-    assert "solve_ivp with the lift-off event" in contact_scene._plan_line(scene)
+    monkeypatch.setattr("eulersym.numerics.methods._contact.numba_available", lambda: False)
+    assert "solve_ivp's DOP853 with the lift-off event" in scene.plan().steps[-3].reason or \
+        any("solve_ivp's DOP853 with the lift-off event" in step.reason for step in scene.plan().steps)
 
 
 def test_the_samples_are_capped_and_change_no_step(tippe_top, monkeypatch):
@@ -97,8 +100,8 @@ def test_the_samples_are_capped_and_change_no_step(tippe_top, monkeypatch):
     from eulersym.model import contact_motion
 
     scene, module = tippe_top
-    y0 = start(module, omega=scene.initial["omega"], q=_attitude(scene.initial))
-    times = np.linspace(0.0, scene.end, scene.points)
+    y0 = start(module, omega=scene.omega, q=Q0)
+    times = np.linspace(0.0, scene.t_end, scene.points)
     fine = integrate(module, y0, times, rtol=1e-8, atol=1e-10, compiled=True)
     monkeypatch.setattr(contact_motion, "MAX_SAMPLES", scene.points)
     coarse = integrate(module, y0, times, rtol=1e-8, atol=1e-10, compiled=True)

@@ -1,5 +1,5 @@
-"""Contact and moving-pivot scene files: bundled ones run through ``eulersym simulate``; bad input is a named
-error, exit 2, no traceback, nothing written."""
+"""Contact and moving-pivot scene files are scenes like any other (``Scene.from_toml``, ``eulersym simulate``): the
+bundled ones run; bad input is a named error, exit 2, no traceback, nothing written."""
 
 from __future__ import annotations
 
@@ -10,8 +10,9 @@ from hypothesis import strategies as st
 
 from eulersym.cli import main
 from eulersym.errors import EulersymError, InvalidInput
-from eulersym.model import contact_scene
+from eulersym.model import Model, contact_scene
 from eulersym.model.contact_motion import LiftOff
+from eulersym.scene import Scene, model_kernel, simulate
 
 SPHERE = """
 name = "ball"
@@ -40,9 +41,13 @@ def _write(tmp_path, text, name="scene.toml"):
     return str(path)
 
 
-def test_every_bundled_contact_scene_loads_and_names_its_kind():
-    kinds = {name: contact_scene.load(name).kind for name in contact_scene.bundled()}
-    assert kinds == {"chaplygin-ball": "contact", "euler-disk": "contact", "kapitza-pendulum": "pivot-path",
+def _load(path):
+    return Scene.from_toml(contact_scene.bundled().get(path, path))
+
+
+def test_every_bundled_contact_scene_loads_and_names_its_regime():
+    kinds = {name: _load(name).regime for name in contact_scene.bundled()}
+    assert kinds == {"chaplygin-ball": "contact", "euler-disk": "contact", "kapitza-pendulum": "model",
                      "rattleback": "contact", "rolling-sphere": "contact", "tippe-top": "contact"}
 
 
@@ -51,34 +56,35 @@ def test_the_euler_disk_scene_rolls_in_place_and_writes_its_trace_and_normal_for
     assert main(["simulate", "euler-disk", "-o", str(out)]) == 0
     text = capsys.readouterr().out
     assert "integrate: DOP853" in text and "Newton–Euler" in text and "lift-off" in text
-    data = np.load(out)
-    assert np.allclose(data["normal"], 0.4 * 9.81, rtol=1e-9)  # N = M g: Moffatt's steady rolling in place
-    assert np.allclose(np.hypot(*data["trace"].T), 0.0375 * np.cos(0.3), rtol=1e-9)
+    data = np.load(out)  # the contact outputs are the run's quantities: one column each
+    assert np.allclose(data["quantity_N"], 0.4 * 9.81, rtol=1e-9)  # N = M g: Moffatt's steady rolling in place
+    assert np.allclose(np.hypot(data["quantity_x_P"], data["quantity_y_P"]), 0.0375 * np.cos(0.3), rtol=1e-9)
 
 
 def test_the_kapitza_scene_stays_upright(capsys):
-    result = contact_scene.run(contact_scene.load("kapitza-pendulum"))
-    gamma3 = result.y[:, result.names.index("gamma3")]
-    assert gamma3.min() >= np.cos(0.2) - 1e-9
+    result = simulate(_load("kapitza-pendulum"))
+    assert result.gamma[:, 2].min() >= np.cos(0.2) - 1e-9
 
 
 def test_the_same_scene_is_taken_from_the_kernel_cache_the_second_time(tmp_path, monkeypatch):
     monkeypatch.setenv("EULERSYM_CACHE", str(tmp_path / "cache"))
-    scene = contact_scene.load("rolling-sphere")
-    first = contact_scene.kernel(scene)
-    assert len(list((tmp_path / "cache" / "models").iterdir())) == 1
-    again = contact_scene.kernel(scene)
-    assert again.STATE == first.STATE and again.__file__ == first.__file__
+    model = Model.from_toml(contact_scene.bundled()["rolling-sphere"])
+    first, path, emitted = model_kernel.ensure(model, [])
+    assert emitted and len(list((tmp_path / "cache" / "models").iterdir())) == 1
+    again, path_again, emitted_again = model_kernel.ensure(Model.from_toml(contact_scene.bundled()["rolling-sphere"]), [])
+    assert not emitted_again and again.STATE == first.STATE and path_again == path
 
 
 def test_lift_off_is_a_named_error_at_its_time(tmp_path, capsys):
     """A tippe top spun at 150 rad/s with μ = 0.1 leaves the plane (its normal force reaches 0) near t = 2.41 s."""
-    text = contact_scene._read("tippe-top")[0]
+    import tomllib
+
+    text = tomllib.loads(open(contact_scene.bundled()["tippe-top"]).read())
     path = _write(tmp_path, open(contact_scene.bundled()["tippe-top"]).read()
                   .replace("mu = 0.3 ", "mu = 0.1 ").replace("omega = [0.0, 0.0, 100.0]", "omega = [0.0, 0.0, 150.0]"))
     assert text["parameters"]["mu"] == 0.3
     with pytest.raises(LiftOff) as info:
-        contact_scene.run(contact_scene.load(path))
+        simulate(_load(path))
     assert 2.3 < info.value.t < 2.5 and isinstance(info.value, EulersymError)
     out = tmp_path / "x.npz"
     assert main(["simulate", path, "-o", str(out)]) == 2
@@ -106,17 +112,17 @@ def test_bad_contact_scenes_name_the_key(tmp_path, contact, omega, initial, key)
         text = text.replace('radius = "a"\n', "")
     path = _write(tmp_path, text)
     if key is None:
-        assert contact_scene.run(contact_scene.load(path)).y.shape == (11, 12)
+        assert simulate(_load(path)).omega.shape == (11, 3)
         return
     with pytest.raises(InvalidInput) as info:
-        contact_scene.run(contact_scene.load(path))
+        simulate(_load(path))
     assert info.value.argument == key
 
 
 def test_a_contact_on_a_pivoted_body_is_refused(tmp_path, capsys):
     path = _write(tmp_path, SPHERE.format(contact="", omega="[0, 1, 0]", initial="") + "[pivot]\nl = 0.1\n")
     with pytest.raises(InvalidInput) as info:
-        contact_scene.load(path)
+        _load(path)
     assert info.value.argument == "contact" and "pivot" in str(info.value)
     assert main(["simulate", path]) == 2
     assert "a pivot both hold the body" in capsys.readouterr().err
@@ -129,7 +135,7 @@ def test_a_start_that_does_not_press_on_the_plane_is_refused(tmp_path):
                   .replace("omega = [0.0, 0.0, 100.0]", "omega = [400.0, 0.0, 0.0]").replace("angle = 0.1",
                                                                                         "angle = 2.5"))
     with pytest.raises(InvalidInput) as info:
-        contact_scene.run(contact_scene.load(path))
+        simulate(_load(path))
     assert info.value.argument == "initial.omega" and "normal force" in str(info.value)
 
 
@@ -144,7 +150,7 @@ def test_a_path_that_is_not_a_function_of_t_alone_is_refused(tmp_path, path, key
                                                                             f"path = {path}")
     scene = _write(tmp_path, text)
     with pytest.raises(InvalidInput) as info:
-        contact_scene.load(scene)
+        _load(scene)
     assert info.value.argument == key
     assert main(["simulate", scene]) == 2
     assert "Traceback" not in capsys.readouterr().err
@@ -167,32 +173,31 @@ def test_a_swept_parameter_runs_each_member_on_one_cached_kernel(tmp_path, capsy
     """Rolling spheres of radii 0.05, 0.1, 0.2 at ω = 10 rad/s: each centre at x = a ω t (v = a ω), one kernel."""
     text = SPHERE.format(contact="", omega="[0, 10, 0]", initial="").replace("a = 0.1", "a = [0.05, 0.1, 0.2]")
     path = _write(tmp_path, text)
-    scene = contact_scene.load(path)
-    assert scene.members == [{"a": 0.05}, {"a": 0.1}, {"a": 0.2}]
+    scene = _load(path)
+    assert scene.batch == 3 and scene.members()["parameters.a"].tolist() == [0.05, 0.1, 0.2]
     out = tmp_path / "sweep.npz"
     assert main(["simulate", path, "-o", str(out)]) == 0
     data = np.load(out)
-    assert data["state"].shape == (3, 11, 12) and np.allclose(data["sweep_a"], [0.05, 0.1, 0.2])
-    x = data["state"][:, -1, list(data["names"]).index("x_cm")]
+    assert data["omega"].shape == (3, 11, 3) and np.allclose(data["sweep_parameters.a"], [0.05, 0.1, 0.2])
+    x = data["quantity_x_cm"][:, -1]
     assert np.allclose(x, np.array([0.05, 0.1, 0.2]) * 10 * 1.0, atol=1e-9)
-    assert capsys.readouterr().out.count("member a = ") == 3
+    assert "sweep of 3 members" in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("value, key", [("[]", "parameters.a"), ('[0.1, "x"]', "parameters.a"),
-                                        ("[0.1, nan]", "parameters.a")])
+@pytest.mark.parametrize("value, key", [("[]", "parameters.a"), ('[0.1, "x"]', "parameters.a[1]"),
+                                        ("[0.1, nan]", "parameters.a[1]")])
 def test_a_bad_sweep_names_the_parameter(tmp_path, value, key):
     path = _write(tmp_path, SPHERE.format(contact="", omega="[0, 10, 0]", initial="").replace("a = 0.1",
                                                                                               f"a = {value}"))
     with pytest.raises(InvalidInput) as info:
-        contact_scene.load(path)
+        _load(path)
     assert info.value.argument == key
 
 
 def test_a_file_nested_too_deep_is_a_named_error_here_too(tmp_path):
     path = _write(tmp_path, "[contact]\na = " + "[" * 5000 + "]" * 5000 + "\n")
-    assert not contact_scene.handles(path)  # the scene reader then refuses it with its own message
     with pytest.raises(InvalidInput) as info:
-        contact_scene.load(path)
+        _load(path)
     assert info.value.argument == "SCENE" and "nested" in str(info.value)
 
 
@@ -203,6 +208,6 @@ def test_simulate_list_names_every_contact_scene_and_each_name_runs(capsys):
     text = capsys.readouterr().out
     for name, (description, path) in contact_scene.listing().items():
         assert f"  {name:<22} {description}\n" in text and path in text and description
-        assert name not in scene_files()  # one meaning per name: no other bundled scene is called the same
+        assert scene_files()[name] == path and text.count(f"  {name} ") == 1  # in the one catalogue, once
     assert main(["simulate", "tippe-top", "--explain"]) == 0
     assert "tippe-top" in capsys.readouterr().out

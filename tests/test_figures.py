@@ -231,5 +231,5 @@ def test_bad_input_is_refused_by_name(runs, tmp_path, kwargs, match):
 
 
 def test_figures_are_listed_with_their_modules():
-    assert set(FIGURES) == {"map", "panels", "axis-path", "poinsot", "polhodes"}
+    assert set(FIGURES) == {"map", "panels", "axis-path", "poinsot", "polhodes", "contact-trace"}
     assert all(callable(module.figure) and callable(module.fits) for module, _ in FIGURES.values())

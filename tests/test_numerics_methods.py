@@ -42,7 +42,8 @@ def test_the_registry_is_in_order_of_preference_and_each_method_has_its_cost():
     assert names.index("free_body_exact") < names.index("free_body_splitting") < names.index("batched_dop853")
     assert names.index("heavy_top_exact") < names.index("compiled_dop853") < names.index("batched_dop853")
     assert names[-1] == "ivp"
-    assert {m.cost.name for m in METHODS.values()} == {"closed-form", "yoshida4", "dop853", "dop853-members"}
+    assert {m.cost.name for m in METHODS.values()} == {"closed-form", "yoshida4", "dop853", "dop853-members",
+                                                            "dop853-contact"}
     assert all(m.cost.order == 0 for m in METHODS.values() if m.closed_form)
     assert get("batched_dop853").cost.grain == 4096 and get("compiled_dop853").cost.threaded
     with pytest.raises(InvalidInput, match="one of"):

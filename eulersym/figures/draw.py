@@ -10,7 +10,7 @@ from __future__ import annotations
 import os
 
 from eulersym.errors import InvalidInput
-from eulersym.figures import axis_path, panels, poinsot, polhodes, sweep_map
+from eulersym.figures import axis_path, contact_trace, panels, poinsot, polhodes, sweep_map
 from eulersym.figures._draw import check_path, save
 from eulersym.figures.motion import scene_of
 
@@ -37,6 +37,8 @@ FIGURES = {
     "axis-path": (axis_path, "a heavy top's figure axis on the unit sphere between its turning circles, its class named"),
     "poinsot": (poinsot, "the inertia ellipsoid rolling on the invariable plane: polhode, herpolhode, L and ω"),
     "polhodes": (polhodes, "polhodes on the momentum sphere with the separatrix"),
+    "contact-trace": (contact_trace, "a body on a plane from above: its contact point's trace and its centre of mass, "
+                                     "beside the normal force"),
 }
 
 

@@ -301,14 +301,25 @@ def _invariants(ax, result, facts, t, omega, k, scene):
     _title(ax, "invariants: drift from their start")
 
 
+#: A body on a plane's quantities (computed from its whole state: ``Result.state_quantities``): meaning and unit.
+STATE_QUANTITIES = {"x_P": ("the contact point on the plane, x", "m"), "y_P": ("the contact point on the plane, y", "m"),
+                    "N": ("the normal force", "N"), "u_x": ("the slip velocity of the contact point, x", "m/s"),
+                    "u_y": ("the slip velocity of the contact point, y", "m/s"),
+                    "x_cm": ("the centre of mass, x", "m"), "y_cm": ("the centre of mass, y", "m"),
+                    "z_cm": ("the centre of mass's height", "m")}
+
+
 def _quantity(ax, result, facts, t, omega, k, scene, name):
     """A quantity of the model's own (``[quantities]``): its value over time, titled by its definition (the user's
-    expression: its unit is the user's)."""
+    expression: its unit is the user's); a body on a plane's contact outputs titled by their meaning."""
     v = np.asarray(result.quantities[name], dtype=float)
     ax.plot(t, v[k] if v.ndim == 2 else v, color="C3")
     model = getattr(scene_of(result, scene), "model", None)
-    section = model.normalised["quantities"] if model is not None else {}
+    section = (model.normalised.get("quantities") if model is not None else None) or {}
     texts, unit = dict(section.get("names", [])), section.get("units", {}).get(name)
+    if name in getattr(result, "state_quantities", {}) and name in STATE_QUANTITIES:
+        meaning, unit = STATE_QUANTITIES[name]
+        texts = {name: meaning}
     ax.set_ylabel(f"{name} ({unit})" if unit else name)
     _readable(ax)
     text = texts.get(name, "")

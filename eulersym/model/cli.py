@@ -65,6 +65,27 @@ def load(file: str):
     return Model.from_toml(path)
 
 
+def plain_body(model, command: str) -> None:
+    """Refuse a body on a plane (``[contact]``) in a command that derives, proves or emits the free or pivoted body's
+    equations (``derive``, ``verify``, ``generate --model``): its equations are the contact's, reached through the
+    model itself (:meth:`~eulersym.model.Model.check`, ``invariants``, ``prove``, ``compile``) and ``simulate``.
+
+    Examples
+    --------
+    >>> from eulersym.model import Model
+    >>> plain_body(Model(body={"moments": [1, 1, 1], "mass": 1}, contact={"surface": "sphere", "radius": 1}),
+    ...            "derive")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    eulersym.errors.InvalidInput: --model='model' is not valid: expected a model without [contact] for `eulersym derive --model` ...
+    """
+    if getattr(model, "contact", None) is not None:
+        raise InvalidInput("--model", model.name, f"a model without [contact] for `eulersym {command} --model` (it "
+                           "derives a free or pivoted body's equations): a body on a plane is derived, proven and "
+                           "emitted by eulersym.model.Model itself (model.check(), model.invariants(), "
+                           "model.prove(...), model.compile()) and run by `eulersym simulate`")
+
+
 def _parse(parser: argparse.ArgumentParser, argv):
     try:
         return parser.parse_args(list(argv)), None
@@ -131,6 +152,7 @@ def derive(argv) -> int:
     if args is None:
         return status
     model = load(args.model)
+    plain_body(model, "derive")
     checks = 12 if args.convention == ["all"] else len(args.convention or ["zxz"]) if args.check else 0
     with symbolic_budget(f"deriving and proving model {model.name!r}", seconds=BUDGET_SECONDS * (1 + checks)):
         refuse_unprovable(model)  # a body the exact proofs cannot take, refused by its TOML key
@@ -217,6 +239,7 @@ def generate(argv) -> int:
     if args is None:
         return status
     model = load(args.model)
+    plain_body(model, "generate")
     mech = model.mechanics
     path = Path(args.dir) / (kernels.module_name(mech, args.name) + ".py")
     if args.check:
@@ -264,6 +287,7 @@ def verify(argv) -> int:
     if args is None:
         return status
     model = load(args.model)
+    plain_body(model, "verify")
     with symbolic_budget(f"proving {args.integral!r} for model {model.name!r}", seconds=BUDGET_SECONDS):
         refuse_unprovable(model)
         mech = model.mechanics

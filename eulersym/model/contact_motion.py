@@ -29,9 +29,10 @@ from eulersym.errors import CheckFailed, EulersymError, InvalidInput
 from eulersym.numerics.methods._base import numba_available
 from eulersym.validation import finite_array
 
-__all__ = ["LiftOff", "ContactMotion", "start", "integrate"]
+__all__ = ["LiftOff", "ContactMotion", "start", "integrate", "integrate_members"]
 
-#: The most samples of the normal force the compiled engine takes in one run (:func:`_compiled_run`).
+#: The most samples of the normal force the compiled engine takes in one run, all members together
+#: (:func:`integrate_members`).
 MAX_SAMPLES = 1_000_000
 
 _IMPLICIT = ("Radau", "BDF", "LSODA")
@@ -49,6 +50,8 @@ class LiftOff(EulersymError):
         The state there, in the kernel's ``STATE`` order.
     names : tuple of str
         ``STATE``.
+    members : str or None
+        In a sweep: the members that left the plane, each with its time (the first's is ``t``).
 
     Examples
     --------
@@ -57,15 +60,17 @@ class LiftOff(EulersymError):
     the body left the plane at t = 0.25: its normal force fell to 0 (lift-off); the contact equations hold only while it touches — eulersym models no flight and no impact
     """
 
-    def __init__(self, t, state, names=()):
+    def __init__(self, t, state, names=(), members=None):
         self.t = float(t)
         self.state = np.asarray(state, dtype=float)
         self.names = tuple(names)
-        super().__init__(f"the body left the plane at t = {self.t:.10g}: its normal force fell to 0 (lift-off); the "
+        self.members = members
+        where = f"{members}: the first" if members else "the body"
+        super().__init__(f"{where} left the plane at t = {self.t:.10g}: its normal force fell to 0 (lift-off); the "
                          "contact equations hold only while it touches — eulersym models no flight and no impact")
 
     def __reduce__(self):
-        return (type(self), (self.t, self.state, self.names))
+        return (type(self), (self.t, self.state, self.names, self.members))
 
 
 @dataclass(frozen=True)
@@ -213,7 +218,7 @@ def integrate(kernel, y0, t_eval, *, params=None, method: str = "DOP853", rtol: 
     :func:`scipy.integrate.solve_ivp`.
 
     With ``method = "DOP853"``, no ``max_step`` and numba installed (the ``fast`` extra), the kernel runs on
-    :func:`eulersym.numerics.methods._dop853.integrate` (:func:`_compiled_run`): the normal force is checked on a
+    :func:`eulersym.numerics.methods._dop853.integrate` (:func:`integrate_members`): the normal force is checked on a
     grid at least as fine as the accepted steps (as solve_ivp's event checks it once a step), and where it falls
     to 0 the time is located by Brent's method on re-runs from the last sample that pressed on the plane. Otherwise
     (or ``compiled=False``) solve_ivp runs with the kernel's ``lift_off`` event.
@@ -292,52 +297,108 @@ def _finish(kernel, t, y, params, nfev) -> ContactMotion:
     return ContactMotion(t, y, tuple(kernel.STATE), contact, invariants, int(nfev))
 
 
-def _compiled_run(kernel, y0, t_eval, params, rtol, atol) -> ContactMotion:
-    """:func:`integrate` on eulersym's compiled DOP853, lift-off caught (arguments checked by the caller).
+def integrate_members(kernel, y0, t_eval, params, *, rtol, atol, steps=None) -> tuple:
+    """Every member of a contact kernel at once on eulersym's compiled DOP853 (each member its own step, the members
+    over the cores), lift-off caught per member (arguments checked by the caller).
 
-    One run over ``t_eval`` gives the motion and the number of accepted steps; where the steps outnumber the output
-    intervals it is run again with each interval cut into ``ceil(steps / intervals)`` equal parts — the same steps
-    (dense output changes no step), so the same motion at ``t_eval`` — and the normal force is evaluated at every
-    sample. At the first sample where ``N ≤ 0`` the lift-off time is located between it and the sample before by
-    :func:`scipy.optimize.brentq` on ``N(s)``, the state at ``s`` integrated from that earlier sample (to the
-    solver's own tolerance, ``4 ε``, as solve_ivp's event), and :class:`LiftOff` is raised there. A dip of ``N``
-    below 0 and back inside one sample interval (shorter than a step, on average) is not seen — nor by solve_ivp's
-    event, which checks once a step. The samples are at most :data:`MAX_SAMPLES` (their states are held at once:
-    ~112 MB for 14 components); a run of more steps is sampled that finely, no finer (and where N changes sign
-    more than once between two samples, the root located is one of them, not necessarily the first).
+    One run over ``t_eval`` (cut for ``steps`` when given) gives the motions and each member's number of accepted
+    steps; where the steps outnumber the samples it is run again with each interval cut into
+    ``ceil(steps / intervals)`` equal parts (the largest member's count, shared) — the same steps (dense output
+    changes no step), so the same motion at ``t_eval`` — and the normal force is evaluated at every sample. At a member's first sample where ``N ≤ 0`` the
+    lift-off time is located between it and the sample before by :func:`scipy.optimize.brentq` on ``N(s)``, the
+    state at ``s`` integrated from that earlier sample (to the solver's own tolerance, ``4 ε``, as solve_ivp's
+    event). A dip of ``N`` below 0 and back inside one sample interval (shorter than a step, on average) is not
+    seen — nor by solve_ivp's event, which checks once a step. The samples of all members are at most
+    :data:`MAX_SAMPLES` (their states are held at once: ~112 MB for 14 components); a run of more steps is sampled
+    that finely, no finer.
+
+    Parameters
+    ----------
+    kernel : module
+    y0 : ndarray (batch, n)
+    t_eval : ndarray (m,)
+    params : ndarray (batch, k)
+    rtol, atol : ndarray (batch,)
+    steps : int, optional
+        The accepted steps the members are expected to take at most (a run at a nearby tolerance): the samples are
+        then cut for that many at once, in one run — and the run is made again finer only if a member took more.
+
+    Returns
+    -------
+    tuple
+        ``(y, calls, lifted, steps)``: the states at ``t_eval`` (batch, m, n) (a member that lifted off:
+        unspecified), the right-hand-side evaluations per member, ``[(member, LiftOff), ...]``, and the accepted
+        steps per member.
+
+    Raises
+    ------
+    eulersym.errors.CheckFailed
+        A member the integrator could not carry (its reason), that did not lift off.
     """
-    from eulersym.numerics.methods import _dop853
+    import eulersym.numerics.methods._dop853 as _dop853
 
-    P = [params]
-    intervals = t_eval.size - 1
-    first = _dop853.integrate(kernel, [y0], t_eval, P, rtol=rtol, atol=atol, parallel=False)
-    sub = min(int(-(-int(first.steps[0]) // intervals)), max(1, MAX_SAMPLES // intervals)) if intervals else 1
-    grid, run = t_eval, first
-    if sub > 1:
+    y0 = np.atleast_2d(np.asarray(y0, dtype=float))
+    params = np.asarray(params, dtype=float).reshape(len(y0), -1)
+    rtol = np.broadcast_to(np.asarray(rtol, dtype=float), (len(y0),))
+    atol = np.broadcast_to(np.asarray(atol, dtype=float), (len(y0),))
+    batch, intervals = len(y0), t_eval.size - 1
+    cap = max(1, MAX_SAMPLES // max(1, intervals * batch))
+
+    def cut(most):  # output intervals cut into equal parts, at least as many as the steps (within the cap)
+        return min(int(-(-int(most) // intervals)), cap) if intervals else 1
+
+    def sampled(sub):
+        if sub <= 1:
+            return t_eval
         cuts = t_eval[:-1, None] + np.diff(t_eval)[:, None] * (np.arange(sub) / sub)  # [:, 0] is t_eval exactly
-        grid = np.concatenate([cuts.ravel(), t_eval[-1:]])
-        run = _dop853.integrate(kernel, [y0], grid, P, rtol=rtol, atol=atol, parallel=False)
-    nfev = int(first.calls[0]) + (int(run.calls[0]) if sub > 1 else 0)
-    status, reached = int(run.status[0]), float(run.reached[0])
-    written = grid.size if status == _dop853.OK else int(np.searchsorted(grid, reached, side="right"))
-    Y = run.y[0, :written]
-    normal = kernel.normal_force_batched(grid[:written], Y.T, *params)[0]
-    pressing = normal > 0
-    if not pressing.all():
-        j = int(np.argmin(pressing))  # the first sample that does not press (j ≥ 1: y0 was checked)
-        _lift_off(kernel, grid[j - 1], Y[j - 1], grid[j], params, rtol, atol)
-    if status != _dop853.OK:
-        if not kernel.normal_force(reached, run.last[0], *params)[0] > 0:
-            _lift_off(kernel, grid[written - 1], Y[-1], reached, params, rtol, atol)
-        raise CheckFailed(f"the compiled DOP853 stopped at t = {reached:.10g}: {_dop853.STATUS[status]}")
-    return _finish(kernel, t_eval, Y[::sub], params, nfev)
+        return np.concatenate([cuts.ravel(), t_eval[-1:]])
+
+    sub = cut(steps) if steps is not None else 1
+    run = _dop853.integrate(kernel, y0, sampled(sub), params, rtol=rtol, atol=atol, parallel=batch > 1)
+    calls = run.calls
+    need = cut(np.max(run.steps)) if batch else 1
+    if need > sub:  # a member stepped more often than it was sampled: again, as finely as it steps
+        sub = need
+        run = _dop853.integrate(kernel, y0, sampled(sub), params, rtol=rtol, atol=atol, parallel=batch > 1)
+        calls = calls + run.calls
+    grid = sampled(sub)
+    ok = run.status == _dop853.OK
+    written = np.where(ok, grid.size, np.searchsorted(grid, run.reached, side="right"))
+    n, G = y0.shape[1], grid.size
+    normal = kernel.normal_force_batched(np.tile(grid, batch), np.moveaxis(run.y, 2, 0).reshape(n, batch * G),
+                                         *np.repeat(params, G, axis=0).T)[0].reshape(batch, G)
+    pressing = (normal > 0) | (np.arange(G)[None, :] >= written[:, None])
+    lifted = []
+    for b in range(batch):
+        P = tuple(params[b].tolist())
+        try:
+            if not pressing[b].all():
+                j = int(np.argmin(pressing[b]))  # the first sample that does not press (j ≥ 1: y0 was checked)
+                _lift_off(kernel, grid[j - 1], run.y[b, j - 1], grid[j], P, rtol[b], atol[b])
+            if not ok[b]:
+                reached = float(run.reached[b])
+                if not kernel.normal_force(reached, run.last[b], *P)[0] > 0:
+                    _lift_off(kernel, grid[written[b] - 1], run.y[b, written[b] - 1], reached, P, rtol[b], atol[b])
+                raise CheckFailed(f"the compiled DOP853 stopped at t = {reached:.10g}"
+                                  + (f" (member {b})" if batch > 1 else "") + f": {_dop853.STATUS[int(run.status[b])]}")
+        except LiftOff as exc:
+            lifted.append((b, exc))
+    return run.y[:, ::sub], calls, lifted, run.steps
+
+
+def _compiled_run(kernel, y0, t_eval, params, rtol, atol) -> ContactMotion:
+    """:func:`integrate` on eulersym's compiled DOP853 (:func:`integrate_members` with one member)."""
+    y, calls, lifted, _ = integrate_members(kernel, [y0], t_eval, [params], rtol=rtol, atol=atol)
+    if lifted:
+        raise lifted[0][1]
+    return _finish(kernel, t_eval, y[0], params, int(calls[0]))
 
 
 def _lift_off(kernel, ta, ya, tb, params, rtol, atol):
     """Raise :class:`LiftOff` at the root of the normal force in ``(ta, tb]`` (``N(ta) > 0 ≥ N(tb)``)."""
     from scipy.optimize import brentq
 
-    from eulersym.numerics.methods import _dop853
+    import eulersym.numerics.methods._dop853 as _dop853
 
     def state(s):
         return _dop853.integrate(kernel, [ya], [ta, s], [params], rtol=rtol, atol=atol, parallel=False).y[0, -1]

@@ -77,6 +77,8 @@ class Facts:
         How the body is described: ``"moments"``, ``"tensor"``, ``"shape"`` or ``"parts"``.
     turning : bool
         The reference frame turns (``[frame] rate``): its kinematics live only in the model's own equations.
+    contact : bool
+        The body rolls or slides on the plane (``[contact]``): its own regime, the contact kernel integrates it.
 
     Examples
     --------
@@ -98,6 +100,7 @@ class Facts:
     potential: bool
     given: str
     turning: bool = False
+    contact: bool = False
 
     @property
     def batch(self) -> int:
@@ -126,7 +129,7 @@ class Facts:
         >>> Model(body={"moments": [1, 2, 3]}, torque={"body": [0, 0, 0.5]}).facts().regime_hint
         'constant torque'
         """
-        if self.torque == "varying" or self.potential or self.has_rotor or self.turning:
+        if self.torque == "varying" or self.potential or self.has_rotor or self.turning or self.contact:
             return "other"
         heavy = self.pivoted and bool(np.any(self.weight != 0))
         given = [v for v in (self.torque_body, self.torque_space) if v is not None and bool(np.any(v != 0))]

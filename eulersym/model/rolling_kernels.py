@@ -61,7 +61,7 @@ __all__ = ["OUTPUTS", "module_name", "program", "source", "generate", "compile"]
 
 #: The outputs of ``contact(t, y, *params)``.
 OUTPUTS = ("x_P", "y_P", "N", "u_x", "u_y")
-_RESERVED_ARGUMENTS = {"t", "y", "params"}
+_RESERVED_ARGUMENTS = {"t", "y", "params", "body"}
 
 
 def module_name(body: BodyOnPlane, name: str | None = None) -> str:
@@ -293,15 +293,23 @@ def _source(body: BodyOnPlane, name: str, versions: tuple | None) -> str:
     if used:
         imports.append(f"from math import {', '.join(used)}")
     names = [f.name + suffix for suffix in ("", "_flat", "_batched", "_loop") for f in functions]
-    names += ["STATE", "PARAMETERS", "DEFAULTS", "INVARIANTS", "OUTPUTS", "FLAGS", "lift_off"]
+    names += ["STATE", "PARAMETERS", "DEFAULTS", "INVARIANTS", "OUTPUTS", "FLAGS", "lift_off", "body"]
+    from eulersym.model.kernels import _body_source  # the body's numbers, as every model kernel gives them
+
+    body_text, body_used = _body_source(body.mechanics)
+    if body_used - set(used):
+        used = sorted(set(used) | body_used)
+        imports = ["", "import numpy as np", f"from math import {', '.join(used)}"]
     parts = header + wrapped + imports + ["", f"__all__ = {names!r}", "", _contract(body, eqs.state, conserved), ""]
     parts += ["", RUNTIME_SOURCE.rstrip("\n"), ""]
     for text in scalar + flat + batched + loops:
         parts += ["", text, ""]
+    parts += ["", body_text, ""]
     return "\n".join(parts).rstrip("\n") + "\n"
 
 
-def source(body: BodyOnPlane, *, name: str | None = None, versions: dict | None = None) -> str:
+def source(body: BodyOnPlane, *, name: str | None = None, versions: dict | None = None,
+           digest: str | None = None) -> str:
     """The full text of the body's kernel module (deterministic: the same bytes under any ``PYTHONHASHSEED``).
 
     Examples
@@ -314,7 +322,12 @@ def source(body: BodyOnPlane, *, name: str | None = None, versions: dict | None 
     if not isinstance(body, BodyOnPlane):
         raise InvalidInput("body", body, "an eulersym.model.rolling.BodyOnPlane")
     frozen = tuple(sorted(versions.items())) if versions else None
-    return _source(body, module_name(body, name), frozen)
+    text = _source(body, module_name(body, name), frozen)
+    if digest is None:
+        return text
+    lines = text.split("\n")  # the model's digest under the input hash, as a model kernel's header says it
+    k = next(i for i, line in enumerate(lines) if line.startswith("# Input hash: "))
+    return "\n".join([*lines[:k + 1], f"# Model digest: sha256:{digest}", *lines[k + 1:]])
 
 
 def generate(body: BodyOnPlane, directory, *, name: str | None = None) -> Path:

@@ -77,9 +77,9 @@ from eulersym.shapes import SHAPE_ORIGINS, SHAPES
 __all__ = ["Model", "MODEL_SECTIONS", "OPTIONAL_SECTIONS", "SCENE_KEYS", "SHAPES", "SHAPE_ORIGINS", "DEFAULT_G"]
 
 #: The sections of a model (``frame`` and ``quantities`` only when given: :data:`OPTIONAL_SECTIONS`).
-MODEL_SECTIONS = ("parameters", "body", "pivot", "torque", "rotor", "frame", "quantities")
+MODEL_SECTIONS = ("parameters", "body", "pivot", "torque", "rotor", "frame", "quantities", "contact")
 #: Sections kept in the model's data (and digest) only when given, so that models without them keep their digest.
-OPTIONAL_SECTIONS = ("frame", "quantities")
+OPTIONAL_SECTIONS = ("frame", "quantities", "contact")
 #: Top-level keys of a scene file that are not the model's (ignored by :meth:`Model.from_dict`), besides
 #: any key that starts with ``sweep``.
 SCENE_KEYS = ("description", "initial", "time", "output")
@@ -138,6 +138,8 @@ class _Checker:
         allowed = {*self.parameters, *N.FUNCTION_NAMES, "pi"}
         if context in ("torque", "potential"):
             allowed |= {N.TIME, *N.GAMMA_NAMES, *N.Q_NAMES, "gamma", N.INERTIA}
+        if context == "path":
+            allowed |= {N.TIME}
         if context == "torque":
             allowed |= {*N.OMEGA_NAMES, "omega"}
         for name in N.names_in(text):
@@ -149,6 +151,10 @@ class _Checker:
                         "so Ω is"}.get(context, "a constant")
                 raise InvalidInput(key, text, f"{what}: an expression of the parameters ({params}) and pi; "
                                    f"{name!r} varies with the motion")
+            if context == "path":
+                raise InvalidInput(key, text, f"a position of the pivot in space: an expression of t alone and the "
+                                   f"parameters ({params}); {name!r} " + ("varies with the motion" if name in
+                                   N.RESERVED else "is unknown"))
             if context == "potential" and name in (*N.OMEGA_NAMES, "omega"):
                 raise InvalidInput(key, text, "a potential energy of the attitude (gamma, q0..q3), t and the "
                                    f"parameters ({params}); {name!r} is an angular velocity")
@@ -452,7 +458,7 @@ def _parts(value: Any, check: _Checker) -> list:
 def _pivot(value: Any, check: _Checker) -> dict | None:
     if value is None:
         return None
-    table = _table("pivot", value, ("centre_of_mass", "l", "g"))
+    table = _table("pivot", value, ("centre_of_mass", "l", "g", "path"))
     if "centre_of_mass" in table and "l" in table:
         raise InvalidInput("pivot.l", table["l"], "one of pivot.centre_of_mass = [x, y, z] and pivot.l "
                            "(= centre_of_mass [0, 0, l]), not both")
@@ -461,8 +467,40 @@ def _pivot(value: Any, check: _Checker) -> dict | None:
         com = check.vector("pivot.centre_of_mass", table["centre_of_mass"])
     elif "l" in table:
         com = [0.0, 0.0, check.number("pivot.l", table["l"])]
-    return {"centre_of_mass": com, "l": "l" in table,
-            "g": check.number("pivot.g", table.get("g", DEFAULT_G), sign="nonnegative")}
+    out = {"centre_of_mass": com, "l": "l" in table,
+           "g": check.number("pivot.g", table.get("g", DEFAULT_G), sign="nonnegative")}
+    if "path" in table:  # a pivot that moves: kept only when given (a fixed pivot keeps its digest)
+        from eulersym.model.contact_scene import read_pivot_path
+
+        path = read_pivot_path(table["path"])
+        out["path"] = [check.number(f"pivot.path[{k}]", x, context="path") for k, x in enumerate(path)]
+    return out
+
+
+def _contact(value: Any, check: _Checker, pivot, body: dict) -> dict | None:
+    """``[contact]``: the body on the horizontal plane z = 0 (:func:`eulersym.model.contact_scene.read_contact`),
+    every formula's names checked against the parameters."""
+    if value is None:
+        return None
+    from eulersym.model.contact_scene import read_contact
+
+    if pivot is not None:
+        raise InvalidInput("contact", value.get("surface") if isinstance(value, Mapping) else value,
+                           "a free body: a contact with the plane and a pivot both hold the body (remove [pivot], "
+                           "or the contact)")
+    table = read_contact(dict(value) if isinstance(value, Mapping) else value)
+
+    def checked(key, x):
+        if isinstance(x, tuple):
+            return [checked(f"{key}[{k}]", item) for k, item in enumerate(x)]
+        return check.number(key, x) if isinstance(x, str) else (float(x) if not isinstance(x, str) else x)
+
+    out = {k: checked(f"contact.{k}", v) for k, v in table.items() if k not in ("surface", "mode", "friction")}
+    out.update(surface=table["surface"], mode=table["mode"], friction=table["friction"])
+    if body.get("mass", 0) is None:
+        raise InvalidInput("body.mass", None, "the body's mass M: a body on a plane feels its weight M g and the "
+                           "contact force")
+    return out
 
 
 def _torque(value: Any, check: _Checker) -> dict:
@@ -621,6 +659,13 @@ class Model:
             section = read(kwargs.get(key), check)
             if section is not None:
                 self._data[key] = section
+        contact = _contact(kwargs.get("contact"), check, pivot, body)
+        if contact is not None:
+            for key in ("frame", "quantities"):  # the contact kernel emits its own outputs, in the inertial frame
+                if key in self._data:
+                    raise InvalidInput(key, kwargs[key], f"no [{key}] with [contact] (a body on a plane outputs its "
+                                       "contact point, normal force, slip and height itself)")
+            self._data["contact"] = contact
         if pivot is not None and pivot["centre_of_mass"] is not None and ("shape" in body or "parts" in body):
             self._check_centre()  # a shape's centre of mass is derived: a contradictory one is refused now
 
@@ -721,6 +766,44 @@ class Model:
         return self._data["pivot"] is not None
 
     @property
+    def contact(self) -> Mapping | None:
+        """The checked ``[contact]`` table (read-only; numbers as floats, formulas as strings, lists for vectors), or
+        None: the body rolls or slides on the horizontal plane z = 0 (:mod:`eulersym.model.contact`).
+
+        Examples
+        --------
+        >>> m = Model(body={"moments": [2, 2, 2], "mass": 5}, contact={"surface": "sphere", "radius": 0.1})
+        >>> m.contact["surface"], m.contact["mode"], m.contact["radius"], m.pivoted
+        ('sphere', 'rolling', 0.1, False)
+        >>> Model(body={"moments": [2, 2, 2], "mass": 5}, contact={"surface": "sphere", "radius": 0}).contact
+        Traceback (most recent call last):
+        ...
+        eulersym.errors.InvalidInput: contact.radius=0 is not valid: expected a positive number
+        """
+        from types import MappingProxyType
+
+        contact = self._data.get("contact")
+        return None if contact is None else MappingProxyType(contact)
+
+    @property
+    def pivot_path(self) -> tuple | None:
+        """``[pivot] path``: the pivot's prescribed position in space (three formulas of ``t`` and the parameters, or
+        numbers), or None for a fixed pivot (:mod:`eulersym.model.moving_pivot`).
+
+        Examples
+        --------
+        >>> Model(parameters={"a": 0.01, "w": 100}, body={"moments": [1, 1, 0.1], "mass": 1},
+        ...       pivot={"l": 0.2, "path": [0, 0, "a*cos(w*t)"]}).pivot_path
+        (0.0, 0.0, 'a*cos(w*t)')
+        >>> Model(body={"moments": [1, 1, 0.1], "mass": 1}, pivot={"l": 0.2, "path": [0, 0, "omega1"]})
+        Traceback (most recent call last):
+        ...
+        eulersym.errors.InvalidInput: pivot.path[2]='omega1' is not valid: expected a position of the pivot in space: an expression of t alone and the parameters (none); 'omega1' varies with the motion
+        """
+        pivot = self._data["pivot"]
+        return None if pivot is None or "path" not in pivot else tuple(pivot["path"])
+
+    @property
     def normalised(self) -> Mapping:
         """The validated sections as the model keeps them (read-only view): ``name``, ``parameters`` (``[[name,
         default], ...]``), ``body``, ``pivot`` (None, or ``centre_of_mass``/``l``/``g``), ``torque`` (``body``,
@@ -768,6 +851,8 @@ class Model:
             out["rotor"] = {"h": data["rotor"]}
         if "frame" in data:
             out["frame"] = {"rate": data["frame"]}
+        if "contact" in data:
+            out["contact"] = data["contact"]
         if "quantities" in data:
             q = data["quantities"]
             units = q.get("units", {})
@@ -837,6 +922,14 @@ class Model:
         from eulersym.model.facts import facts
 
         out = facts(self._data, values, batch)
+        if "contact" in self._data:  # a body on a plane: its own regime (the contact kernel integrates it)
+            import dataclasses
+
+            out = dataclasses.replace(out, contact=True)
+        if self.pivot_path is not None:  # the pivot's acceleration: a time-dependent potential (the model's kernel)
+            import dataclasses
+
+            out = dataclasses.replace(out, potential=True)
         if "frame" in self._data:  # a turning frame's kinematics live only in the model's own equations
             import dataclasses
 
@@ -875,6 +968,12 @@ class Model:
         from eulersym.model.assemble import assemble
 
         assembly = assemble(self._data)
+        if self.pivot_path is not None:  # r̈(t) of the pivot as a derived apparent gravity (a potential in t)
+            import dataclasses
+
+            from eulersym.model.moving_pivot import moving_pivot
+
+            assembly = dataclasses.replace(assembly, mechanics=moving_pivot(assembly.mechanics, self.pivot_path))
         if not any(key in self._data for key in OPTIONAL_SECTIONS):
             return assembly
         import dataclasses
@@ -889,6 +988,26 @@ class Model:
             q = self._data["quantities"]
             extra.update(quantities=tuple(tuple(pair) for pair in q["names"]), convention=q["convention"])
         return dataclasses.replace(assembly, mechanics=dataclasses.replace(mech, **extra))
+
+    @cached_property
+    def body_on_plane(self):
+        """The body on the plane (:class:`eulersym.model.rolling.BodyOnPlane`: the mechanics, the contact in the
+        parameters' symbols, gravity), or None without ``[contact]``; built on first use (SymPy).
+
+        Examples
+        --------
+        >>> m = Model(body={"moments": [2, 2, 2], "mass": 5}, contact={"surface": "sphere", "radius": 0.1})
+        >>> m.body_on_plane.contact.surface.kind, m.body_on_plane.gravity
+        ('sphere', 981/100)
+        """
+        if "contact" not in self._data:
+            return None
+        from eulersym.model.contact_scene import contact, expression
+        from eulersym.model.rolling import BodyOnPlane
+
+        mech = self.mechanics
+        table = self._data["contact"]
+        return BodyOnPlane(mech, contact(table, mech), gravity=expression("contact.g", table["g"], mech))
 
     @property
     def mechanics(self):
@@ -954,6 +1073,10 @@ class Model:
         >>> eqs.omega_dot[2]
         1/4
         """
+        if self.body_on_plane is not None:  # the contact force a multiplier (eulersym.model.rolling)
+            from eulersym.model import rolling
+
+            return rolling.newton_euler(self.body_on_plane)
         from eulersym.model import derive
 
         return derive.equations(self.mechanics)
@@ -968,6 +1091,11 @@ class Model:
         >>> L.diff(phi), L.diff(psi)  # a free symmetric body: precession and spin angles are cyclic
         (0, 0)
         """
+        if self.contact is not None:
+            raise InvalidInput("model", self.name, "a model without [contact] for a Lagrangian: a body on a plane "
+                               "has none that gives its motion (the contact constraint is nonholonomic, and "
+                               "Lagrange's equations without multipliers would be wrong); its two routes are "
+                               "Newton–Euler with the contact force a multiplier and Gibbs–Appell (model.check())")
         from eulersym.model import derive
 
         return derive.lagrangian(self.mechanics, convention)
@@ -980,6 +1108,10 @@ class Model:
         >>> Model(body={"moments": [1, 1, 2], "mass": 1}, pivot={"l": 0.1}).check().ok
         True
         """
+        if self.body_on_plane is not None:  # Newton–Euler with the contact force a multiplier = Gibbs–Appell
+            from eulersym.model import rolling
+
+            return rolling.check(self.body_on_plane)
         from eulersym.model import derive
 
         return derive.check(self.mechanics)
@@ -994,6 +1126,10 @@ class Model:
         >>> all(v.conserved for v in verdicts.values())
         True
         """
+        if self.body_on_plane is not None:  # energy, Jellett's, Chaplygin's, L about the contact...
+            from eulersym.model import rolling_integrals
+
+            return rolling_integrals.invariants(self.body_on_plane)
         from eulersym.model import integrals
 
         return integrals.invariants(self.mechanics)
@@ -1016,7 +1152,15 @@ class Model:
         from eulersym.model.expressions import parse
 
         mech = self.mechanics
-        return integrals.prove(mech, parse(candidate, mech, argument="candidate", shape="scalar"), on=on)
+        expr = parse(candidate, mech, argument="candidate", shape="scalar")
+        if self.body_on_plane is not None:
+            if on is not None:
+                raise InvalidInput("on", on, "None for a body on a plane (a level set of its integrals is not "
+                                   "supported there)")
+            from eulersym.model import rolling_integrals
+
+            return rolling_integrals.prove(self.body_on_plane, expr)
+        return integrals.prove(mech, expr, on=on)
 
     def steady_motions(self, **options):
         """Its steady motions, each family with its stability (:func:`eulersym.model.steady.steady_motions`).
@@ -1026,6 +1170,10 @@ class Model:
         >>> [f.name for f in Model(body={"moments": [1, 2, 3]}).steady_motions()]
         ['rotation about e1', 'rotation about e2', 'rotation about e3']
         """
+        if self.contact is not None:  # the free body's search would answer for another body
+            raise InvalidInput("model", self.name, "a model without [contact] for steady_motions() here: the steady "
+                               "motions of a body on a plane come from its own search (eulersym.model.rolling_steady), "
+                               "not yet reached from Model")
         from eulersym.model.steady import steady_motions
 
         return steady_motions(self, **options)
@@ -1041,6 +1189,10 @@ class Model:
         ...     pathlib.Path(path).suffix
         '.py'
         """
+        if self.body_on_plane is not None:
+            from eulersym.model import rolling_kernels
+
+            return rolling_kernels.generate(self.body_on_plane, directory)
         from eulersym.model import kernels
 
         return kernels.generate(self.mechanics, directory, digest=self.digest)
@@ -1054,6 +1206,10 @@ class Model:
         >>> kernel.STATE[:3], [float(x) for x in kernel.rhs(0.0, [0, 0, 1, 1, 0, 0, 0])[:3]]
         (('omega1', 'omega2', 'omega3'), [0.0, 0.0, 0.0])
         """
+        if self.body_on_plane is not None:
+            from eulersym.model import rolling_kernels
+
+            return rolling_kernels.compile(self.body_on_plane)
         from eulersym.model import kernels
 
         return kernels.compile(self.mechanics)

@@ -42,7 +42,7 @@ def cli(argv) -> int:
     from eulersym.codegen.generate import TARGETS, CheckReport, _compare
     from eulersym.model import kernels
     from eulersym.model.cli import generate as numpy_kernel
-    from eulersym.model.cli import load
+    from eulersym.model.cli import load, plain_body
 
     parser = argparse.ArgumentParser(prog="eulersym generate --model --target",
                                      description="Write a model's kernels in C or JAX.")
@@ -62,6 +62,7 @@ def cli(argv) -> int:
         rest = ["--model", args.model, "--dir", args.dir] + (["--name", args.name] if args.name else [])
         return numpy_kernel(rest + (["--check"] if args.check else []))
     model = load(args.model)
+    plain_body(model, "generate")
     written = kernels.files(model.mechanics, args.target, digest=model.digest, name=args.name)
     directory = Path(args.dir)
     if args.check:

@@ -1,14 +1,17 @@
-"""The scenes shipped with eulersym, by name: ``eulersym/scenes/*.toml`` and the bundled models
-``eulersym/models/*.toml`` (each a full scene file: model sections plus [initial], [time], [output])."""
+"""The scenes shipped with eulersym, by name: ``eulersym/scenes/*.toml``, the bodies on a plane and on a moving pivot
+``eulersym/scenes/contact/*.toml`` and the bundled models ``eulersym/models/*.toml`` (each a full scene file: model
+sections plus [initial], [time], [output])."""
 
 from __future__ import annotations
 
 import os
 
-__all__ = ["bundled", "FOLDERS"]
+__all__ = ["bundled", "FOLDERS", "SUBFOLDERS"]
 
 #: Package folders searched, in order (a name found in an earlier folder wins).
 FOLDERS = ("eulersym.scenes", "eulersym.models")
+#: The bodies on a plane and on a moving pivot, listed after the scenes of the folder they sit in.
+SUBFOLDERS = {"eulersym.scenes": ("eulersym.scenes.contact",)}
 
 
 def _files(package: str) -> list:
@@ -23,8 +26,8 @@ def _files(package: str) -> list:
 
 
 def bundled() -> dict:
-    """``{name: path}`` of the scenes shipped with eulersym (``eulersym/scenes/*.toml``, then the bundled models
-    ``eulersym/models/*.toml``).
+    """``{name: path}`` of the scenes shipped with eulersym (``eulersym/scenes/*.toml``, the contact and moving-pivot
+    scenes ``eulersym/scenes/contact/*.toml``, then the bundled models ``eulersym/models/*.toml``).
 
     Examples
     --------
@@ -34,6 +37,7 @@ def bundled() -> dict:
     """
     found: dict = {}
     for package in FOLDERS:
-        for p in _files(package):
-            found.setdefault(os.path.basename(p)[:-5], p)
+        for folder in (package, *SUBFOLDERS.get(package, ())):
+            for p in _files(folder):
+                found.setdefault(os.path.basename(p)[:-5], p)
     return found

@@ -59,6 +59,8 @@ euler = [0.0, 0.5236, 0.0]  # Euler angles phi, theta, psi (rad) of the sequence
 # quaternion = [1, 0, 0, 0] #   a unit quaternion, scalar first (v_space = R(q) v_body); or
 # axis = [0, 1, 0]          #   an axis and
 # angle = 0.5236            #   an angle (rad)
+# position = [0, 0]         # a body on a plane ([contact]): its centre of mass (x, y) in space (m), and, sliding,
+# velocity = [0, 0]         #   its velocity (v_x, v_y) (m/s); the height comes from the contact
 convention = "zxz"          # one of the 12: zxz xyx yzy zyz xzx yxy xyz yzx zxy xzy zyx yxz (passive, body-fixed)
 omega = [0.0, 0.0, 150.0]   # required (or one of the two below): body components of ω (rad/s)
 # omega_space = [0, 0, 150] # ω in space components (rad/s)
@@ -160,18 +162,10 @@ def cli(argv: list) -> int:
         for name, path in bundled().items():
             print(f"  {name:<22} {Scene.from_toml(path).description}")
             print(f"  {'':<22} {path}")
-        from eulersym.model.contact_scene import listing  # bodies on a plane and on a moving pivot: their own reader
-
-        for name, (description, path) in listing().items():
-            print(f"  {name:<22} {description}\n  {'':<22} {path}")
         return 0
     if args.scene is None:
         raise InvalidInput("SCENE", None, "a TOML file or a bundled scene name (eulersym simulate --list), or "
                                           "--template")
-    from eulersym.model import contact_scene  # bodies on a plane and on a moving pivot: their own runner
-
-    if contact_scene.handles(args.scene):
-        return contact_scene.cli(args)
     scene = load(args.scene)
     if args.figure is not None:
         if not args.plot:

@@ -58,8 +58,9 @@ def cache_root() -> Path:
 #: branch — never hands back a kernel emitted by other code (the digest covers releases).
 EMITTING_SOURCES = ("codegen/emitter.py", "codegen/runtime.py", "model/kernels.py", "model/derive.py",
                     "model/integrals.py", "model/mechanics.py", "model/assemble.py", "model/expressions.py",
-                    "model/names.py", "parsing.py", "rotation.py", "kinematics.py", "symbols.py", "inertia.py",
-                    "_shape_tensors.py", "validation.py")
+                    "model/names.py", "model/rolling.py", "model/rolling_integrals.py", "model/rolling_kernels.py",
+                    "model/contact.py", "model/moving_pivot.py", "parsing.py", "rotation.py", "kinematics.py",
+                    "symbols.py", "inertia.py", "_shape_tensors.py", "validation.py")
 
 
 @functools.lru_cache(maxsize=None)
@@ -142,7 +143,12 @@ def ensure(model, record: list):
         refuse_unprovable(model)  # the kernel's invariants are proven: a body they cannot take refused by its key
         with symbolic_budget(f"deriving the kernel of model {model.name!r} (its equations of motion and the proofs "
                              "of its integrals)", seconds=DERIVE_SECONDS, memory=DERIVE_MEMORY):
-            text = kernels.source(mech, digest=digest)
+            if getattr(model, "body_on_plane", None) is not None:  # a body on a plane: the contact kernel
+                from eulersym.model import rolling_kernels
+
+                text = rolling_kernels.source(model.body_on_plane, digest=digest)
+            else:
+                text = kernels.source(mech, digest=digest)
         record.append("model.equations")
         record.append("model.kernel")
         written = folder / (kernels.module_name(mech) + ".py")

@@ -157,7 +157,7 @@ def head(scene, propagate: tuple, kernel=None) -> Problem:
     """
     regime = scene._regime
     rtol, atol = tolerances(scene.accuracy)
-    model = _KernelInfo(scene.model.name, kernel) if regime.regime == "model" else None
+    model = _KernelInfo(scene.model.name, kernel) if regime.regime in ("model", "contact") else None
     return Problem(name=scene.name, regime=regime.regime, t=np.empty(0), batch=scene.batch, members={},
                    moments=regime.moments, axes=regime.axes, mass=regime.mass, g=regime.g, l=regime.l,
                    torque_frame=scene.torque_frame, propagate=propagate, outputs=scene.outputs,
@@ -169,7 +169,7 @@ def _body_lines(scene, regime, steps: list, skipped: list) -> list:
     """The lines on the body and its frame (they come first)."""
     facts = scene.facts
     first = []
-    if regime.regime == "model":
+    if regime.regime in ("model", "contact"):
         return first
     if facts.given == "shape":
         first.append(Step("compute", f"inertia tensor of the {scene.shape}",
@@ -205,8 +205,13 @@ def _model_lines(scene, kernel, steps: list, skipped: list, derive: list) -> Non
         path, cached = kernel.path, not kernel.emitted
     if not cached:
         derive.append("model.equations")
-        steps.append(Step("derive", "the model's equations of motion", "Newton–Euler in the body frame, its integrals "
-                          "proven (SymPy; eulersym.model)"))
+        if scene.regime == "contact":
+            steps.append(Step("derive", "the body on the plane's equations of motion", "Newton–Euler about the centre "
+                              "of mass with the contact force a multiplier, proven equal to Gibbs–Appell's; its "
+                              "integrals proven (SymPy; eulersym.model.rolling)"))
+        else:
+            steps.append(Step("derive", "the model's equations of motion", "Newton–Euler in the body frame, its "
+                              "integrals proven (SymPy; eulersym.model)"))
         where = path if path is not None else f"{model_kernel.cache_root() / digest}/ (EULERSYM_CACHE)"
         steps.append(Step("emit", f"the model's kernel to {where}", f"not cached yet for digest {digest[:12]}: written "
                           "once, reused while the model is unchanged"))
@@ -214,8 +219,9 @@ def _model_lines(scene, kernel, steps: list, skipped: list, derive: list) -> Non
         steps.append(Step("kernel", f"the model's kernel {path}", f"cached for digest {digest[:12]}: the model is "
                           "unchanged, nothing derived, no SymPy"))
         skipped.append(Step("skip", "derivation and emission", "the kernel of this exact model is cached"))
-    steps.append(Step("compute", "body numbers", "mass, centre of mass, inertia, rotor and g per member from the "
-                      "model's facts (NumPy)"))
+    if scene.regime != "contact":
+        steps.append(Step("compute", "body numbers", "mass, centre of mass, inertia, rotor and g per member from the "
+                          "model's facts (NumPy)"))
     steps.append(Step("compute", f"regime: {scene.regime}", scene._regime.reason))
 
 
@@ -239,11 +245,11 @@ def make_plan(scene, kernel=None) -> Plan:
     derive: list[str] = []
     kernels: list[str] = []
     options: dict = {}
-    body = "derived" if kind == "model" else regime.body
+    body = "derived" if kind in ("model", "contact") else regime.body
     # the own kernel always propagates the attitude: the vertical and its invariants are functions of it
-    wants_attitude = "attitude" in outputs or "euler_angles" in outputs or kind == "model"
+    wants_attitude = "attitude" in outputs or "euler_angles" in outputs or kind in ("model", "contact")
     first = _body_lines(scene, regime, steps, skipped)
-    if kind == "model":
+    if kind in ("model", "contact"):
         _model_lines(scene, kernel, steps, skipped, derive)
 
     # ---- the regime's own lines, and the state it propagates ----------------------------------------------------------
@@ -257,6 +263,10 @@ def make_plan(scene, kernel=None) -> Plan:
         skipped.append(Step("skip", "the heavy top (Lagrangian, equations of motion, its kernels)", "no pivot under gravity"))
         skipped.append(Step("skip", "closed form", "none with a constant torque"))
         propagate = ("omega", "attitude") if wants_attitude or scene.torque_frame == "space" else ("omega",)
+    elif kind == "contact":
+        skipped.append(Step("skip", "closed form and splittings", "none for a body on a plane: the contact force "
+                            "couples the rotation to the centre of mass's motion"))
+        propagate = ("omega", "gamma", "attitude", "position")
     else:
         skipped.append(Step("skip", "closed form", "none for this model (a torque, a potential or a rotor)"))
         state = kernel.state if kernel is not None else _cached_state(scene)
@@ -328,8 +338,13 @@ def make_plan(scene, kernel=None) -> Plan:
                           else "from the quaternion, φ and ψ unwrapped"))
     else:
         skipped.append(Step("skip", "Euler angles", "not asked for"))
+    if kind == "contact":
+        c = scene.model.contact
+        steps.append(Step("compute", "contact outputs", "the contact point on the plane (x_P, y_P), the normal force N"
+                          + (", the slip velocity (u_x, u_y)" if c["mode"] == "sliding" else "") + " and the centre "
+                          "of mass (x_cm, y_cm, z_cm) from the contact kernel: the run's quantities"))
     if "invariants" in outputs:
-        if kind == "model":
+        if kind in ("model", "contact"):
             names = kernel.invariants if kernel is not None else _cached_invariants(scene)
             text = (", ".join(names) or "none proven conserved") if names is not None else "the kernel's INVARIANTS"
             steps.append(Step("compute", "invariants and their drift", text + " (the model's kernel, model frame)"))
@@ -363,8 +378,8 @@ def make_plan(scene, kernel=None) -> Plan:
 
 
 def _cached_kernel(scene):
-    """A model's own kernel from the cache (SymPy-free), or None — for the regime 'model' only."""
-    if scene.regime != "model":
+    """A model's own kernel from the cache (SymPy-free), or None — for the regimes 'model' and 'contact' only."""
+    if scene.regime not in ("model", "contact"):
         return None
     found = model_kernel.cached(scene.model_digest)
     return None if found is None else found[0]

@@ -174,6 +174,10 @@ def classify(facts) -> Regime:
     """
     T = np.asarray(facts.tensor, dtype=float)
     hint = facts.regime_hint
+    if getattr(facts, "contact", False):
+        return Regime("contact", "a body on the plane ([contact]): Newton–Euler with the contact force a multiplier, "
+                      "proven equal to Gibbs–Appell; no closed form or splitting applies, the contact kernel is "
+                      "integrated and the normal force watched for lift-off", np.linalg.eigvalsh(T), np.eye(3))
     if facts.turning:
         return _model("a turning reference frame (its rate enters the kinematics): the model's own kernel is "
                       "integrated", T)

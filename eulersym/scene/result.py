@@ -84,6 +84,10 @@ class Result:
         Each member's drift of each invariant (``drift`` is their maximum), as ``drift`` measures it: the
         ``drift_<name>`` columns of a sweep's summary table, the same bits whether the sweep ran in one pass or in
         chunks.
+    state_quantities : mapping name → ndarray (n,) or (batch, n)
+        Quantities the method computed from the whole state, beside the model's own ``[quantities]`` (a body on a
+        plane: the contact point ``x_P, y_P`` on the plane, the normal force ``N``, sliding the slip velocity
+        ``u_x, u_y``, and the centre of mass ``x_cm, y_cm, z_cm``); read them through :attr:`quantities`.
 
     Examples
     --------
@@ -120,6 +124,7 @@ class Result:
     sensitivity: np.ndarray | None = None
     lyapunov: object = None
     member_drift: Mapping = field(default_factory=dict)
+    state_quantities: Mapping = field(default_factory=dict)
 
     def animate(self, path: str, **options) -> str:
         """Write an animation of this run to ``path`` (``.gif``, ``.mp4`` or a self-contained ``.html``); return it.
@@ -145,10 +150,12 @@ class Result:
     @functools.cached_property
     def quantities(self) -> dict:
         """The scene's own quantities along the run, ``{name: (n,) or (batch, n)}`` (the model's ``[quantities]``,
-        evaluated by its kernel: :func:`eulersym.scene.quantities.evaluate`); empty without any."""
+        evaluated by its kernel: :func:`eulersym.scene.quantities.evaluate`), after those the method computed from the
+        whole state (:attr:`state_quantities`: a body on a plane's contact point, normal force, slip and height);
+        empty without any."""
         from eulersym.scene.quantities import evaluate
 
-        return evaluate(self)
+        return {**self.state_quantities, **evaluate(self)}
 
     def report(self) -> str:
         """A short text report: the plan, the invariants' drift, the timings and notes.
@@ -251,7 +258,7 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
     identity = is_identity(P)
     omega_body = omega_pr if identity else omega_pr @ P.T
     attitude = euler_angles = gamma_body = None
-    own = plan.regime == "model"  # the model's own kernel (problem.model), model frame
+    own = plan.regime in ("model", "contact")  # the model's own kernel (problem.model), model frame
     model = problem.model if own else None
     if q_pr is not None and ("attitude" in outputs or "euler_angles" in outputs or own):
         if identity and not own:  # the principal frame is the body frame: q as propagated, canonical sign
@@ -271,8 +278,10 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
                     gamma_body = gamma
             if "euler_angles" in outputs:
                 euler_angles = _unwrapped(_rotation_euler(rot_body, problem.convention).reshape(batch, n, 3))
-    invariants, member = {}, {}
-    if "invariants" in outputs:
+    invariants, member, contact = {}, {}, {}
+    if plan.regime == "contact":  # the whole state: the centre of mass's position (and velocity) too
+        invariants, member, contact = _contact_outputs(problem.model, t, traj.state, "invariants" in outputs)
+    elif "invariants" in outputs:
         if own:
             invariants = _model_invariants(model, t, omega_body, gamma_body, attitude)
             member = _model_drifts(model, t, invariants, omega_body, gamma_body, attitude)
@@ -348,7 +357,39 @@ def outputs(problem, plan, traj, *, bound=None, turning=None, tensor_given=False
         "notes": notes,
         "turning_points": turning,
         "gamma": gamma_body if own or gamma is None else (gamma if identity else gamma @ P.T),  # the body frame's
+        "state_quantities": contact,
     }
+
+
+def _contact_outputs(model, t, state, with_invariants: bool) -> tuple:
+    """``(invariants, member drifts, quantities)`` of a body on a plane from its whole state (batch, n_state, n):
+    the contact kernel's proven invariants, and its contact point, normal force, slip (sliding) and the centre of
+    mass's position, each ``{name: (batch, n)}``."""
+    module = model.module
+    batch, k, n = state.shape
+    y = np.moveaxis(state, 1, 0).reshape(k, batch * n)
+    params = [np.repeat(np.asarray(p, dtype=float), n) for p in model.params]
+    time = np.tile(t, batch)
+
+    def rows(values, names):
+        return {name: np.broadcast_to(np.asarray(row, dtype=float), (batch * n,)).reshape(batch, n).copy()
+                for name, row in zip(names, values)}
+
+    contact = rows(module.contact_batched(time, y, *params), module.OUTPUTS)
+    if module.FLAGS.get("contact") != "sliding":  # rolling: no slip, by the constraint
+        contact = {name: v for name, v in contact.items() if name not in ("u_x", "u_y")}
+    states = list(module.STATE)
+    contact["x_cm"] = state[:, states.index("x_cm")].copy()
+    contact["y_cm"] = state[:, states.index("y_cm")].copy()
+    contact["z_cm"] = rows(module.height_batched(time, y, *params), ("z_cm",))["z_cm"]
+    invariants, member = {}, {}
+    if with_invariants and module.INVARIANTS:
+        invariants = rows(module.invariants_batched(time, y, *params), module.INVARIANTS)
+        scales = _natural_scales(module.invariants_batched, float(t[0]), state[:, :, 0].T,
+                                 [np.asarray(p, dtype=float) for p in model.params])
+        stacked = np.stack([invariants[name] for name in module.INVARIANTS])
+        member = dict(zip(module.INVARIANTS, _member_drifts(stacked, np.broadcast_to(scales, stacked.shape[:2]))))
+    return invariants, member, contact
 
 
 

@@ -74,12 +74,16 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     record: list[str] = []
     batch = scene.batch
     kernel = None
-    if plan.regime == "model":  # the model's own kernel: cached by digest, or derived and emitted once
+    if plan.regime in ("model", "contact"):  # the model's own kernel: cached by digest, or derived and emitted once
         module, path, emitted = model_kernel.ensure(scene.model, record)
         kernel = model_kernel.kernel(scene.model, module, path, emitted, scene.parameter_values(), batch)
         plan = make_plan(scene, kernel=kernel)
         estimate = cost.check(scene, plan, memory=mem, work=wk, kernel=kernel)  # with its state
-    problem = prepare(scene, plan, kernel=kernel)
+    extras = {}
+    if plan.regime == "contact":  # where the centre of mass starts (and, sliding, moves), every member alike
+        extras = {key: np.tile(np.asarray(getattr(scene, key), dtype=float), (batch, 1))
+                  for key in ("position", "velocity") if getattr(scene, key) is not None}
+    problem = prepare(scene, plan, kernel=kernel, **extras)
     bound = None
     if "top.sleeping_top_threshold" in plan.derive:
         bound = symbolic.sleeping_threshold(problem.moments, problem.mass, problem.g, problem.l, record)
@@ -113,13 +117,17 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     clock = time.perf_counter()
     regime = scene._regime
     given = scene.facts.given
-    tensor_given = plan.regime != "model" and (given in ("tensor", "shape", "parts") or not regime.body_frame)
+    tensor_given = plan.regime not in ("model", "contact") and (given in ("tensor", "shape", "parts") or not regime.body_frame)
     if streamed:
         out = chunked.run(problem, plan, chunk=chunk, layout=layout, bound=bound, turning=turning,
                           tensor_given=tensor_given, client=client, progress=bar.fraction if bar.enabled else None,
                           threads=cost.threads(plan) if client is None else 1)
         timings["motion"] += time.perf_counter() - clock
         clock = time.perf_counter()
+        if plan.regime == "contact" and "state_quantities" not in out:
+            out["notes"].append("the contact outputs (contact point, normal force, slip, height) are kept only when "
+                                "the sweep runs in one pass: this run streamed its members in chunks (a summary, "
+                                "Dask, or more members than one chunk holds)")
     else:
         out = outputs(problem, plan, traj, bound=bound, turning=turning, tensor_given=tensor_given)
         if len(singular):
@@ -164,7 +172,7 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         timings=timings,
         sweep=problem.members,
         moments=moments[0] if single else moments,
-        axes=problem.axes if plan.regime != "model" else _principal_axes(scene.facts.tensor[0]),
+        axes=problem.axes if plan.regime not in ("model", "contact") else _principal_axes(scene.facts.tensor[0]),
         n_rhs_calls=int(out["n_calls"] if streamed else traj.n_rhs_calls),
         notes=tuple(out["notes"]),
         turning_points=out["turning_points"],
@@ -176,6 +184,7 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         sensitivity=squeeze(sigma),
         lyapunov=number(lyapunov),
         member_drift=out.get("member_drift", {}),
+        state_quantities={k: squeeze(v) for k, v in out.get("state_quantities", {}).items()},
     )
 
 
@@ -236,7 +245,7 @@ def _turning_angles(u) -> tuple:
 def _gamma(scene, plan, traj, out, squeeze):
     """The vertical Γ in the body (model) frame: always for the regime 'model', for a heavy top, and with the
     invariants (None for summaries: gathered per member there)."""
-    if plan.regime == "model" or "invariants" in scene.outputs or plan.regime == "heavy top":
+    if plan.regime in ("model", "contact") or "invariants" in scene.outputs or plan.regime == "heavy top":
         return squeeze(out["gamma"])
     return None
 

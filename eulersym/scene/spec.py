@@ -97,6 +97,8 @@ _DEFAULTS = {
     "omega": None,
     "omega_frame": "body",
     "euler_rates": None,
+    "position": None,
+    "velocity": None,
     "t_end": None,
     "points": 1001,
     "outputs": ("omega", "invariants"),
@@ -121,6 +123,8 @@ _TOML_LAYOUT: dict[str, dict[str, Any]] = {
         "quaternion": "quaternion",
         "axis": "axis",
         "angle": "angle",
+        "position": "position",
+        "velocity": "velocity",
     },
     "time": {"end": "t_end", "points": "points"},
     "output": {"want": "outputs", "accuracy": "accuracy", "method": "method", "memory": "memory", "work": "work",
@@ -174,6 +178,11 @@ class Scene:
         angles ``euler``; converted to body ω by the derived kinematics (the committed kernel
         ``eulersym.generated.kinematics`` for 'zxz', the same composition of elementary rotations for the other
         sequences), numerically, without SymPy.
+    position, velocity : 2 or 3 numbers, optional
+        A body on a plane (a model with ``[contact]``; ``[initial] position``/``velocity`` in a file): its centre of
+        mass's start in space, ``(x, y)`` (default the origin; ``(x, y, z)``: z must be the height at which it
+        touches), and, sliding, its velocity ``(v_x, v_y)`` (default 0; rolling, it is fixed by ω and must equal
+        it if given). Checked when the run starts: it touches the plane, presses on it (N > 0), and does not slip.
     t_end : number
         End time (> 0); outputs at ``points`` evenly spaced times from 0 to t_end (default 1001).
     outputs : sequence of str
@@ -220,6 +229,8 @@ class Scene:
     omega: tuple
     omega_frame: str
     euler_rates: tuple | None
+    position: tuple | None
+    velocity: tuple | None
     t_end: float
     points: int
     outputs: tuple
@@ -900,6 +911,13 @@ def _normalise(v: dict) -> dict:
         out["axis"] = axis
         out["angle"] = _scalar("angle", v["angle"])
     out["omega_frame"] = validation.choice("omega_frame", v["omega_frame"], ("body", "space"))
+    for key in ("position", "velocity"):  # a body on a plane: its centre of mass in space, (x, y) or (x, y, z)
+        value = v[key]
+        if value is not None and (isinstance(value, (str, Mapping)) or not hasattr(value, "__len__")
+                                  or len(value) not in (2, 3)):
+            raise InvalidInput(key, value, f"the centre of mass's {key} in space: [x, y] or [x, y, z] (a body on a "
+                               "plane)")
+        out[key] = None if value is None else tuple(_vector(key, list(value), len(value), sweepable=False))
     out["euler_rates"] = None
     if v["euler_rates"] is not None:
         out["euler_rates"], out["omega"] = _omega_from_euler_rates(v, out)
@@ -960,6 +978,13 @@ def _omega_from_euler_rates(v, out) -> tuple:
 def _check_consistency(scene, regime: Regime) -> None:
     """Methods the scene's regime cannot give (read from its facts)."""
     kind = regime.regime
+    for key in ("position", "velocity"):
+        if getattr(scene, key) is not None and kind != "contact":
+            raise InvalidInput(key, list(getattr(scene, key)), f"no {key} for a body without [contact] (the centre of "
+                               "mass of a body on a plane)")
+    if kind == "contact" and scene.method not in ("auto", "DOP853"):
+        raise InvalidInput("method", scene.method, "'auto' or 'DOP853' for a body on a plane (eulersym's DOP853 on "
+                           "the contact kernel, watching the normal force for lift-off)")
     if kind == "torque-free":
         return
     why = {"heavy top": "the heavy top", "torque": "a torqued body"}.get(kind, f"the model {scene.model.name!r}")

@@ -16,6 +16,7 @@ error, and its trajectory carries the estimate (``Trajectory.error``; :mod:`~eul
 =========================  ==========================================================================================
 ``free_body_exact``        the torque-free body in closed form (Jacobi's elliptic functions; trigonometric if symmetric)
 ``heavy_top_exact``        Lagrange's top in closed form (every member in one call)
+``contact_dop853``         a body on a plane: compiled DOP853 on its contact kernel, lift-off an error at its time
 ``free_body_splitting``    the free body's 4th-order Moser–Veselov splitting (asked for, one member)
 ``batched_splitting``      a pivoted body's exact-flow splitting over members, a step each (asked for)
 ``compiled_dop853``        DOP853 compiled by numba, a heavy top per member (sweeps, numba installed)
@@ -67,6 +68,7 @@ from eulersym.numerics.methods._splitting import (
 )
 from eulersym.numerics.methods._accuracy import Integrator
 from eulersym.numerics.methods._integrators import BatchedDOP853, CompiledDOP853, OwnDOP853, SolveIVP
+from eulersym.numerics.methods._contact import ContactDOP853
 from eulersym.numerics.methods._sensitivity import sensitivity
 from eulersym.numerics.trajectory import Trajectory
 
@@ -98,12 +100,14 @@ __all__ = [
     "BatchedDOP853",
     "HeavyTopSplitting",
     "SolveIVP",
+    "ContactDOP853",
 ]
 
 #: Every method, in order of preference: name → the method.
 METHODS = {m.name: m for m in (
     FreeBodyClosedForm(),
     LagrangeTopClosedForm(),
+    ContactDOP853(),
     FreeBodySplitting(),
     PivotedSplitting(),
     CompiledDOP853(),
@@ -124,7 +128,7 @@ def get(name: str) -> Method:
     >>> get("rk4")
     Traceback (most recent call last):
     ...
-    eulersym.errors.InvalidInput: method='rk4' is not valid: expected one of 'batched_dop853', 'batched_splitting', 'compiled_dop853', 'dop853', 'free_body_exact', 'free_body_splitting', 'heavy_top_exact', 'heavy_top_splitting', 'ivp'
+    eulersym.errors.InvalidInput: method='rk4' is not valid: expected one of 'batched_dop853', 'batched_splitting', 'compiled_dop853', 'contact_dop853', 'dop853', 'free_body_exact', 'free_body_splitting', 'heavy_top_exact', 'heavy_top_splitting', 'ivp'
     """
     try:
         return METHODS[name]
@@ -272,6 +276,6 @@ def costs() -> dict:
     Examples
     --------
     >>> sorted(costs())
-    ['closed-form', 'dop853', 'dop853-members', 'yoshida4']
+    ['closed-form', 'dop853', 'dop853-contact', 'dop853-members', 'yoshida4']
     """
     return {m.cost.name: m.cost for m in METHODS.values()}
