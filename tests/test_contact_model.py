@@ -175,3 +175,27 @@ def test_a_contact_model_answers_for_its_own_body_or_refuses_by_name():
         with pytest.raises(InvalidInput) as info:
             call()
         assert info.value.argument == "model" and "[contact]" in str(info.value)
+
+
+def test_a_streamed_contact_sweep_keeps_its_contact_outputs_the_one_pass_bits():
+    """Summaries and Dask chunks carry the contact point, normal force and height as the one pass does (they were
+    dropped on the streamed paths before the lead wired ``scene.chunked``)."""
+    from eulersym.sweeps import distributed
+
+    radii = list(np.linspace(0.05, 0.2, 12))
+
+    def scene(**kwargs):
+        return Scene(model=Model(**SPHERE), parameters={"a": radii}, omega=(0, 10, 0), t_end=1, points=11, **kwargs)
+
+    one = simulate(scene())
+    summary = simulate(scene(outputs=("omega", "summary")))
+    assert np.array_equal(summary.summary["N.max"], one.quantities["N"].max(axis=1))
+    assert np.array_equal(summary.summary["x_cm.final"], one.quantities["x_cm"][:, -1])
+    assert not any("contact outputs" in note for note in summary.notes)
+    client = distributed.local_client(2, processes=False)
+    try:
+        there = simulate(scene(), client=client)
+    finally:
+        distributed.close(client)
+    assert set(there.quantities) == set(one.quantities)
+    assert all(np.array_equal(there.quantities[k], one.quantities[k]) for k in one.quantities)

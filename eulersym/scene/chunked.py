@@ -141,6 +141,7 @@ def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
             arrays["gamma"] = gamma
         arrays.update({f"invariant:{k}": v for k, v in out["invariants"].items()})
         arrays.update({f"drift:{k}": v for k, v in out["member_drift"].items()})  # as the one pass measures it
+        arrays.update({f"quantity:{k}": v for k, v in out.get("state_quantities", {}).items()})  # a body on a plane
         if plan.regime == "heavy top":  # the tilt range per member, from the principal frame's vertical
             theta = np.degrees(np.arccos(np.clip(traj.gamma[..., 2], -1.0, 1.0)))
             arrays["_theta_min"], arrays["_theta_max"] = theta.min(axis=1), theta.max(axis=1)
@@ -151,6 +152,7 @@ def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
         # each invariant's drift as the one pass measures it (an invariant that starts at zero by a cancellation:
         # relative to its natural size; eulersym.scene.result.outputs)
         arrays.update({f"{k}.drift": v for k, v in out["member_drift"].items() if k in invariants})
+        arrays.update(reduced(out.get("state_quantities", {})))  # a body on a plane: its contact outputs, per member
         if plan.regime == "model":  # the model's own quantities, min/max/final per member (none: nothing kept)
             arrays.update(reduced(along(problem.model.module, problem.model.params, problem.t, out["omega"], gamma,
                                         out["attitude"])))
@@ -258,6 +260,7 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
                 "n_calls": n_calls, "error": error, "member_drift": member}
     invariants = {name.split(":", 1)[1]: v for name, v in gathered.items() if name.startswith("invariant:")}
     member = {name.split(":", 1)[1]: v for name, v in gathered.items() if name.startswith("drift:")}  # per chunk
+    contact = {name.split(":", 1)[1]: v for name, v in gathered.items() if name.startswith("quantity:")}
     drifts = {name: float(np.max(v)) for name, v in member.items()}
     gamma = gathered.get("gamma")
     theta_min, theta_max = theta_range
@@ -265,7 +268,7 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
                          turning=turning, tensor_given=tensor_given) + extra
     return {**{name: gathered.get(name) for name in _TRAJECTORIES}, "invariants": invariants, "drift": drifts,
             "notes": notes, "turning_points": turning, "summary": {}, "gamma": gamma, "n_calls": n_calls,
-            "error": error, "member_drift": member}
+            "error": error, "member_drift": member, "state_quantities": contact}
 
 
 def _summary_note(layout, own=()) -> str:
