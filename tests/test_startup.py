@@ -30,6 +30,13 @@ NOT_LOADED = {
     "eulersym.codegen": "emitting a kernel",
     "eulersym.model.derive": "a model's own equations",
     "eulersym.model.steady": "steady motions",
+    "eulersym.scene.model_kernel": "a model's own kernel (its cache: hashlib, json, tempfile)",
+    "hashlib": "the kernel cache's digests",
+    "json": "a model's digest",
+    "tempfile": "the kernel cache",
+    "difflib": "a did-you-mean hint (a refusal's message)",
+    "eulersym.model.contact_scene": "a contact scene",
+    "eulersym.figures": "--plot",
 }
 
 

@@ -59,13 +59,10 @@ eulersym.errors.InvalidInput: pivot.g='gg' is not valid: expected an expression 
 
 from __future__ import annotations
 
-import difflib
-import json
 import math
 import numbers
 import tomllib
 from functools import cached_property
-from pathlib import Path
 from typing import Any, Mapping
 
 from eulersym.attitude import SEQUENCES
@@ -99,6 +96,8 @@ _ORIENTATION_KEYS = ("quaternion", "euler", "convention", "axis", "angle")
 
 
 def _did_you_mean(key: str, valid) -> str:
+    import difflib  # for a message only: a run that is not refused never loads it
+
     valid = sorted(valid)
     close = difflib.get_close_matches(str(key), valid, n=1, cutoff=0.5)
     return "one of " + ", ".join(repr(v) for v in valid) + (f" (did you mean {close[0]!r}?)" if close else "")
@@ -165,6 +164,8 @@ class _Checker:
                               f"the parameters ({params}) and the functions",
                     "potential": f"an expression of t, gamma, gamma1..3, q0..q3, inertia, pi, the parameters "
                                  f"({params}) and the functions"}[context]
+            import difflib
+
             hint = difflib.get_close_matches(name, sorted(allowed), n=1, cutoff=0.6)
             raise InvalidInput(key, text, f"{what}: {name!r} is unknown"
                                + (f" (did you mean {hint[0]!r}?)" if hint else ""))
@@ -376,7 +377,8 @@ def _check_tensor(key: str, raw: Any, rows: list) -> None:
 
 def _body(value: Any, check: _Checker, weighed: bool) -> dict:
     if value is None:
-        raise InvalidInput("body", None, "a [body] table with one of moments, tensor, shape or parts")
+        raise InvalidInput("body", None, "a [body] table (it is missing): one of body.moments (I1, I2, I3), "
+                           "body.tensor (3×3), body.shape (with mass and dimensions) or [[body.parts]]")
     table = _table("body", value, ("moments", "tensor", "shape", "parts", "mass", "origin", "dimensions",
                                    "a", "b", "c", "R", "h", "L"))
     given = [k for k in _BODY_KINDS if k in table]
@@ -711,6 +713,8 @@ class Model:
         ...     Model.from_toml(p).name
         'spinner'
         """
+        from pathlib import Path  # a model file's path only (a scene file is read by eulersym.scene.spec)
+
         try:
             p = Path(path)
             size = p.stat().st_size
@@ -830,6 +834,8 @@ class Model:
         >>> Model.from_dict(m.to_dict()) == m
         True
         """
+        import json  # here and in digest, __hash__: a scene's run reads none of them
+
         data = json.loads(json.dumps(self._data))
         out: dict = {"name": data["name"]}
         if data["parameters"]:
@@ -872,6 +878,8 @@ class Model:
         >>> a.digest == Model(body={"moments": [1.0, 2.0, 3.0]}).digest, len(a.digest)
         (True, 64)
         """
+        import json
+
         data = json.loads(json.dumps(self._data))
         if data["pivot"] is not None:
             del data["pivot"]["l"]  # l = 0.1 is centre_of_mass = [0, 0, 0.1]; the flag only names the key
@@ -890,6 +898,8 @@ class Model:
         return isinstance(other, Model) and other._data == self._data
 
     def __hash__(self) -> int:  # of the data alone (the digest also reads installed versions: slower)
+        import json
+
         return hash(json.dumps(self._data, sort_keys=True))
 
     # ---- numbers (NumPy) -------------------------------------------------------------------------------------

@@ -8,7 +8,7 @@ import dataclasses
 import os
 import sys
 
-from eulersym.errors import InvalidInput
+from eulersym.errors import InvalidInput, accuracy_status
 from eulersym.scene import cost
 from eulersym.scene.catalog import bundled
 from eulersym.scene.io import (OUTPUT_SUFFIXES, PLOT_SUFFIXES, check_target, plot, report, require_matplotlib, save,
@@ -90,16 +90,17 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _parser() -> argparse.ArgumentParser:
-    from eulersym.figures import FIGURES  # the figures' package reads results: imported when a command runs
-
-    p = _Parser(prog="eulersym simulate", description="Run a scene: a TOML file or a bundled scene's name.")
+    p = _Parser(prog="eulersym simulate", description="Run a scene: a TOML file or a bundled scene's name.",
+                epilog="exit status: 0 done; 2 bad usage or input (nothing written); 3 done, reported and written, "
+                       "but the accuracy asked was not reached (the report's 'NOT reached', the note and the last "
+                       "line say what was reached, by which members, and what would help)")
     p.add_argument("scene", nargs="?", metavar="SCENE", help="a TOML file or a bundled name (see --list)")
     p.add_argument("--explain", action="store_true", help="print the plan (what is derived, integrated, skipped, and why) and stop")
     p.add_argument("-o", "--output", metavar="OUT", help="write the result to OUT.npz or OUT.csv")
     p.add_argument("--plot", metavar="PNG", help="draw the figures that fit the scene: PNG (PDF, SVG) and beside it "
                    "(needs the plot extra: matplotlib)")
-    p.add_argument("--figure", metavar="NAME", choices=tuple(FIGURES),
-                   help="with --plot: draw this figure only, one of " + ", ".join(FIGURES))
+    p.add_argument("--figure", metavar="NAME", help="with --plot: draw this figure only (a name of "
+                   "eulersym.figures.FIGURES; any other is refused with the list)")
     p.add_argument("--list", action="store_true", help="list the bundled scenes and where their TOML files are")
     p.add_argument("--template", action="store_true", help="print an annotated scene file to start from")
     p.add_argument("--memory-budget", metavar="SIZE", help='refuse beyond this memory, e.g. "4 GiB" (default: the '
@@ -168,6 +169,10 @@ def cli(argv: list) -> int:
                                           "--template")
     scene = load(args.scene)
     if args.figure is not None:
+        from eulersym.figures import FIGURES  # the figures' package reads results: imported when one is asked for
+
+        if args.figure not in FIGURES:
+            raise InvalidInput("--figure", args.figure, "one of " + ", ".join(FIGURES))
         if not args.plot:
             raise InvalidInput("--figure", args.figure, "--plot FILE as well (the file the figure is drawn into)")
         if args.figure in _NEEDS_ATTITUDE and "attitude" not in scene.outputs and "summary" not in scene.outputs:
@@ -204,7 +209,10 @@ def cli(argv: list) -> int:
         print("wrote " + " and ".join(save(result, args.output)))
     if args.plot:
         print("wrote " + " and ".join(plot(result, args.plot, figure=args.figure)))
-    return 0
+    status, message = accuracy_status(result)  # 3 when the accuracy asked was not reached (naming the members)
+    if message:
+        sys.stderr.write(f"eulersym simulate: {message}; exit status {status}\n")
+    return status
 
 
 def _explain(scene, memory: int, work: float) -> None:

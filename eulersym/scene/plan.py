@@ -20,7 +20,6 @@ import numpy as np
 from eulersym.errors import InvalidInput
 from eulersym.numerics.methods import Problem, choose, classify_moments, tolerances, worth_saying
 from eulersym.numerics.methods import SPLITTING_ACCURACY, _base
-from eulersym.scene import model_kernel
 from eulersym.scene.regime import heavy_top_frame
 from eulersym.scene.values import values_of as _values
 
@@ -197,6 +196,8 @@ def _body_lines(scene, regime, steps: list, skipped: list) -> list:
 
 def _model_lines(scene, kernel, steps: list, skipped: list, derive: list) -> None:
     """The lines of a model's own kernel: cached (no SymPy), or derived and emitted once."""
+    from eulersym.scene import model_kernel  # a model's own kernel only (its cache: hashlib, json, tempfile)
+
     digest = scene.model_digest
     if kernel is None:
         path = model_kernel.cached_path(digest)
@@ -381,6 +382,8 @@ def _cached_kernel(scene):
     """A model's own kernel from the cache (SymPy-free), or None — for the regimes 'model' and 'contact' only."""
     if scene.regime not in ("model", "contact"):
         return None
+    from eulersym.scene import model_kernel
+
     found = model_kernel.cached(scene.model_digest)
     return None if found is None else found[0]
 

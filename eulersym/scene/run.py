@@ -16,7 +16,7 @@ import numpy as np
 
 from eulersym.errors import AccuracyNotReached, InvalidInput
 from eulersym.numerics.methods._accuracy import FLOOR, MAX_RUNS
-from eulersym.scene import chunked, cost, model_kernel, symbolic
+from eulersym.scene import chunked, cost, symbolic
 from eulersym.scene.plan import make_plan
 from eulersym.scene.problem import prepare
 from eulersym.scene.progress import Progress
@@ -75,6 +75,8 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     batch = scene.batch
     kernel = None
     if plan.regime in ("model", "contact"):  # the model's own kernel: cached by digest, or derived and emitted once
+        from eulersym.scene import model_kernel  # (its cache: hashlib, json, tempfile — not for the chapter's bodies)
+
         module, path, emitted = model_kernel.ensure(scene.model, record)
         kernel = model_kernel.kernel(scene.model, module, path, emitted, scene.parameter_values(), batch)
         plan = make_plan(scene, kernel=kernel)
@@ -83,7 +85,10 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     if plan.regime == "contact":  # where the centre of mass starts (and, sliding, moves), every member alike
         extras = {key: np.tile(np.asarray(getattr(scene, key), dtype=float), (batch, 1))
                   for key in ("position", "velocity") if getattr(scene, key) is not None}
-    problem = prepare(scene, plan, kernel=kernel, **extras)
+    # a run streamed in chunks prepares its members' starts a chunk at a time too (eulersym.scene.problem.PerChunk)
+    streamed = client is not None or cost.wants_summary(scene) or (batch > 1 and estimate.chunk < batch)
+    lazy = streamed and "sensitivity" not in scene.outputs and plan.regime != "contact"
+    problem = prepare(scene, plan, kernel=kernel, per_chunk=True if lazy else None, **extras)
     bound = None
     if "top.sleeping_top_threshold" in plan.derive:
         bound = symbolic.sleeping_threshold(problem.moments, problem.mass, problem.g, problem.l, record)
@@ -91,7 +96,6 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     bar.stage("derived", 0.1)
 
     clock = time.perf_counter()
-    streamed = client is not None or cost.wants_summary(scene) or (batch > 1 and estimate.chunk < batch)
     singular = ()
     if streamed:  # chunks sized to the memory budget, in-process or on Dask workers (eulersym.scene.chunked)
         chunk = estimate.chunk
@@ -124,10 +128,10 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
                           threads=cost.threads(plan) if client is None else 1)
         timings["motion"] += time.perf_counter() - clock
         clock = time.perf_counter()
-        if plan.regime == "contact" and "state_quantities" not in out:
-            out["notes"].append("the contact outputs (contact point, normal force, slip, height) are kept only when "
-                                "the sweep runs in one pass: this run streamed its members in chunks (a summary, "
-                                "Dask, or more members than one chunk holds)")
+        if plan.regime == "contact" and layout is None and not out.get("state_quantities"):
+            out["notes"].append("the contact outputs (contact point, normal force, slip, height) are not written to "
+                                "a Zarr store: its trajectories are the state's (the summaries and in-memory "
+                                "chunks keep them)")
     else:
         out = outputs(problem, plan, traj, bound=bound, turning=turning, tensor_given=tensor_given)
         if len(singular):
