@@ -85,10 +85,13 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     if plan.regime == "contact":  # where the centre of mass starts (and, sliding, moves), every member alike
         extras = {key: np.tile(np.asarray(getattr(scene, key), dtype=float), (batch, 1))
                   for key in ("position", "velocity") if getattr(scene, key) is not None}
-    # a run streamed in chunks prepares its members' starts a chunk at a time too (eulersym.scene.problem.PerChunk)
+    # a sweep streamed in chunks because of its size (or on Dask) prepares its members' starts a chunk at a time too,
+    # as the summaries and Zarr stores do by the default rule (eulersym.scene.cost.prepared_per_chunk); a body on a
+    # plane follows the default rule only
     streamed = client is not None or cost.wants_summary(scene) or (batch > 1 and estimate.chunk < batch)
-    lazy = streamed and "sensitivity" not in scene.outputs and plan.regime != "contact"
-    problem = prepare(scene, plan, kernel=kernel, per_chunk=True if lazy else None, **extras)
+    larger = (streamed and not cost.prepared_per_chunk(scene) and "sensitivity" not in scene.outputs
+              and plan.regime != "contact")
+    problem = prepare(scene, plan, kernel=kernel, per_chunk=True if larger else None, **extras)
     bound = None
     if "top.sleeping_top_threshold" in plan.derive:
         bound = symbolic.sleeping_threshold(problem.moments, problem.mass, problem.g, problem.l, record)
