@@ -109,6 +109,92 @@ def _W(s, c, n, one_minus_n, mc):
     return _third_kind(s, c2, c2 + mc * s * s, n, one_minus_n + n * c2)
 
 
+#: Terms of the complementary theta series (:func:`_W_complementary`) are kept down to this size.
+_TERMS_BELOW = 2.0 ** -56
+
+
+def _W_complementary(u, n, n1, nm, mc, m, K, Pi):
+    """∫₀ᵘ dy/(1 − n sn²(y|m)) for |u| ≤ K by Jacobi's imaginary transformation: a few terms in the complementary
+    nome q′ = exp(−πK/K′) (6e-5 at m_c = 1e-3), for the members whose nome series converge slowly (small m_c).
+
+    Columns (B, 1): ``n``, ``n1 = 1 − n``, ``nm = n − m`` (formed by the caller where it keeps its digits), ``mc``,
+    ``m``, ``K = K(m)`` and ``Pi = Π(n|m)``; ``u`` (B, T). With Jacobi's form ``W = u + c·(u Z(a) + ½ ln Θ(u−a)/Θ(u+a))``,
+    ``n = m sn² a``, ``c = sn a/(cn a dn a)``, its secular part ``u Π/K`` apart, and Θ turned into the complementary
+    variables (h = π/(2K′), V = K − |u|)
+
+        Θ(w) ∝ exp(−h w²/(2K)) · C(hw),   C(x) = Σ_{j≥0} q′^{j(j+1)} cosh((2j+1)x),
+
+    - 0 < n < m (a = K − a′ real, sn²(a′|m) = (m − n)/(m(1 − n)), c² = n/((m − n)(1 − n))):
+      ``W = |u| Π/K + (c/2)·[2hVa′/K + ln C(h(V − a′)) − ln C(h(V + a′))]``;
+    - m < n < 1 (a = K + ib, dn²(b|m_c) = m/n, b′ = K′ − b, ρ² = (1 − n)(n − m)/n):
+      ``W = |u| Π/K − (1/ρ)·[arg C(h(V + ib)) − hVb/K]``;
+
+    times sign u. Each bracket is formed from differences that keep their digits: ln cosh(x − y) − ln cosh(x + y) =
+    −2 atanh(tanh x tanh y), cosh((2j+1)x)/cosh x = (−1)ʲ(1 + 2 Σ_{i≤j} (−1)ⁱ cosh 2ix), arg cosh(X + iY) =
+    atan2(tanh X sin Y, cos Y) with cos Y = sin(hb′); b and b′ each from its own R_F. Accuracy: ~4e-15 of
+    max(|W|, Π) (the phase's scale: the motion takes coef·W, and coef·Π is its advance a half period) for m_c from
+    1e-12 to 0.3 on both sides of n = m and up to n → 1 (tests/test_numerics_heavy_top_complementary.py, against mpmath)."""
+    Kp = _rf(0.0, m, 1.0)
+    h = math.pi / (2.0 * Kp)
+    qp = np.exp(-2.0 * h * K)
+    U = np.abs(u)
+    out = np.empty_like(U)
+    J = 1  # the terms beyond j = J are below q′^{j(j−1)} (arguments up to 2K)
+    qmax = float(qp.max()) if qp.size else 0.0
+    while qmax ** (J * (J + 1)) > _TERMS_BELOW:
+        J += 1
+    circ = nm[:, 0] > 0
+    rows = np.flatnonzero(~circ)
+    if rows.size:
+        n_, n1_, nm_, mc_, m_, K_, Pi_, h_, q_ = (v[rows] for v in (n, n1, nm, mc, m, K, Pi, h, qp))
+        ap = np.sqrt(-nm_ / (m_ * n1_)) * _rf(mc_ * n_ / (m_ * n1_), mc_ / n1_, 1.0)
+        x = h_ * (K_ - U[rows])
+        y = h_ * ap
+        tt = np.tanh(x) * np.tanh(y)
+        far = tt > 0.5  # atanh near 1 loses digits: the logarithms instead, −2 min(x, y) + …
+        main = np.where(far, np.log1p(np.exp(-2.0 * np.abs(x - y))) - np.log1p(np.exp(-2.0 * (x + y)))
+                        - 2.0 * np.minimum(x, y), -2.0 * np.arctanh(np.where(far, 0.0, tt)))
+        main += x * (2.0 * ap / K_)
+        dD = np.zeros_like(x)  # Σ q′^{j(j+1)} (f_j(x − y) − f_j(x + y)), f_j = cosh((2j+1)·)/cosh
+        Dp = np.ones_like(x)  # 1 + Σ q′^{j(j+1)} f_j(x + y)
+        xp = x + y
+        for j in range(1, J + 1):
+            sign, w = (-1.0) ** j, q_ ** (j * (j + 1))
+            for i in range(1, j + 1):
+                si = sign * (-1.0) ** i
+                dD -= (4.0 * si * w * np.sinh(2 * i * y)) * np.sinh(2 * i * x)
+                Dp += (2.0 * si * w) * np.cosh(2 * i * xp)
+            Dp += sign * w
+        main += np.log1p(dD / Dp)
+        out[rows] = U[rows] * (Pi_ / K_) + (0.5 * np.sqrt(n_ / (-nm_ * n1_))) * main
+    rows = np.flatnonzero(circ)
+    if rows.size:
+        n_, n1_, nm_, mc_, m_, K_, Pi_, h_, q_ = (v[rows] for v in (n, n1, nm, mc, m, K, Pi, h, qp))
+        b = np.sqrt(nm_ / (n_ * mc_)) * _rf(m_ * n1_ / (n_ * mc_), m_ / n_, 1.0)
+        bp = np.sqrt(n1_ / mc_) * _rf(nm_ / mc_, n_, 1.0)
+        sY, cY = np.sin(h_ * b), np.sin(h_ * bp)  # Y = hb, cos Y = sin(hb′)
+        X = h_ * (K_ - U[rows])
+        ang = np.arctan2(np.tanh(X) * sY, cY)
+        if J:
+            z = np.exp(-2.0 * X) * ((cY * cY - sY * sY) - 2j * (sY * cY))  # e^{−2(X + iY)}
+            zi = 1.0 / z
+            zj = np.ones_like(z)
+            corr = np.zeros_like(z)
+            for j in range(1, J + 1):  # Σ q′^{j(j+1)} cosh((2j+1)x)/cosh x = Σ q′^{j(j+1)} z^{−j} Σ_{i≤2j} (−z)^i
+                zj *= zi
+                g = np.ones_like(z)
+                p = np.ones_like(z)
+                for _ in range(2 * j):
+                    p *= -z
+                    g += p
+                corr += (q_ ** (j * (j + 1))) * zj * g
+            corr += 1.0
+            ang += np.angle(corr)
+        ang -= X * (b / K_)
+        out[rows] = U[rows] * (Pi_ / K_) - ang / np.sqrt(n1_ * nm_ / n_)
+    return np.copysign(out, u)
+
+
 #: A member stays on this path where the relative error of its m_c (from the rounding of the cubic's coefficients,
 #: moved over the gap between its two nearest roots) is at most this many ulp: the phase then errs by at most
 #: ~this × ε (1.4e-14) per nutation period.
@@ -300,7 +386,17 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
             rho = np.sqrt(rho2[rows])[:, None]
             sign = np.sign(r[rows]) if W is Wn else np.sign(x[rows])
             W[rows] += sign * np.arctan2(s_abs[rows] * rho, c_d[rows]) / rho
-    slow = np.flatnonzero(~(fits & np.isfinite(Wn).all(axis=1) & np.isfinite(Wf).all(axis=1)))
+    slow = ~(fits & np.isfinite(Wn).all(axis=1) & np.isfinite(Wf).all(axis=1))
+    # small m_c (the nome series would need many harmonics): the complementary nome's few terms
+    nm_n, nm_f = n_n * one_m_mn_n, delta * mc / (z1 + delta)  # n − m of each pole
+    comp = np.flatnonzero(slow & ok & (mc < SERIES_MC) & (nm_n != 0) & np.isfinite(nm_n) & np.isfinite(nm_f))
+    if comp.size:
+        pick = lambda v: np.asarray(v)[comp][:, None]  # noqa: E731
+        Kc, mcc = pick(K), pick(mc)
+        Wn[comp] = _W_complementary(r[comp], pick(n_n), pick(n_n1), pick(nm_n), mcc, pick(m), Kc, pick(half_n))
+        Wf[comp] = _W_complementary(x[comp], pick(n_f), pick(n_f1), pick(nm_f), mcc, pick(m), Kc, pick(half_f))
+        slow[comp] = ~(np.isfinite(Wn[comp]).all(axis=1) & np.isfinite(Wf[comp]).all(axis=1))
+    slow = np.flatnonzero(slow)
     if slow.size:  # steep integrands (a pass near a pole): Carlson's integrals at the times, these members only
         rs, ss, cs, ds, xs = r[slow], sn[slow], cn[slow], dn[slow], x[slow]
         pick = lambda v: np.asarray(v)[slow][:, None]  # noqa: E731
