@@ -174,22 +174,31 @@ def _W_complementary(u, n, n1, nm, mc, m, K, Pi):
         bp = np.sqrt(n1_ / mc_) * _rf(nm_ / mc_, n_, 1.0)
         sY, cY = np.sin(h_ * b), np.sin(h_ * bp)  # Y = hb, cos Y = sin(hb′)
         X = h_ * (K_ - U[rows])
-        ang = np.arctan2(np.tanh(X) * sY, cY)
-        if J:
-            z = np.exp(-2.0 * X) * ((cY * cY - sY * sY) - 2j * (sY * cY))  # e^{−2(X + iY)}
-            zi = 1.0 / z
-            zj = np.ones_like(z)
-            corr = np.zeros_like(z)
-            for j in range(1, J + 1):  # Σ q′^{j(j+1)} cosh((2j+1)x)/cosh x = Σ q′^{j(j+1)} z^{−j} Σ_{i≤2j} (−z)^i
-                zj *= zi
-                g = np.ones_like(z)
-                p = np.ones_like(z)
-                for _ in range(2 * j):
-                    p *= -z
-                    g += p
-                corr += (q_ ** (j * (j + 1))) * zj * g
-            corr += 1.0
-            ang += np.angle(corr)
+        # C(x)/cosh x = 1 + Σ_{j≥1} q′^{j(j+1)} z^{−j} Σ_{i≤2j} (−z)^i, z = e^{−2x} = E e^{−2iY}, E = e^{−2X}:
+        # 1 + Σ_{|k|≤J} c_k z^k, c_k = c_{−k} = Σ_{j≥max(|k|,1)} (−1)^{j+k} q′^{j(j+1)} — real polynomials in E, 1/E
+        # with the members' cos 2kY, sin 2kY
+        em = np.expm1(-2.0 * X)
+        E = 1.0 + em
+        tX = -em / (2.0 + em)  # tanh X
+        re = np.ones_like(X)
+        im = np.zeros_like(X)
+        c2, s2 = cY * cY - sY * sY, 2.0 * sY * cY  # cos 2Y, sin 2Y
+        ck, sk = np.ones_like(c2), np.zeros_like(s2)
+        Ek, Ei = np.ones_like(X), 1.0 / E
+        Eik = np.ones_like(X)
+        for k in range(J + 1):
+            c = sum((-1.0) ** (j + k) * q_ ** (j * (j + 1)) for j in range(max(k, 1), J + 1))
+            if k == 0:
+                re += c
+                continue
+            ck, sk = ck * c2 - sk * s2, sk * c2 + ck * s2
+            Ek = Ek * E
+            Eik = Eik * Ei
+            re += (c * ck) * (Ek + Eik)
+            im -= (c * sk) * (Ek - Eik)
+        # arg of cosh(X + iY)/cosh X = cos Y + i tanh X sin Y, times 1 + Σ c_k z^k: one atan2 (|Σ| < 3q′: no wrap)
+        tX *= sY
+        ang = np.arctan2(tX * re + cY * im, cY * re - tX * im)
         ang -= X * (b / K_)
         out[rows] = U[rows] * (Pi_ / K_) - ang / np.sqrt(n1_ * nm_ / n_)
     return np.copysign(out, u)
