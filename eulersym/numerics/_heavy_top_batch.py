@@ -42,8 +42,8 @@ def _quadratic_roots(A, B, C):
 #: Harmonics of the third-kind integrands' cosine series (:func:`_W_series`): sampled at N + 1 nodes of the half
 #: period, of which the Jacobi functions are evaluated at N/2 + 1 (the others by sn²(K − y) = cn² y/dn² y).
 SERIES_N = 32
-#: ... for members whose m_c is at least this (below, the cosine series would need more harmonics: Carlson's
-#: integrals at each time instead).
+#: ... for members whose m_c is at least this (below, the cosine series would need more harmonics: the complementary
+#: nome's few terms instead, :func:`_W_complementary`).
 SERIES_MC = 0.3
 
 
@@ -365,7 +365,7 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
     steep_n, steep_f = (n_n1 < 0.5) & (one_m_mn_n > 0), (n_f1 < 0.5) & (one_m_m_over_n > 0)
     n_eff = (col(np.where(steep_n, 1.0 - one_m_mn_n, n_n)), col(np.where(steep_f, m_over_n, n_f)))
     # the series converge like the nome q = exp(−πK′/K)^k: members with m_c below SERIES_MC (q^N above round-off)
-    # go to Carlson's integrals at once
+    # go to the complementary nome's series at once (below)
     fits = mc >= SERIES_MC
     rows = np.flatnonzero(fits)
     c0 = np.zeros((2, mc.size, 1))
@@ -406,7 +406,7 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
         Wf[comp] = _W_complementary(x[comp], pick(n_f), pick(n_f1), pick(nm_f), mcc, pick(m), Kc, pick(half_f))
         slow[comp] = ~(np.isfinite(Wn[comp]).all(axis=1) & np.isfinite(Wf[comp]).all(axis=1))
     slow = np.flatnonzero(slow)
-    if slow.size:  # steep integrands (a pass near a pole): Carlson's integrals at the times, these members only
+    if slow.size:  # the rest (m_c ≥ SERIES_MC, a steep integrand): Carlson's integrals at the times, these members only
         rs, ss, cs, ds, xs = r[slow], sn[slow], cn[slow], dn[slow], x[slow]
         pick = lambda v: np.asarray(v)[slow][:, None]  # noqa: E731
         Wn[slow] = np.sign(rs) * _W(np.abs(ss), np.abs(cs), pick(n_n), pick(n_n1), pick(mc))
