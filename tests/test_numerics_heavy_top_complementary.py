@@ -3,10 +3,10 @@ by Jacobi's imaginary transformation (:func:`eulersym.numerics._heavy_top_batch.
 R_F + R_J (``_W``, the path it replaces at the output times), each against mpmath at 40 digits, written here.
 
 The measure is the phase's: ``|W − W_ref| ≤ 1e-14·max(|W_ref|, Π(n)) + 2 ulp(K)·W′(u)`` (the second term: the
-argument's own rounding, magnified by the integrand 1/(1 − n sn² u) ≤ 1/(1 − n) next to a pole). The motion takes ``coef·W`` and
-``coef·Π(n)`` is its advance over half a nutation period, so an error of W below 1e-14 Π is below 1e-14 of the
-angle the integral contributes (near u = 0, where W ≈ u is much smaller than Π, a relative 1e-14 of W itself is not
-promised: the complementary form subtracts terms of size ~Π there).
+argument's own rounding, magnified by the integrand 1/(1 − n sn² u) ≤ 1/(1 − n) next to a pole). The motion takes
+``coef·W`` and ``coef·Π(n)`` is its advance over half a nutation period, so an error of W below 1e-14 Π is below
+1e-14 of the angle the integral contributes (near u = 0, where W ≈ u is much smaller than Π, a relative 1e-14 of W
+itself is not promised: the complementary form subtracts terms of size ~Π there).
 
 Members: m_c log-uniform on [1e-12, 0.3], characteristic n on both sides of the pole side n = m (0 < n < m: a real
 parameter a; m < n < 1: a = K + ib), next to n = m on either side, next to n = 0 and next to n = 1 (a pass close to a
@@ -73,7 +73,7 @@ def _both(u, n, n1, nm, mc):
 
 @pytest.mark.parametrize("case", CASES)
 def test_the_complementary_third_kind_integral_is_the_mpmath_one_to_1e_14_of_the_phase(case):
-    rng = np.random.default_rng(["below", "just_below", "near_zero", "above", "just_above", "near_one"].index(case) + 2311)
+    rng = np.random.default_rng(CASES.index(case) + 2311)
     worst = {"complementary": 0.0, "carlson": 0.0}
     for n, n1, nm, mc in _members(case, 12, rng):
         K = float(_rf(0.0, mc, 1.0))

@@ -113,14 +113,14 @@ def _W(s, c, n, one_minus_n, mc):
 _TERMS_BELOW = 2.0 ** -56
 
 
-def _W_complementary(u, n, n1, nm, mc, m, K, Pi):
+def _W_complementary(u, n, n1, nm, mc, m, K, Pi, Kp=None):
     """∫₀ᵘ dy/(1 − n sn²(y|m)) for |u| ≤ K by Jacobi's imaginary transformation: a few terms in the complementary
     nome q′ = exp(−πK/K′) (6e-5 at m_c = 1e-3), for the members whose nome series converge slowly (small m_c).
 
     Columns (B, 1): ``n``, ``n1 = 1 − n``, ``nm = n − m`` (formed by the caller where it keeps its digits), ``mc``,
-    ``m``, ``K = K(m)`` and ``Pi = Π(n|m)``; ``u`` (B, T). With Jacobi's form ``W = u + c·(u Z(a) + ½ ln Θ(u−a)/Θ(u+a))``,
-    ``n = m sn² a``, ``c = sn a/(cn a dn a)``, its secular part ``u Π/K`` apart, and Θ turned into the complementary
-    variables (h = π/(2K′), V = K − |u|)
+    ``m``, ``K = K(m)``, ``Pi = Π(n|m)`` and (optional) ``Kp = K(m_c)``; ``u`` (B, T). With Jacobi's form
+    ``W = u + c·(u Z(a) + ½ ln Θ(u−a)/Θ(u+a))``, ``n = m sn² a``, ``c = sn a/(cn a dn a)``, its secular part ``u Π/K``
+    apart, and Θ turned into the complementary variables (h = π/(2K′), V = K − |u|)
 
         Θ(w) ∝ exp(−h w²/(2K)) · C(hw),   C(x) = Σ_{j≥0} q′^{j(j+1)} cosh((2j+1)x),
 
@@ -133,8 +133,9 @@ def _W_complementary(u, n, n1, nm, mc, m, K, Pi):
     −2 atanh(tanh x tanh y), cosh((2j+1)x)/cosh x = (−1)ʲ(1 + 2 Σ_{i≤j} (−1)ⁱ cosh 2ix), arg cosh(X + iY) =
     atan2(tanh X sin Y, cos Y) with cos Y = sin(hb′); b and b′ each from its own R_F. Accuracy: ~4e-15 of
     max(|W|, Π) (the phase's scale: the motion takes coef·W, and coef·Π is its advance a half period) for m_c from
-    1e-12 to 0.3 on both sides of n = m and up to n → 1 (tests/test_numerics_heavy_top_complementary.py, against mpmath)."""
-    Kp = _rf(0.0, m, 1.0)
+    1e-12 to 0.3 on both sides of n = m and up to n → 1, besides the argument's own rounding magnified by W′ next to
+    a pole (tests/test_numerics_heavy_top_complementary.py, against mpmath)."""
+    Kp = _rf(0.0, m, 1.0) if Kp is None else Kp
     h = math.pi / (2.0 * Kp)
     qp = np.exp(-2.0 * h * K)
     U = np.abs(u)
@@ -314,14 +315,14 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
     tau0 = np.where(sigma * wperp < 0, -F, F)
     n_n, n_n1 = delta / (y2 + delta), y2 / (y2 + delta)
     coef_n = Bn / (lam * (y2 + delta))
-    half_n = _rf(0.0, mc, 1.0) + n_n / 3 * _rj(0.0, mc, 1.0, n_n1)
+    half_n = K + n_n / 3 * _rj(0.0, mc, 1.0, n_n1)  # K = R_F(0, m_c, 1)
     per_n = coef_n * 2 * half_n
     n_f, n_f1 = (z1 * m + delta) / (z1 + delta), z1 * mc / (z1 + delta)
     m_over_n = m * (z1 + delta) / (z1 * m + delta)
     one_m_m_over_n = delta * mc / (z1 * m + delta)
     rate_f = nu_far + Bf * m_over_n / (z1 + delta)
     coef_f = Bf * delta * mc / (z1 * m + delta) / (lam * (z1 + delta))
-    half_f = _rf(0.0, mc, 1.0) + n_f / 3 * _rj(0.0, mc, 1.0, n_f1)
+    half_f = K + n_f / 3 * _rj(0.0, mc, 1.0, n_f1)
     per_f = coef_f * 2 * half_f
     W0n = np.sign(tau0) * _W(np.sqrt(s_sq), np.sqrt(c_sq), n_n, n_n1, mc)
     # τ0 − K: sn² = cd² τ0, cn² = k′² sd² τ0; in [−2K, 0], wrapped by 2K (one half period back) when τ0 < 0
@@ -401,9 +402,10 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
     comp = np.flatnonzero(slow & ok & (mc < SERIES_MC) & (nm_n != 0) & np.isfinite(nm_n) & np.isfinite(nm_f))
     if comp.size:
         pick = lambda v: np.asarray(v)[comp][:, None]  # noqa: E731
-        Kc, mcc = pick(K), pick(mc)
-        Wn[comp] = _W_complementary(r[comp], pick(n_n), pick(n_n1), pick(nm_n), mcc, pick(m), Kc, pick(half_n))
-        Wf[comp] = _W_complementary(x[comp], pick(n_f), pick(n_f1), pick(nm_f), mcc, pick(m), Kc, pick(half_f))
+        Kc, mcc, mm = pick(K), pick(mc), pick(m)
+        Kp = _rf(0.0, mm, 1.0)  # K′ = K(m_c), both poles'
+        Wn[comp] = _W_complementary(r[comp], pick(n_n), pick(n_n1), pick(nm_n), mcc, mm, Kc, pick(half_n), Kp)
+        Wf[comp] = _W_complementary(x[comp], pick(n_f), pick(n_f1), pick(nm_f), mcc, mm, Kc, pick(half_f), Kp)
         slow[comp] = ~(np.isfinite(Wn[comp]).all(axis=1) & np.isfinite(Wf[comp]).all(axis=1))
     slow = np.flatnonzero(slow)
     if slow.size:  # the rest (m_c ≥ SERIES_MC, a steep integrand): Carlson's integrals at the times, these members only
