@@ -42,8 +42,8 @@ def _quadratic_roots(A, B, C):
 #: Harmonics of the third-kind integrands' cosine series (:func:`_W_series`): sampled at N + 1 nodes of the half
 #: period, of which the Jacobi functions are evaluated at N/2 + 1 (the others by sn²(K − y) = cn² y/dn² y).
 SERIES_N = 32
-#: ... for members whose m_c is at least this (below, the cosine series would need more harmonics: Carlson's
-#: integrals at each time instead).
+#: ... for members whose m_c is at least this (below, the cosine series would need more harmonics: the complementary
+#: nome's few terms instead, :func:`_W_complementary`).
 SERIES_MC = 0.3
 
 
@@ -107,6 +107,102 @@ def _W(s, c, n, one_minus_n, mc):
     """∫₀ˣ dy/(1 − n sn² y) from s = |sn x|, c = |cn x| (0 ≤ x ≤ K), vectorised."""
     c2 = c * c
     return _third_kind(s, c2, c2 + mc * s * s, n, one_minus_n + n * c2)
+
+
+#: Terms of the complementary theta series (:func:`_W_complementary`) are kept down to this size.
+_TERMS_BELOW = 2.0 ** -56
+
+
+def _W_complementary(u, n, n1, nm, mc, m, K, Pi, Kp=None):
+    """∫₀ᵘ dy/(1 − n sn²(y|m)) for |u| ≤ K by Jacobi's imaginary transformation: a few terms in the complementary
+    nome q′ = exp(−πK/K′) (6e-5 at m_c = 1e-3), for the members whose nome series converge slowly (small m_c).
+
+    Columns (B, 1): ``n``, ``n1 = 1 − n``, ``nm = n − m`` (formed by the caller where it keeps its digits), ``mc``,
+    ``m``, ``K = K(m)``, ``Pi = Π(n|m)`` and (optional) ``Kp = K(m_c)``; ``u`` (B, T). With Jacobi's form
+    ``W = u + c·(u Z(a) + ½ ln Θ(u−a)/Θ(u+a))``, ``n = m sn² a``, ``c = sn a/(cn a dn a)``, its secular part ``u Π/K``
+    apart, and Θ turned into the complementary variables (h = π/(2K′), V = K − |u|)
+
+        Θ(w) ∝ exp(−h w²/(2K)) · C(hw),   C(x) = Σ_{j≥0} q′^{j(j+1)} cosh((2j+1)x),
+
+    - 0 < n < m (a = K − a′ real, sn²(a′|m) = (m − n)/(m(1 − n)), c² = n/((m − n)(1 − n))):
+      ``W = |u| Π/K + (c/2)·[2hVa′/K + ln C(h(V − a′)) − ln C(h(V + a′))]``;
+    - m < n < 1 (a = K + ib, dn²(b|m_c) = m/n, b′ = K′ − b, ρ² = (1 − n)(n − m)/n):
+      ``W = |u| Π/K − (1/ρ)·[arg C(h(V + ib)) − hVb/K]``;
+
+    times sign u. Each bracket is formed from differences that keep their digits: ln cosh(x − y) − ln cosh(x + y) =
+    −2 atanh(tanh x tanh y), cosh((2j+1)x)/cosh x = (−1)ʲ(1 + 2 Σ_{i≤j} (−1)ⁱ cosh 2ix), arg cosh(X + iY) =
+    atan2(tanh X sin Y, cos Y) with cos Y = sin(hb′); b and b′ each from its own R_F. Accuracy: ~4e-15 of
+    max(|W|, Π) (the phase's scale: the motion takes coef·W, and coef·Π is its advance a half period) for m_c from
+    1e-12 to 0.3 on both sides of n = m and up to n → 1, besides the argument's own rounding magnified by W′ next to
+    a pole (tests/test_numerics_heavy_top_complementary.py, against mpmath)."""
+    Kp = _rf(0.0, m, 1.0) if Kp is None else Kp
+    h = math.pi / (2.0 * Kp)
+    qp = np.exp(-2.0 * h * K)
+    U = np.abs(u)
+    out = np.empty_like(U)
+    J = 1  # the terms beyond j = J are below q′^{j(j−1)} (arguments up to 2K)
+    qmax = float(qp.max()) if qp.size else 0.0
+    while qmax ** (J * (J + 1)) > _TERMS_BELOW:
+        J += 1
+    circ = nm[:, 0] > 0
+    rows = np.flatnonzero(~circ)
+    if rows.size:
+        n_, n1_, nm_, mc_, m_, K_, Pi_, h_, q_ = (v[rows] for v in (n, n1, nm, mc, m, K, Pi, h, qp))
+        ap = np.sqrt(-nm_ / (m_ * n1_)) * _rf(mc_ * n_ / (m_ * n1_), mc_ / n1_, 1.0)
+        x = h_ * (K_ - U[rows])
+        y = h_ * ap
+        tt = np.tanh(x) * np.tanh(y)
+        far = tt > 0.5  # atanh near 1 loses digits: the logarithms instead, −2 min(x, y) + …
+        main = np.where(far, np.log1p(np.exp(-2.0 * np.abs(x - y))) - np.log1p(np.exp(-2.0 * (x + y)))
+                        - 2.0 * np.minimum(x, y), -2.0 * np.arctanh(np.where(far, 0.0, tt)))
+        main += x * (2.0 * ap / K_)
+        dD = np.zeros_like(x)  # Σ q′^{j(j+1)} (f_j(x − y) − f_j(x + y)), f_j = cosh((2j+1)·)/cosh
+        Dp = np.ones_like(x)  # 1 + Σ q′^{j(j+1)} f_j(x + y)
+        xp = x + y
+        for j in range(1, J + 1):
+            sign, w = (-1.0) ** j, q_ ** (j * (j + 1))
+            for i in range(1, j + 1):
+                si = sign * (-1.0) ** i
+                dD -= (4.0 * si * w * np.sinh(2 * i * y)) * np.sinh(2 * i * x)
+                Dp += (2.0 * si * w) * np.cosh(2 * i * xp)
+            Dp += sign * w
+        main += np.log1p(dD / Dp)
+        out[rows] = U[rows] * (Pi_ / K_) + (0.5 * np.sqrt(n_ / (-nm_ * n1_))) * main
+    rows = np.flatnonzero(circ)
+    if rows.size:
+        n_, n1_, nm_, mc_, m_, K_, Pi_, h_, q_ = (v[rows] for v in (n, n1, nm, mc, m, K, Pi, h, qp))
+        b = np.sqrt(nm_ / (n_ * mc_)) * _rf(m_ * n1_ / (n_ * mc_), m_ / n_, 1.0)
+        bp = np.sqrt(n1_ / mc_) * _rf(nm_ / mc_, n_, 1.0)
+        sY, cY = np.sin(h_ * b), np.sin(h_ * bp)  # Y = hb, cos Y = sin(hb′)
+        X = h_ * (K_ - U[rows])
+        # C(x)/cosh x = 1 + Σ_{j≥1} q′^{j(j+1)} z^{−j} Σ_{i≤2j} (−z)^i, z = e^{−2x} = E e^{−2iY}, E = e^{−2X}:
+        # 1 + Σ_{|k|≤J} c_k z^k, c_k = c_{−k} = Σ_{j≥max(|k|,1)} (−1)^{j+k} q′^{j(j+1)} — real polynomials in E, 1/E
+        # with the members' cos 2kY, sin 2kY
+        em = np.expm1(-2.0 * X)
+        E = 1.0 + em
+        tX = -em / (2.0 + em)  # tanh X
+        re = np.ones_like(X)
+        im = np.zeros_like(X)
+        c2, s2 = cY * cY - sY * sY, 2.0 * sY * cY  # cos 2Y, sin 2Y
+        ck, sk = np.ones_like(c2), np.zeros_like(s2)
+        Ek, Ei = np.ones_like(X), 1.0 / E
+        Eik = np.ones_like(X)
+        for k in range(J + 1):
+            c = sum((-1.0) ** (j + k) * q_ ** (j * (j + 1)) for j in range(max(k, 1), J + 1))
+            if k == 0:
+                re += c
+                continue
+            ck, sk = ck * c2 - sk * s2, sk * c2 + ck * s2
+            Ek = Ek * E
+            Eik = Eik * Ei
+            re += (c * ck) * (Ek + Eik)
+            im -= (c * sk) * (Ek - Eik)
+        # arg of cosh(X + iY)/cosh X = cos Y + i tanh X sin Y, times 1 + Σ c_k z^k: one atan2 (|Σ| < 3q′: no wrap)
+        tX *= sY
+        ang = np.arctan2(tX * re + cY * im, cY * re - tX * im)
+        ang -= X * (b / K_)
+        out[rows] = U[rows] * (Pi_ / K_) - ang / np.sqrt(n1_ * nm_ / n_)
+    return np.copysign(out, u)
 
 
 #: A member stays on this path where the relative error of its m_c (from the rounding of the cubic's coefficients,
@@ -219,14 +315,14 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
     tau0 = np.where(sigma * wperp < 0, -F, F)
     n_n, n_n1 = delta / (y2 + delta), y2 / (y2 + delta)
     coef_n = Bn / (lam * (y2 + delta))
-    half_n = _rf(0.0, mc, 1.0) + n_n / 3 * _rj(0.0, mc, 1.0, n_n1)
+    half_n = K + n_n / 3 * _rj(0.0, mc, 1.0, n_n1)  # K = R_F(0, m_c, 1)
     per_n = coef_n * 2 * half_n
     n_f, n_f1 = (z1 * m + delta) / (z1 + delta), z1 * mc / (z1 + delta)
     m_over_n = m * (z1 + delta) / (z1 * m + delta)
     one_m_m_over_n = delta * mc / (z1 * m + delta)
     rate_f = nu_far + Bf * m_over_n / (z1 + delta)
     coef_f = Bf * delta * mc / (z1 * m + delta) / (lam * (z1 + delta))
-    half_f = _rf(0.0, mc, 1.0) + n_f / 3 * _rj(0.0, mc, 1.0, n_f1)
+    half_f = K + n_f / 3 * _rj(0.0, mc, 1.0, n_f1)
     per_f = coef_f * 2 * half_f
     W0n = np.sign(tau0) * _W(np.sqrt(s_sq), np.sqrt(c_sq), n_n, n_n1, mc)
     # τ0 − K: sn² = cd² τ0, cn² = k′² sd² τ0; in [−2K, 0], wrapped by 2K (one half period back) when τ0 < 0
@@ -270,7 +366,7 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
     steep_n, steep_f = (n_n1 < 0.5) & (one_m_mn_n > 0), (n_f1 < 0.5) & (one_m_m_over_n > 0)
     n_eff = (col(np.where(steep_n, 1.0 - one_m_mn_n, n_n)), col(np.where(steep_f, m_over_n, n_f)))
     # the series converge like the nome q = exp(−πK′/K)^k: members with m_c below SERIES_MC (q^N above round-off)
-    # go to Carlson's integrals at once
+    # go to the complementary nome's series at once (below)
     fits = mc >= SERIES_MC
     rows = np.flatnonzero(fits)
     c0 = np.zeros((2, mc.size, 1))
@@ -300,8 +396,19 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
             rho = np.sqrt(rho2[rows])[:, None]
             sign = np.sign(r[rows]) if W is Wn else np.sign(x[rows])
             W[rows] += sign * np.arctan2(s_abs[rows] * rho, c_d[rows]) / rho
-    slow = np.flatnonzero(~(fits & np.isfinite(Wn).all(axis=1) & np.isfinite(Wf).all(axis=1)))
-    if slow.size:  # steep integrands (a pass near a pole): Carlson's integrals at the times, these members only
+    slow = ~(fits & np.isfinite(Wn).all(axis=1) & np.isfinite(Wf).all(axis=1))
+    # small m_c (the nome series would need many harmonics): the complementary nome's few terms
+    nm_n, nm_f = n_n * one_m_mn_n, delta * mc / (z1 + delta)  # n − m of each pole
+    comp = np.flatnonzero(slow & ok & (mc < SERIES_MC) & (nm_n != 0) & np.isfinite(nm_n) & np.isfinite(nm_f))
+    if comp.size:
+        pick = lambda v: np.asarray(v)[comp][:, None]  # noqa: E731
+        Kc, mcc, mm = pick(K), pick(mc), pick(m)
+        Kp = _rf(0.0, mm, 1.0)  # K′ = K(m_c), both poles'
+        Wn[comp] = _W_complementary(r[comp], pick(n_n), pick(n_n1), pick(nm_n), mcc, mm, Kc, pick(half_n), Kp)
+        Wf[comp] = _W_complementary(x[comp], pick(n_f), pick(n_f1), pick(nm_f), mcc, mm, Kc, pick(half_f), Kp)
+        slow[comp] = ~(np.isfinite(Wn[comp]).all(axis=1) & np.isfinite(Wf[comp]).all(axis=1))
+    slow = np.flatnonzero(slow)
+    if slow.size:  # the rest (m_c ≥ SERIES_MC, a steep integrand): Carlson's integrals at the times, these members only
         rs, ss, cs, ds, xs = r[slow], sn[slow], cn[slow], dn[slow], x[slow]
         pick = lambda v: np.asarray(v)[slow][:, None]  # noqa: E731
         Wn[slow] = np.sign(rs) * _W(np.abs(ss), np.abs(cs), pick(n_n), pick(n_n1), pick(mc))
