@@ -645,6 +645,9 @@ def stability(fam) -> Stability:
 
 @functools.lru_cache(maxsize=64)
 def _stability(fam) -> Stability:
+    linearise = getattr(fam._context, "linearise", None)
+    if linearise is not None:  # a body on a plane: its contact equations (eulersym.model.rolling_steady)
+        return linearise(fam)
     if not fam.closed_form:
         return _numeric_stability(fam)
     ctx = fam._context

@@ -344,6 +344,15 @@ class _Context:
     symmetries: tuple  # of (label, axis in the model frame, coordinate index in the solving frame)
     denominators: tuple
     notes: tuple
+    #: Equations the steady motions must satisfy beyond ``f(x) = ν G x`` (a contact's zero slip, in ``x``).
+    extra: tuple = ()
+    #: Sign conditions every member must meet (``Γ2 > 0``: the branch of a contact point's square root solved on).
+    positive: tuple = ()
+    #: ``family → Stability`` where the model's own linearisation is not :mod:`eulersym.model.stability`'s (contact
+    #: bodies: :mod:`eulersym.model.rolling_steady`); None for the model's equations.
+    linearise: object = None
+    #: Whether a stuck branch is tried once more with ``ω × L = 0`` (the torque-free body's permanent rotations).
+    trial: bool = True
 
 
 def _blocks(x) -> list:
@@ -748,7 +757,7 @@ class _Solver:
         """A branch the elimination cannot finish, tried once more with ``ω × L = 0`` added (``L = I ω + h``): the
         permanent rotations of the torque-free body. Its solutions solve the branch (equations were only added);
         whatever else the branch holds stays a numeric family."""
-        if br.trial:
+        if br.trial or not self.ctx.trial:
             return None
         mech = self.ctx.mech
         R = sp.Matrix(self.ctx.R)
@@ -1085,6 +1094,13 @@ def _steady_motions(mech: Mechanics, budget: float) -> SteadyMotions:
         return SteadyMotions([], notes)
     if mech.turning:
         return _frame_equilibria(ctx, notes)
+    return _solve(ctx, mech.name, start + budget, notes)
+
+
+def _solve(ctx: _Context, name: str, deadline: float, notes: list) -> SteadyMotions:
+    """The families of ``f(x) = ν G x`` (with ``ctx.extra``) for a reduced system, by the exact solver, before
+    ``deadline`` (:func:`time.monotonic`)."""
+    budget = max(deadline - time.monotonic(), 0.01)
     x = list(ctx.x)
     f = list(ctx.f_solving)
     unknowns = list(x)
@@ -1115,7 +1131,7 @@ def _steady_motions(mech: Mechanics, budget: float) -> SteadyMotions:
         if GAMMA[0] in x:
             protected.add(GAMMA[2])
             priority[GAMMA[2]] = 9
-    eqs = [sp.numer(sp.together(e)) for e in eqs]
+    eqs = [sp.numer(sp.together(e)) for e in [*eqs, *ctx.extra]]
     if GAMMA[0] in x:
         eqs.append(sum(g ** 2 for g in GAMMA) - 1)
     if Q[0] in x:
@@ -1123,14 +1139,14 @@ def _steady_motions(mech: Mechanics, budget: float) -> SteadyMotions:
     for g in gauge:
         eqs.append(g)
     nonzero = [d for d in ctx.denominators]
-    solver = _Solver(ctx, unknowns, protected, priority, start + budget, mech.name)
+    solver = _Solver(ctx, unknowns, protected, priority, deadline, name)
     try:
         with time_budget(budget):
             raws = solver.solve(_Branch(eqs, {}, [], nonzero, [], []))
             families = _families(ctx, raws, solver)
     except BudgetExceeded:
         raise SteadyMotionUndecided(
-            f"model {mech.name}: the steady motions were not decided within {budget:g} s (tried: factor splitting, "
+            f"model {name}: the steady motions were not decided within {budget:g} s (tried: factor splitting, "
             "linear elimination, null spaces and the quadratic formula on the equilibrium equations f(x) = ν G x)"
         ) from None
     if not families:
