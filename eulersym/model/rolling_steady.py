@@ -54,12 +54,12 @@ from dataclasses import dataclass, replace
 import sympy as sp
 
 from eulersym.errors import InvalidInput
-from eulersym.model._exact import DRIFT, THETA, _holds, _is_zero, _tidy
+from eulersym.model._exact import DRIFT, _is_zero, _tidy
 from eulersym.model.mechanics import GAMMA, OMEGA, Q
 from eulersym.model.rolling import BodyOnPlane, _kinematics, friction_law, newton_euler
 from eulersym.model.steady import (DEFAULT_BUDGET, Family, SteadyMotions, _Context, _equivariant, _rational,
                                    _solve)
-from eulersym.model.stability import (LAM, Stability, _cancel, _factor, _random_family_point, _vanishes,
+from eulersym.model.stability import (LAM, Stability, _cancel, _factor, _vanishes,
                                       hurwitz_conditions, positive_parameters, real_nonpositive_roots)
 
 __all__ = ["VELOCITY_BODY", "steady_motions", "reduced_rates"]

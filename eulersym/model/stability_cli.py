@@ -7,7 +7,8 @@
   symbols (``s``, ``theta``); the eigenvalues of the reduced linearisation are printed beside the verdict;
 - ``--map P1=a:b:n P2=c:d:n --plot FILE.png`` — the stability map over two symbols (parameters or family symbols)
   from the proven conditions, checked against the eigenvalues at every point; the PNG shades the classes, draws
-  the proven boundary and marks any point where the eigenvalues disagree;
+  the proven boundary, names each region by its class in words, and marks any point where the eigenvalues
+  disagree; with ``--lyapunov`` it also hatches where the energy–Casimir function proves nonlinear stability;
 - ``--lyapunov`` — also the energy–Casimir function's condition for nonlinear stability;
 - ``--budget SECONDS`` — the exact solver's time budget (default 20 s; beyond it, exit 2 naming what was tried);
 - ``--latex``, ``--json`` — the output's form.
@@ -293,13 +294,13 @@ def _map(chosen, ranges, at, args, out) -> int:
         print(f"  eigenvalue check: {agree} of {compared} points off the boundary agree ({boundary} on it skipped); "
               f"conditions {proven_s * 1e3:.1f} ms, eigenvalues {numeric_s * 1e3:.0f} ms")
     if args.plot:
-        _plot(args.plot, fam, st, X, Y, classes, margin, numeric, xname, yname)
+        _plot(args.plot, fam, st, X, Y, classes, margin, numeric, xname, yname, lyapunov=args.lyapunov)
         if not args.json:
             print(f"  wrote {args.plot}")
     return 0 if agree == compared else 1
 
 
-def _plot(path, fam, st, X, Y, classes, margin, numeric, xname, yname) -> None:
+def _plot(path, fam, st, X, Y, classes, margin, numeric, xname, yname, *, lyapunov=False) -> None:  # noqa: C901
     import numpy as np
 
     try:
@@ -330,6 +331,13 @@ def _plot(path, fam, st, X, Y, classes, margin, numeric, xname, yname) -> None:
     present = sorted(set(np.unique(classes).tolist()))
     handles = [Patch(color=colours[k + 1], label=labels[k + 1]) for k in present]
     handles.append(plt.Line2D([], [], color="black", label="proven boundary"))
+    lyapunov = _lyapunov_grid(st, xname, yname, X, Y) if lyapunov else None
+    if lyapunov is not None and np.any(lyapunov & (classes >= 1)):
+        shown = np.where(lyapunov & (classes >= 1), 1.0, np.nan)
+        ax.contourf(X, Y, shown, levels=[0.5, 1.5], colors="none", hatches=["///"])
+        handles.append(Patch(facecolor="none", edgecolor="black", hatch="///",
+                             label="proven Lyapunov stable (energy–Casimir)"))
+    _label_regions(ax, X, Y, classes, labels, lyapunov)
     ax.legend(handles=handles, loc="best", fontsize=8, framealpha=0.85)
     ax.set_xlabel(xname)
     ax.set_ylabel(yname)
@@ -339,3 +347,46 @@ def _plot(path, fam, st, X, Y, classes, margin, numeric, xname, yname) -> None:
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
+
+
+def _lyapunov_grid(st, xname, yname, X, Y):
+    """Where the energy–Casimir condition holds on the grid (bool array), or None: no Lyapunov function, one with
+    free multipliers (``κ``: "for some κ" is not a grid test), or more than 20 s to find it."""
+    import numpy as np
+
+    from eulersym._budget import BudgetExceeded, time_budget
+    from eulersym.model.stability_map import _grid, _vectorised
+
+    try:
+        with time_budget(20.0):
+            ly = st.lyapunov
+    except BudgetExceeded:
+        return None
+    if ly is None or ly.free:
+        return None
+    sx, sy, point = _grid(st, (xname, ()), (yname, ()), {})
+    f = _vectorised(ly.condition, sx, sy, point)
+    with np.errstate(all="ignore"):
+        return np.broadcast_to(np.asarray(f(X, Y), dtype=bool), X.shape)
+
+
+def _label_regions(ax, X, Y, classes, labels, lyapunov) -> None:
+    """Each connected region of one class (at least 0.5 % of the map) named in words at its deepest point (the
+    farthest from its edges, the map's border included)."""
+    import numpy as np
+    from scipy import ndimage
+
+    for k in np.unique(classes):
+        regions, count = ndimage.label(classes == k)
+        for r in range(1, count + 1):
+            inside = regions == r
+            if inside.sum() < 0.005 * classes.size:
+                continue
+            depth = ndimage.distance_transform_edt(np.pad(inside, 1))[1:-1, 1:-1]
+            i, j = np.unravel_index(np.argmax(depth), depth.shape)
+            text = labels[k + 1]
+            if k >= 1 and lyapunov is not None and lyapunov[inside].all():
+                text += "\n(Lyapunov, proven)"
+            ax.text(X[i, j], Y[i, j], text, ha="center", va="center", fontsize=9 if depth[i, j] > 20 else 7,
+                    rotation=0 if depth[i, j] > 20 else 90,
+                    bbox=dict(boxstyle="round,pad=0.25", facecolor="white", alpha=0.8, edgecolor="none"))
