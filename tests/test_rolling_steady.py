@@ -339,3 +339,14 @@ def test_bad_input_is_refused_by_name():
     with pytest.raises(InvalidInput, match="budget"):
         steady_motions(examples()["euler-disk"], budget=-1)
     assert "not searched" in steady_motions(examples()["rattleback"]).notes[0]
+
+
+def test_the_stability_command_lists_a_contact_scenes_families(capsys):
+    """`eulersym stability euler-disk --at s=20`: the disk's families from its contact equations, each classified."""
+    from eulersym.model.stability_cli import main
+
+    assert main(["euler-disk", "--family", "rolling in a straight line", "--at", "s=20"]) == 0
+    out = capsys.readouterr().out
+    assert "rolling in a straight line — relative equilibrium" in out
+    assert "spectrally stable iff: 100*a*s**2 - 327 >= 0" in out          # 3 a s² ≥ g with g = 9.81
+    assert "at M = 0.4, a = 0.0375, s = 20: spectrally stable" in out

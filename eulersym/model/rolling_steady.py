@@ -587,8 +587,9 @@ class ContactStability(Stability):
             M = mpmath.matrix([[mpmath.mpf(str(sp.N(e, 45))) for e in row] for row in J.tolist()])
             ev = [complex(v) for v in mpmath.eig(M, left=False, right=False)]
         scale = max([1.0] + [abs(v) for v in ev])
-        # a closed-form member is exact (zero modes at 1e-40); a numeric one is known to double precision
-        tol = 1e-25 if self._jacobian_public is not None else 1e-7
+        # a closed-form member is exact, but its zero modes may form Jordan blocks (split to ~1e-20 at 40 digits);
+        # a numeric member is known to double precision
+        tol = 1e-12 if self._jacobian_public is not None else 1e-7
         out = np.array([v for v in ev if abs(v) > tol * scale], dtype=complex)
         out.real[np.abs(out.real) < tol * scale] = 0.0
         return out[np.lexsort((out.imag, out.real))]
@@ -606,7 +607,7 @@ class ContactStability(Stability):
         roots = self.eigenvalues(values)
         scale = 1.0 + (max(abs(roots)) if len(roots) else 0.0)
         top = max(roots.real) if len(roots) else 0.0
-        tol = 1e-20 if self._jacobian_public is not None else 1e-7
+        tol = 1e-12 if self._jacobian_public is not None else 1e-7
         if top < -tol * scale:
             return "asymptotically stable"
         return "spectrally stable" if top <= tol * scale else "unstable"

@@ -1,6 +1,8 @@
 """``eulersym stability MODEL``: a model's steady motions, where each exists, and where it is stable — proven.
 
-``MODEL`` is a model (or scene) TOML file or the name of a bundled model. Options:
+``MODEL`` is a model (or scene) TOML file or the name of a bundled model; a contact scene (``[contact]``, or a bundled
+one such as ``euler-disk``) lists the body's steady motions on the plane (:mod:`eulersym.model.rolling_steady`) with
+their stability from the contact equations. Options:
 
 - ``--family NAME`` — only this family (did-you-mean);
 - ``--at NAME=VALUE`` (repeatable) — classify each family at numbers: parameters (defaults otherwise) and family
@@ -164,8 +166,18 @@ def main(argv) -> int:
         raise InvalidInput("--plot", args.plot, "a map to draw: --map P1=a:b:n P2=c:d:n --plot FILE.png")
     at = _parse_at(args.at)
     ranges = _parse_map(args.map) if args.map is not None else None
-    model = load(args.model)
-    families = steady_motions(model) if args.budget is None else steady_motions(model, budget=args.budget)
+    from eulersym.model import contact_scene
+
+    if contact_scene.handles(args.model) and contact_scene.load(args.model).kind == "contact":
+        # a body on a plane: its contact equations (eulersym.model.rolling_steady), never the free body's
+        from eulersym.model.rolling_steady import steady_motions as on_a_plane
+
+        body = contact_scene.load(args.model).body
+        model = _OnAPlane(body)
+        families = on_a_plane(body) if args.budget is None else on_a_plane(body, budget=args.budget)
+    else:
+        model = load(args.model)
+        families = steady_motions(model) if args.budget is None else steady_motions(model, budget=args.budget)
     chosen = list(families)
     if args.family is not None:
         chosen = [families.named(args.family)]
@@ -219,6 +231,15 @@ def main(argv) -> int:
     return status
 
 
+class _OnAPlane:
+    """What :func:`main` reads of a model, for a body on a plane (a contact scene)."""
+
+    def __init__(self, body):
+        self.name = body.name
+        self.mechanics = body.mechanics
+        self.parameters = {s.name: float(v) for s, v in body.mechanics.parameters}
+
+
 def _print_family(fam, st, args, at_line) -> None:
     show = (lambda e: _show(e, args.latex))
     print()
@@ -232,6 +253,9 @@ def _print_family(fam, st, args, at_line) -> None:
     if not fam.closed_form:
         print(f"  {fam.how}")
         print("  stability: decided member by member at numbers (--at), from the eigenvalues at the member")
+    elif getattr(st, "_body", None) is not None and len(st._jacobian_public) > 36:
+        print("  stability: from the contact equations' Jacobian (9 × 9), decided at numbers (--at) from its "
+              "eigenvalues; its conditions are ContactStability.conditions (slow to write out)")
     else:
         P, conditions, where = st.readable()
         print(f"  characteristic polynomial ({st.reduced}): {show(P)}")
