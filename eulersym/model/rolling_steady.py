@@ -59,7 +59,7 @@ from eulersym.model.mechanics import GAMMA, OMEGA, Q
 from eulersym.model.rolling import BodyOnPlane, _kinematics, friction_law, newton_euler
 from eulersym.model.steady import (DEFAULT_BUDGET, Family, SteadyMotions, _Context, _equivariant, _rational,
                                    _solve)
-from eulersym.model.stability import (LAM, Stability, _cancel, _factor, _vanishes,
+from eulersym.model.stability import (LAM, Stability, _cancel, _factor, _vanishes, _verdict,
                                       hurwitz_conditions, positive_parameters, real_nonpositive_roots)
 
 __all__ = ["VELOCITY_BODY", "steady_motions", "reduced_rates"]
@@ -605,12 +605,8 @@ class ContactStability(Stability):
         ('spectrally stable', 'unstable')
         """
         roots = self.eigenvalues(values)
-        scale = 1.0 + (max(abs(roots)) if len(roots) else 0.0)
-        top = max(roots.real) if len(roots) else 0.0
         tol = 1e-12 if self._jacobian_public is not None else 1e-7
-        if top < -tol * scale:
-            return "asymptotically stable"
-        return "spectrally stable" if top <= tol * scale else "unstable"
+        return _verdict(roots, tol * (1.0 + (max(abs(roots)) if len(roots) else 0.0)))
 
 
 #: Seconds the conditions of one family may take before they are left to the eigenvalues at numbers.

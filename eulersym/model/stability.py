@@ -608,11 +608,16 @@ class _NumericStability(Stability):
 
     def classify(self, values=None) -> str:
         roots = self.eigenvalues(values)
-        scale = 1.0 + (max(abs(roots)) if len(roots) else 0.0)
-        top = max(roots.real) if len(roots) else 0.0
-        if top < -1e-12 * scale:
-            return "asymptotically stable"
-        return "spectrally stable" if top <= 1e-12 * scale else "unstable"
+        return _verdict(roots, 1e-12 * (1.0 + (max(abs(roots)) if len(roots) else 0.0)))
+
+
+def _verdict(roots, tol: float) -> str:
+    """The class of a linearisation from its eigenvalues (trivial zero modes already dropped): the largest real part
+    below ``−tol`` asymptotically stable, within ``±tol`` spectrally stable, above it unstable."""
+    top = max(roots.real) if len(roots) else 0.0
+    if top < -tol:
+        return "asymptotically stable"
+    return "spectrally stable" if top <= tol else "unstable"
 
 
 def _numeric_stability(fam) -> Stability:
@@ -959,11 +964,7 @@ class _FrameStability(_NumericStability):
 
     def classify(self, values=None) -> str:
         roots = self.eigenvalues(values)
-        scale = max(abs(roots)) if len(roots) else 1.0
-        top = max(roots.real) if len(roots) else 0.0
-        if top < -1e-9 * scale:
-            return "asymptotically stable"
-        return "spectrally stable" if top <= 1e-9 * scale else "unstable"
+        return _verdict(roots, 1e-9 * (max(abs(roots)) if len(roots) else 1.0))
 
 
 def _frame_stability(fam) -> Stability:
