@@ -608,11 +608,16 @@ class _NumericStability(Stability):
 
     def classify(self, values=None) -> str:
         roots = self.eigenvalues(values)
-        scale = 1.0 + (max(abs(roots)) if len(roots) else 0.0)
-        top = max(roots.real) if len(roots) else 0.0
-        if top < -1e-12 * scale:
-            return "asymptotically stable"
-        return "spectrally stable" if top <= 1e-12 * scale else "unstable"
+        return _verdict(roots, 1e-12 * (1.0 + (max(abs(roots)) if len(roots) else 0.0)))
+
+
+def _verdict(roots, tol: float) -> str:
+    """The class of a linearisation from its eigenvalues (trivial zero modes already dropped): the largest real part
+    below ``−tol`` asymptotically stable, within ``±tol`` spectrally stable, above it unstable."""
+    top = max(roots.real) if len(roots) else 0.0
+    if top < -tol:
+        return "asymptotically stable"
+    return "spectrally stable" if top <= tol else "unstable"
 
 
 def _numeric_stability(fam) -> Stability:
@@ -645,6 +650,9 @@ def stability(fam) -> Stability:
 
 @functools.lru_cache(maxsize=64)
 def _stability(fam) -> Stability:
+    linearise = getattr(fam._context, "linearise", None)
+    if linearise is not None:  # a body on a plane: its contact equations (eulersym.model.rolling_steady)
+        return linearise(fam)
     if not fam.closed_form:
         return _numeric_stability(fam)
     ctx = fam._context
@@ -927,3 +935,38 @@ def _definite(minors, signs, kappas, positive):
                     return sp.And(*fixed, exists)
     # not eliminated: the condition keeps κ (stable if it holds for some κ)
     return sp.And(*fixed, *[_sign_condition(m, positive, strict=True) for m in on_kappa])
+
+
+class _FrameStability(_NumericStability):
+    """The stability of an equilibrium in a turning frame found at numbers (off the frame's axes): the eigenvalues
+    of ``∂f/∂x`` at the member (30 digits) with the zero modes of the redundant state (``|q|``, ``|Γ|`` and ``Γ``
+    against ``A(q) ẑ``: numerically zero, below 1e-10 of the largest) dropped."""
+
+    def eigenvalues(self, values=None):
+        import mpmath
+        import numpy as np
+
+        member, rest = self._member(values)
+        fam = self.family
+        ctx = fam._context
+        point = fam.values(rest)
+        point = {k: sp.Float(v, 30) for k, v in point.items()}
+        point.update({sp.Symbol(k, real=True): sp.Float(v, 30) for k, v in member.items()})
+        x = list(ctx.x)
+        J = sp.Matrix(ctx.f).jacobian(x).xreplace(point).evalf(30)
+        with mpmath.workdps(30):
+            ev = mpmath.eig(mpmath.matrix([[complex(e) for e in row] for row in J.tolist()]), left=False,
+                            right=False)
+        ev = [complex(v) for v in ev]
+        scale = max([1e-300] + [abs(v) for v in ev])
+        out = np.array([v for v in ev if abs(v) > 1e-10 * scale], dtype=complex)
+        return out[np.lexsort((out.imag, out.real))]
+
+    def classify(self, values=None) -> str:
+        roots = self.eigenvalues(values)
+        return _verdict(roots, 1e-9 * (max(abs(roots)) if len(roots) else 1.0))
+
+
+def _frame_stability(fam) -> Stability:
+    return _FrameStability(fam, None, None, True, "numeric: the redundant state's zero modes removed at the member",
+                           (), None, (None, None, ""), None)

@@ -1,13 +1,16 @@
 """``eulersym stability MODEL``: a model's steady motions, where each exists, and where it is stable — proven.
 
-``MODEL`` is a model (or scene) TOML file or the name of a bundled model. Options:
+``MODEL`` is a model (or scene) TOML file or the name of a bundled model; a contact scene (``[contact]``, or a bundled
+one such as ``euler-disk``) lists the body's steady motions on the plane (:mod:`eulersym.model.rolling_steady`) with
+their stability from the contact equations. Options:
 
 - ``--family NAME`` — only this family (did-you-mean);
 - ``--at NAME=VALUE`` (repeatable) — classify each family at numbers: parameters (defaults otherwise) and family
   symbols (``s``, ``theta``); the eigenvalues of the reduced linearisation are printed beside the verdict;
 - ``--map P1=a:b:n P2=c:d:n --plot FILE.png`` — the stability map over two symbols (parameters or family symbols)
   from the proven conditions, checked against the eigenvalues at every point; the PNG shades the classes, draws
-  the proven boundary and marks any point where the eigenvalues disagree;
+  the proven boundary, names each region by its class in words, and marks any point where the eigenvalues
+  disagree; with ``--lyapunov`` it also hatches where the energy–Casimir function proves nonlinear stability;
 - ``--lyapunov`` — also the energy–Casimir function's condition for nonlinear stability;
 - ``--budget SECONDS`` — the exact solver's time budget (default 20 s; beyond it, exit 2 naming what was tried);
 - ``--latex``, ``--json`` — the output's form.
@@ -163,8 +166,18 @@ def main(argv) -> int:
         raise InvalidInput("--plot", args.plot, "a map to draw: --map P1=a:b:n P2=c:d:n --plot FILE.png")
     at = _parse_at(args.at)
     ranges = _parse_map(args.map) if args.map is not None else None
-    model = load(args.model)
-    families = steady_motions(model) if args.budget is None else steady_motions(model, budget=args.budget)
+    from eulersym.model import contact_scene
+
+    if contact_scene.handles(args.model) and contact_scene.load(args.model).kind == "contact":
+        # a body on a plane: its contact equations (eulersym.model.rolling_steady), never the free body's
+        from eulersym.model.rolling_steady import steady_motions as on_a_plane
+
+        body = contact_scene.load(args.model).body
+        model = _OnAPlane(body)
+        families = on_a_plane(body) if args.budget is None else on_a_plane(body, budget=args.budget)
+    else:
+        model = load(args.model)
+        families = steady_motions(model) if args.budget is None else steady_motions(model, budget=args.budget)
     chosen = list(families)
     if args.family is not None:
         chosen = [families.named(args.family)]
@@ -218,6 +231,15 @@ def main(argv) -> int:
     return status
 
 
+class _OnAPlane:
+    """What :func:`main` reads of a model, for a body on a plane (a contact scene)."""
+
+    def __init__(self, body):
+        self.name = body.name
+        self.mechanics = body.mechanics
+        self.parameters = {s.name: float(v) for s, v in body.mechanics.parameters}
+
+
 def _print_family(fam, st, args, at_line) -> None:
     show = (lambda e: _show(e, args.latex))
     print()
@@ -231,6 +253,9 @@ def _print_family(fam, st, args, at_line) -> None:
     if not fam.closed_form:
         print(f"  {fam.how}")
         print("  stability: decided member by member at numbers (--at), from the eigenvalues at the member")
+    elif getattr(st, "_body", None) is not None and len(st._jacobian_public) > 36:
+        print("  stability: from the contact equations' Jacobian (9 × 9), decided at numbers (--at) from its "
+              "eigenvalues; its conditions are ContactStability.conditions (slow to write out)")
     else:
         P, conditions, where = st.readable()
         print(f"  characteristic polynomial ({st.reduced}): {show(P)}")
@@ -293,13 +318,13 @@ def _map(chosen, ranges, at, args, out) -> int:
         print(f"  eigenvalue check: {agree} of {compared} points off the boundary agree ({boundary} on it skipped); "
               f"conditions {proven_s * 1e3:.1f} ms, eigenvalues {numeric_s * 1e3:.0f} ms")
     if args.plot:
-        _plot(args.plot, fam, st, X, Y, classes, margin, numeric, xname, yname)
+        _plot(args.plot, fam, st, X, Y, classes, margin, numeric, xname, yname, lyapunov=args.lyapunov)
         if not args.json:
             print(f"  wrote {args.plot}")
     return 0 if agree == compared else 1
 
 
-def _plot(path, fam, st, X, Y, classes, margin, numeric, xname, yname) -> None:
+def _plot(path, fam, st, X, Y, classes, margin, numeric, xname, yname, *, lyapunov=False) -> None:  # noqa: C901
     import numpy as np
 
     try:
@@ -330,6 +355,13 @@ def _plot(path, fam, st, X, Y, classes, margin, numeric, xname, yname) -> None:
     present = sorted(set(np.unique(classes).tolist()))
     handles = [Patch(color=colours[k + 1], label=labels[k + 1]) for k in present]
     handles.append(plt.Line2D([], [], color="black", label="proven boundary"))
+    lyapunov = _lyapunov_grid(st, xname, yname, X, Y) if lyapunov else None
+    if lyapunov is not None and np.any(lyapunov & (classes >= 1)):
+        shown = np.where(lyapunov & (classes >= 1), 1.0, np.nan)
+        ax.contourf(X, Y, shown, levels=[0.5, 1.5], colors="none", hatches=["///"])
+        handles.append(Patch(facecolor="none", edgecolor="black", hatch="///",
+                             label="proven Lyapunov stable (energy–Casimir)"))
+    _label_regions(ax, X, Y, classes, labels, lyapunov)
     ax.legend(handles=handles, loc="best", fontsize=8, framealpha=0.85)
     ax.set_xlabel(xname)
     ax.set_ylabel(yname)
@@ -339,3 +371,46 @@ def _plot(path, fam, st, X, Y, classes, margin, numeric, xname, yname) -> None:
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
+
+
+def _lyapunov_grid(st, xname, yname, X, Y):
+    """Where the energy–Casimir condition holds on the grid (bool array), or None: no Lyapunov function, one with
+    free multipliers (``κ``: "for some κ" is not a grid test), or more than 20 s to find it."""
+    import numpy as np
+
+    from eulersym._budget import BudgetExceeded, time_budget
+    from eulersym.model.stability_map import _grid, _vectorised
+
+    try:
+        with time_budget(20.0):
+            ly = st.lyapunov
+    except BudgetExceeded:
+        return None
+    if ly is None or ly.free:
+        return None
+    sx, sy, point = _grid(st, (xname, ()), (yname, ()), {})
+    f = _vectorised(ly.condition, sx, sy, point)
+    with np.errstate(all="ignore"):
+        return np.broadcast_to(np.asarray(f(X, Y), dtype=bool), X.shape)
+
+
+def _label_regions(ax, X, Y, classes, labels, lyapunov) -> None:
+    """Each connected region of one class (at least 0.5 % of the map) named in words at its deepest point (the
+    farthest from its edges, the map's border included)."""
+    import numpy as np
+    from scipy import ndimage
+
+    for k in np.unique(classes):
+        regions, count = ndimage.label(classes == k)
+        for r in range(1, count + 1):
+            inside = regions == r
+            if inside.sum() < 0.005 * classes.size:
+                continue
+            depth = ndimage.distance_transform_edt(np.pad(inside, 1))[1:-1, 1:-1]
+            i, j = np.unravel_index(np.argmax(depth), depth.shape)
+            text = labels[k + 1]
+            if k >= 1 and lyapunov is not None and lyapunov[inside].all():
+                text += "\n(Lyapunov, proven)"
+            ax.text(X[i, j], Y[i, j], text, ha="center", va="center", fontsize=9 if depth[i, j] > 20 else 7,
+                    rotation=0 if depth[i, j] > 20 else 90,
+                    bbox=dict(boxstyle="round,pad=0.25", facecolor="white", alpha=0.8, edgecolor="none"))

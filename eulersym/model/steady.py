@@ -49,9 +49,10 @@ Examples
 from __future__ import annotations
 
 import functools
+import math
 import random
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import sympy as sp
 
@@ -344,6 +345,15 @@ class _Context:
     symmetries: tuple  # of (label, axis in the model frame, coordinate index in the solving frame)
     denominators: tuple
     notes: tuple
+    #: Equations the steady motions must satisfy beyond ``f(x) = ν G x`` (a contact's zero slip, in ``x``).
+    extra: tuple = ()
+    #: Sign conditions every member must meet (``Γ2 > 0``: the branch of a contact point's square root solved on).
+    positive: tuple = ()
+    #: ``family → Stability`` where the model's own linearisation is not :mod:`eulersym.model.stability`'s (contact
+    #: bodies: :mod:`eulersym.model.rolling_steady`); None for the model's equations.
+    linearise: object = None
+    #: Whether a stuck branch is tried once more with ``ω × L = 0`` (the torque-free body's permanent rotations).
+    trial: bool = True
 
 
 def _blocks(x) -> list:
@@ -748,7 +758,7 @@ class _Solver:
         """A branch the elimination cannot finish, tried once more with ``ω × L = 0`` added (``L = I ω + h``): the
         permanent rotations of the torque-free body. Its solutions solve the branch (equations were only added);
         whatever else the branch holds stays a numeric family."""
-        if br.trial:
+        if br.trial or not self.ctx.trial:
             return None
         mech = self.ctx.mech
         R = sp.Matrix(self.ctx.R)
@@ -1072,6 +1082,10 @@ def steady_motions(model, *, budget: float = DEFAULT_BUDGET) -> SteadyMotions:
     """
     if isinstance(budget, bool) or not isinstance(budget, (int, float)) or not budget > 0:
         raise InvalidInput("budget", budget, "a positive number of seconds")
+    if type(model).__name__ == "BodyOnPlane" or getattr(model, "body_on_plane", None) is not None:
+        raise InvalidInput("model", getattr(model, "name", model), "a body with a fixed point or free: a body on a "
+                           "plane moves by its contact equations (eulersym.model.rolling_steady.steady_motions, or "
+                           "Model.steady_motions)")
     mech = _as_mechanics(model, argument="model")
     return _steady_motions(mech, float(budget))
 
@@ -1085,6 +1099,13 @@ def _steady_motions(mech: Mechanics, budget: float) -> SteadyMotions:
         return SteadyMotions([], notes)
     if mech.turning:
         return _frame_equilibria(ctx, notes)
+    return _solve(ctx, mech.name, start + budget, notes)
+
+
+def _solve(ctx: _Context, name: str, deadline: float, notes: list) -> SteadyMotions:
+    """The families of ``f(x) = ν G x`` (with ``ctx.extra``) for a reduced system, by the exact solver, before
+    ``deadline`` (:func:`time.monotonic`)."""
+    budget = max(deadline - time.monotonic(), 0.01)
     x = list(ctx.x)
     f = list(ctx.f_solving)
     unknowns = list(x)
@@ -1115,7 +1136,7 @@ def _steady_motions(mech: Mechanics, budget: float) -> SteadyMotions:
         if GAMMA[0] in x:
             protected.add(GAMMA[2])
             priority[GAMMA[2]] = 9
-    eqs = [sp.numer(sp.together(e)) for e in eqs]
+    eqs = [sp.numer(sp.together(e)) for e in [*eqs, *ctx.extra]]
     if GAMMA[0] in x:
         eqs.append(sum(g ** 2 for g in GAMMA) - 1)
     if Q[0] in x:
@@ -1123,14 +1144,14 @@ def _steady_motions(mech: Mechanics, budget: float) -> SteadyMotions:
     for g in gauge:
         eqs.append(g)
     nonzero = [d for d in ctx.denominators]
-    solver = _Solver(ctx, unknowns, protected, priority, start + budget, mech.name)
+    solver = _Solver(ctx, unknowns, protected, priority, deadline, name)
     try:
         with time_budget(budget):
             raws = solver.solve(_Branch(eqs, {}, [], nonzero, [], []))
             families = _families(ctx, raws, solver)
     except BudgetExceeded:
         raise SteadyMotionUndecided(
-            f"model {mech.name}: the steady motions were not decided within {budget:g} s (tried: factor splitting, "
+            f"model {name}: the steady motions were not decided within {budget:g} s (tried: factor splitting, "
             "linear elimination, null spaces and the quadratic formula on the equilibrium equations f(x) = ν G x)"
         ) from None
     if not families:
@@ -1168,7 +1189,9 @@ def _frame_equilibria(ctx: _Context, notes: list) -> SteadyMotions:
     attitudes that put the body's axes along the frame's (signed permutations, det +1); each is kept only where the
     model's own equations vanish there exactly. Attitudes that differ by a half-turn of the body about one of its axes
     that maps the equations to themselves (a diagonal tensor and an even potential: checked, all four members of
-    the class steady) are one family, written with body axes e1 and e2 along + frame axes."""
+    the class steady) are one family, written with body axes e1 and e2 along + frame axes. Where a torque depends on
+    the attitude, the rests off the frame's axes (a gyrocompass tilted by β) are one more family whose members are
+    found at numbers (:class:`_FrameSystem`), its stability from the eigenvalues at each member."""
     import itertools
 
     mech = ctx.mech
@@ -1217,7 +1240,109 @@ def _frame_equilibria(ctx: _Context, notes: list) -> SteadyMotions:
                                    0, ctx, None, None))
     if not families:
         notes.append("no attitude aligned with the frame's axes is at rest in it")
+    if Q[0] in x:  # an attitude-dependent torque: equilibria off the frame's axes, found at numbers
+        families.append(Family("at rest in the turning frame, off its axes (numeric members)",
+                               "equilibrium in the turning frame", (), {s.name: s for s in x}, sp.true, (), {}, None,
+                               False, "q̇ = 0 ⇒ ω = A(q) Ω, Γ = A(q) ẑ; I ω̇ = 0 and |q| = 1 solved for q by Newton's "
+                               "method at 30 digits from the 24 aligned attitudes and their turns by ±π/6 about each "
+                               "axis", 0, replace(ctx, linearise=_frame_stability), None, _FrameSystem(ctx)))
+        notes[0] = notes[0].replace("; others are not searched", "; off the axes, members are found at numbers "
+                                    "(Newton's method from the aligned attitudes and their turns)")
     return SteadyMotions(families, notes)
+
+
+def _frame_stability(fam):
+    from eulersym.model.stability import _frame_stability as linearise
+
+    return linearise(fam)
+
+
+class _FrameSystem:
+    """The equilibria of a turning frame off its axes, at numbers: ``I ω̇ = 0`` at ``ω = A(q) Ω``, ``Γ = A(q) ẑ``
+    with ``|q| = 1`` (``A = R(q)ᵀ``), by Newton's method (mpmath, 30 digits) from the 24 attitudes aligned with the
+    frame and each turned by ±π/6 about each of its axes; roots kept where every row vanishes to 1e-25 of its scale,
+    ``q`` and ``−q`` one member, aligned attitudes left to the closed-form families. Not proven to be every member."""
+
+    unknowns = ()
+
+    def __init__(self, ctx: _Context):
+        from eulersym.rotation import from_quaternion
+
+        self.ctx = ctx
+        A = sp.Matrix(from_quaternion(list(Q)))
+        Omega = sp.Matrix(ctx.mech.frame)
+        sub = {**dict(zip(OMEGA, A * Omega)), **dict(zip(GAMMA, A * sp.Matrix([0, 0, 1])))}
+        rows = dict(zip(ctx.x, ctx.f))
+        self.rows = [sp.sympify(rows[w]).xreplace(sub) for w in OMEGA]
+
+    def members(self, point) -> list:
+        import itertools
+
+        import mpmath
+        import numpy as np
+
+        from eulersym.attitude import hamilton
+
+        params = {k: sp.Float(v, 40) for k, v in point.items()}
+        exprs = [sp.sympify(e).xreplace(params) for e in self.rows] + [sum(q ** 2 for q in Q) - 1]
+        fns = [sp.lambdify(list(Q), e, modules="mpmath") for e in exprs]
+        starts = []
+        for perm in itertools.permutations(range(3)):
+            for signs in itertools.product((1, -1), repeat=3):
+                A = sp.zeros(3, 3)
+                for row, (col, sign) in enumerate(zip(perm, signs)):
+                    A[row, col] = sign
+                if A.det() != 1:
+                    continue
+                q0 = [float(c) for c in _exact_quaternion(A.T)]
+                starts.append(q0)
+                for axis in range(3):
+                    for angle in (math.pi / 6, -math.pi / 6):
+                        turn = [math.cos(angle / 2), 0.0, 0.0, 0.0]
+                        turn[axis + 1] = math.sin(angle / 2)
+                        starts.append([float(c) for c in hamilton(q0, turn)])
+        from scipy.optimize import root as solve
+
+        numeric = sp.lambdify(list(Q), exprs, modules="numpy")
+        candidates = []
+        for q_start in starts:  # in doubles first (fast), then each distinct root polished at 30 digits
+            with np.errstate(all="ignore"):
+                sol = solve(lambda q: np.array(numeric(*q), dtype=float), q_start, method="hybr", tol=1e-14)
+            if not np.all(np.isfinite(sol.x)) or np.max(np.abs(numeric(*sol.x))) > 1e-9:
+                continue
+            q = sol.x / np.linalg.norm(sol.x)
+            q = -q if q[np.argmax(np.abs(q))] < 0 else q  # q and −q: one attitude
+            if not any(np.max(np.abs(q - other)) < 1e-7 for other in candidates):
+                candidates.append(q)
+        found = []
+        with mpmath.workdps(30):
+            for q_start in candidates:
+                try:
+                    root = mpmath.findroot(lambda *q: [f(*q) for f in fns], [float(c) for c in q_start],
+                                           tol=mpmath.mpf(10) ** -50, maxsteps=8, verify=False)
+                except (ValueError, ZeroDivisionError, TypeError, IndexError):  # a singular Jacobian on the way
+                    continue
+                if max(abs(f(*root)) for f in fns) > mpmath.mpf(10) ** -20:
+                    continue
+                q = [float(c) for c in root]
+                if q[max(range(4), key=lambda k: abs(q[k]))] < 0:
+                    q = [-c for c in q]
+                if all(min(abs(abs(c) - k) for k in (0.0, 0.5, 2 ** -0.5, 1.0)) < 1e-12 for c in q):
+                    continue  # an aligned attitude: a closed-form family's member
+                if any(max(abs(a - b) for a, b in zip(q, other)) < 1e-9 for other in found):
+                    continue
+                found.append(q)
+        from eulersym.rotation import from_quaternion
+
+        out = []
+        for q in sorted(found):
+            A = sp.Matrix(from_quaternion([sp.Float(c, 30) for c in q]))
+            values = {**dict(zip(OMEGA, A * sp.Matrix(self.ctx.mech.frame).xreplace(params))),
+                      **dict(zip(GAMMA, A * sp.Matrix([0, 0, 1]))), **dict(zip(Q, q))}
+            out.append({s.name: float(values[s]) for s in self.ctx.x})
+        return out
+
+
 
 
 def _families(ctx: _Context, raws, solver) -> list:
