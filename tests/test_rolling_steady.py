@@ -350,3 +350,17 @@ def test_the_stability_command_lists_a_contact_scenes_families(capsys):
     assert "rolling in a straight line — relative equilibrium" in out
     assert "spectrally stable iff: 100*a*s**2 - 327 >= 0" in out          # 3 a s² ≥ g with g = 9.81
     assert "at M = 0.4, a = 0.0375, s = 20: spectrally stable" in out
+
+
+def test_a_model_file_with_contact_finds_its_steady_motions_through_Model():
+    """The bundled euler-disk's model (its [contact] read by Model) gives the module's families, on the contact
+    equations: straight rolling stable above Kane's v² = g a / 3, i.e. s² ≥ g / (3 a)."""
+    from eulersym.model.spec import Model
+    from eulersym.scene.catalog import bundled
+
+    model = Model.from_toml(bundled()["euler-disk"])
+    families = model.steady_motions(budget=BUDGET)
+    direct = steady_motions(model.body_on_plane, budget=BUDGET)
+    assert [f.name for f in families] == [f.name for f in direct]
+    line = families.named("rolling in a straight line")
+    assert line.stability().classify({"s": 20.0}) == "spectrally stable"

@@ -1173,17 +1173,18 @@ class Model:
         return integrals.prove(mech, expr, on=on)
 
     def steady_motions(self, **options):
-        """Its steady motions, each family with its stability (:func:`eulersym.model.steady.steady_motions`).
+        """Its steady motions, each family with its stability (:func:`eulersym.model.steady.steady_motions`; a body
+        on a plane, ``[contact]``: :func:`eulersym.model.rolling_steady.steady_motions`, on its contact equations).
 
         Examples
         --------
         >>> [f.name for f in Model(body={"moments": [1, 2, 3]}).steady_motions()]
         ['rotation about e1', 'rotation about e2', 'rotation about e3']
         """
-        if self.contact is not None:  # the free body's search would answer for another body
-            raise InvalidInput("model", self.name, "a model without [contact] for steady_motions() here: the steady "
-                               "motions of a body on a plane come from its own search (eulersym.model.rolling_steady), "
-                               "not yet reached from Model")
+        if self.body_on_plane is not None:  # a body on a plane: its contact equations, never the free body's
+            from eulersym.model.rolling_steady import steady_motions as on_a_plane
+
+            return on_a_plane(self.body_on_plane, **options)
         from eulersym.model.steady import steady_motions
 
         return steady_motions(self, **options)
