@@ -154,7 +154,6 @@ def test_the_contact_trace_is_the_figure_chosen_for_a_body_on_a_plane_and_draws_
 @pytest.mark.parametrize("argv", [
     ["derive", "--model", "{path}"],
     ["verify", "--model", "{path}", "--integral", "dot(omega, inertia*omega)"],
-    ["generate", "--model", "{path}", "--dir", "{dir}"],
     ["generate", "--model", "{path}", "--target", "c", "--dir", "{dir}"],
 ])
 def test_the_free_body_commands_refuse_a_body_on_a_plane_by_its_key(argv, tmp_path, capsys):
@@ -198,3 +197,22 @@ def test_a_streamed_contact_sweep_keeps_its_contact_outputs_the_one_pass_bits():
         distributed.close(client)
     assert set(there.quantities) == set(one.quantities)
     assert all(np.array_equal(there.quantities[k], one.quantities[k]) for k in one.quantities)
+
+
+def test_generate_model_writes_a_body_on_a_plane_its_contact_kernel_and_checks_it(tmp_path, capsys):
+    """``eulersym generate --model`` on a model with [contact] writes the contact kernel (the bytes of
+    ``Model.generate``), and ``--check`` passes on it and fails (exit 1) once it is stale."""
+    import importlib.util
+
+    path = bundled()["rolling-sphere"]
+    assert main(["generate", "--model", path, "--dir", str(tmp_path)]) == 0
+    written = tmp_path / "rolling_sphere.py"
+    assert capsys.readouterr().out.strip() == f"wrote {written}"
+    assert main(["generate", "--model", path, "--dir", str(tmp_path), "--check"]) == 0
+    spec = importlib.util.spec_from_file_location("rolling_sphere_kernel", written)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert list(module.STATE) == list(Model.from_toml(path).compile().STATE) and hasattr(module, "lift_off")
+    written.write_text(written.read_text() + "# edited\n")
+    assert main(["generate", "--model", path, "--dir", str(tmp_path), "--check"]) == 1
+    assert "stale" in capsys.readouterr().err

@@ -67,8 +67,9 @@ def load(file: str):
 
 def plain_body(model, command: str) -> None:
     """Refuse a body on a plane (``[contact]``) in a command that derives, proves or emits the free or pivoted body's
-    equations (``derive``, ``verify``, ``generate --model``): its equations are the contact's, reached through the
-    model itself (:meth:`~eulersym.model.Model.check`, ``invariants``, ``prove``, ``compile``) and ``simulate``.
+    equations (``derive``, ``verify``, ``generate --model --target c|jax``): its equations are the contact's, reached
+    through the model itself (:meth:`~eulersym.model.Model.check`, ``invariants``, ``prove``, ``compile``),
+    ``generate --model`` (its NumPy kernel) and ``simulate``.
 
     Examples
     --------
@@ -239,7 +240,8 @@ def generate(argv) -> int:
     if args is None:
         return status
     model = load(args.model)
-    plain_body(model, "generate")
+    if model.body_on_plane is not None:  # a body on a plane: its contact kernel, from the same emitter's printer
+        return _generate_contact(model, args)
     mech = model.mechanics
     path = Path(args.dir) / (kernels.module_name(mech, args.name) + ".py")
     if args.check:
@@ -252,6 +254,24 @@ def generate(argv) -> int:
         return 0
     written = kernels.generate(mech, args.dir, digest=model.digest, name=args.name)
     print(f"wrote {written}")
+    return 0
+
+
+def _generate_contact(model, args) -> int:
+    """``generate --model`` for a model with ``[contact]``: write (or ``--check``) its contact kernel module
+    (:func:`eulersym.model.rolling_kernels.source`: rhs, jac, invariants, contact outputs, lift_off)."""
+    from eulersym.model import rolling_kernels
+
+    body = model.body_on_plane
+    path = Path(args.dir) / (rolling_kernels.module_name(body, args.name) + ".py")
+    fresh = rolling_kernels.source(body, name=args.name)
+    if args.check:
+        if not path.is_file() or path.read_text(encoding="utf-8") != fresh:
+            raise CheckFailed(f"{path} is {'missing' if not path.is_file() else 'stale'}: regenerate it with "
+                              f"eulersym generate --model {args.model} --dir {args.dir}")
+        print(f"check passed: {path} matches a fresh generation")
+        return 0
+    print(f"wrote {rolling_kernels.generate(body, args.dir, name=args.name)}")
     return 0
 
 

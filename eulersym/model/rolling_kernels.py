@@ -347,8 +347,10 @@ def generate(body: BodyOnPlane, directory, *, name: str | None = None) -> Path:
         raise InvalidInput("directory", str(directory), "a folder (or a path where one can be created)")
     directory.mkdir(parents=True, exist_ok=True)
     path = directory / (module_name(body, name) + ".py")
-    if not path.is_file() or path.read_bytes() != text.encode():
-        path.write_bytes(text.encode())
+    if not path.is_file() or path.read_bytes() != text.encode():  # whole or not at all (eulersym.files)
+        from eulersym.files import atomic_write
+
+        atomic_write(str(path), lambda tmp: Path(tmp).write_bytes(text.encode()), "directory")
     return path
 
 
