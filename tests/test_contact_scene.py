@@ -211,3 +211,57 @@ def test_simulate_list_names_every_contact_scene_and_each_name_runs(capsys):
         assert scene_files()[name] == path and text.count(f"  {name} ") == 1  # in the one catalogue, once
     assert main(["simulate", "tippe-top", "--explain"]) == 0
     assert "tippe-top" in capsys.readouterr().out
+
+
+def test_an_accuracy_past_the_rtol_floor_is_not_reached_and_the_calls_are_counted_once(tmp_path, capsys,
+                                                                                        monkeypatch):
+    """The rattleback at accuracy 1e-13: the tight run is at rtol 1e-14, the floor, so a "refinement" would repeat it
+    bit for bit and estimate 0. The run keeps the last honest pair's estimate, warns, exits 3, and its kernel calls
+    are the sum of the runs it made (no run counted twice)."""
+    from eulersym.errors import AccuracyNotReached
+    from eulersym.numerics.methods._contact import ContactDOP853
+
+    made = []
+    attempt = ContactDOP853._attempt
+
+    def counted(self, *args, **kwargs):
+        run = attempt(self, *args, **kwargs)
+        made.append(run.n_rhs_calls)
+        return run
+
+    monkeypatch.setattr(ContactDOP853, "_attempt", counted)
+    text = (open(contact_scene.bundled()["rattleback"]).read().replace("end = 10.0", "end = 2.0")
+            .replace("points = 201", "points = 11").replace("accuracy = 1e-9", "accuracy = 1e-13"))
+    path = _write(tmp_path, text)
+    with pytest.warns(AccuracyNotReached, match="was not reached within the contact control's runs") as caught:
+        result = simulate(_load(path))
+    assert "double precision" not in str(caught[0].message)
+    worst = max(float(np.max(v)) for v in result.error.values())
+    assert worst > 1e-13  # an honest estimate, not the 0 of a run compared with itself
+    assert result.n_rhs_calls == sum(made) and len(made) == 2
+    out = tmp_path / "x.npz"
+    made.clear()
+    assert main(["simulate", path, "-o", str(out)]) == 3 and out.exists()
+    assert f"kernel calls: {sum(made)}" in capsys.readouterr().out
+
+
+def test_a_refined_contact_run_counts_each_run_once(tmp_path, monkeypatch):
+    """At accuracy 1e-12 the rattleback is refined once (three runs): its kernel calls are their sum."""
+    from eulersym.numerics.methods._contact import ContactDOP853
+
+    made = []
+    attempt = ContactDOP853._attempt
+
+    def counted(self, *args, **kwargs):
+        run = attempt(self, *args, **kwargs)
+        made.append(run.n_rhs_calls)
+        return run
+
+    monkeypatch.setattr(ContactDOP853, "_attempt", counted)
+    text = (open(contact_scene.bundled()["rattleback"]).read().replace("end = 10.0", "end = 2.0")
+            .replace("points = 201", "points = 11").replace("accuracy = 1e-9", "accuracy = 1e-11"))
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = simulate(_load(_write(tmp_path, text)))
+    assert result.n_rhs_calls == sum(made) and len(made) == 3

@@ -76,13 +76,16 @@ class ContactDOP853(Method):
         error = estimate(deviation(loose, tight, vertical=True), 10.0, tight=False)
         calls = loose.n_rhs_calls
         beyond = np.flatnonzero(worst(error) > accuracy)
+        finer = np.maximum(rtol[beyond] * np.clip(accuracy / (AIM * worst(error)[beyond]), 1e-4, 0.5), 1e-14)
+        # a rerun less than 2× finer than the last (rtol already at its floor) would repeat the same bits and estimate
+        # 0: those members keep the last honest pair's estimate, so the run says it did not reach the accuracy
+        finer_enough = rtol[beyond] / finer >= 2.0
+        beyond, finer = beyond[finer_enough], finer[finer_enough]
         if len(beyond):  # those members once more, by proportionality, paired with the run before it (per member)
-            finer = np.maximum(rtol[beyond] * np.clip(accuracy / (AIM * worst(error)[beyond]), 1e-4, 0.5), 1e-14)
             fresh = self._attempt(problem.select(beyond), finer, None,
                                   steps=_tighter(tight, float(np.max(rtol[beyond] / finer))))
             previous = Trajectory(t=tight.t, omega=tight.omega[beyond], q=tight.q[beyond], gamma=tight.gamma[beyond])
             redone = estimate(deviation(previous, fresh, vertical=True), rtol[beyond] / finer, tight=False)
-            calls += tight.n_rhs_calls
             fields = {name: np.array(getattr(tight, name), copy=True) for name in ("omega", "q", "gamma", "state")}
             for name in fields:
                 fields[name][beyond] = getattr(fresh, name)
