@@ -265,3 +265,23 @@ def test_a_refined_contact_run_counts_each_run_once(tmp_path, monkeypatch):
         warnings.simplefilter("ignore")
         result = simulate(_load(_write(tmp_path, text)))
     assert result.n_rhs_calls == sum(made) and len(made) == 3
+
+
+@pytest.mark.parametrize("contact, swept, key", [
+    ("", "a = [0.1, -0.1]", "contact.radius"),
+    ('mode = "sliding"\nfriction = "coulomb"\nmu = "c"\nwidth = 0.01', "c = [0.3, -0.2]", "contact.mu"),
+    ('mode = "sliding"\nfriction = "coulomb"\nmu = 0.3\nwidth = "c"', "c = [0.01, 0.0]", "contact.width"),
+])
+def test_contact_dimensions_are_checked_at_every_members_values(tmp_path, capsys, contact, swept, key):
+    """A sweep that gives a member a radius −0.1 (or μ < 0, or a zero width) is refused by key, naming the member's
+    value — the defaults alone are valid — exit 2, nothing written."""
+    name = swept.split(" = ")[0]
+    text = SPHERE.format(contact=contact, omega="[0, 10, 0]", initial="")
+    text = text.replace("a = 0.1", swept) if name == "a" else text.replace("a = 0.1", f"a = 0.1\n{swept}")
+    path = _write(tmp_path, text)
+    with pytest.raises(InvalidInput) as info:
+        simulate(_load(path))
+    assert info.value.argument == key and "member 1" in str(info.value)
+    out = tmp_path / "x.npz"
+    assert main(["simulate", path, "-o", str(out)]) == 2 and not out.exists()
+    assert "member 1" in capsys.readouterr().err
