@@ -285,3 +285,24 @@ def test_contact_dimensions_are_checked_at_every_members_values(tmp_path, capsys
     out = tmp_path / "x.npz"
     assert main(["simulate", path, "-o", str(out)]) == 2 and not out.exists()
     assert "member 1" in capsys.readouterr().err
+
+
+def test_a_contact_sweep_in_chunks_keeps_gamma_as_the_one_pass_does(tmp_path):
+    """Rolling spheres of six radii, ``outputs = ["omega"]``: a memory budget that forces chunks gives the one pass's
+    Γ (it was None in chunks) and its contact quantities."""
+    from eulersym.scene import cost as scene_cost
+
+    text = (SPHERE.format(contact="", omega="[0, 10, 0]", initial='axis = [1, 0, 0]\nangle = 0.3')
+            .replace("a = 0.1", "a = [0.05, 0.1, 0.15, 0.2, 0.25, 0.3]") + '[output]\nwant = ["omega"]\n')
+    scene = _load(_write(tmp_path, text))
+    whole = simulate(scene)
+    small = scene_cost.estimate(scene, whole.plan)
+    budget = small.output_bytes + small.per_member_working * 2 * scene_cost.threads(whole.plan)
+    assert scene_cost.estimate(scene, whole.plan, memory=budget).chunk < scene.batch
+    chunked = simulate(scene, memory=budget)
+    assert whole.gamma is not None and chunked.gamma is not None
+    for name in ("omega", "gamma"):
+        assert np.array_equal(getattr(whole, name), getattr(chunked, name)), name
+    for name in whole.state_quantities:
+        assert np.array_equal(whole.state_quantities[name], chunked.state_quantities[name]), name
+    assert whole.notes == chunked.notes and whole.drift == chunked.drift

@@ -213,7 +213,7 @@ def _output_values(scene, regime: str) -> int:
     n = 3  # ω
     n += 4 * ("attitude" in outputs or "euler_angles" in outputs)
     n += 3 * ("euler_angles" in outputs) + 3 * ("polhode" in outputs)
-    n += 3 * (regime in ("heavy top", "model") or "invariants" in outputs)  # Γ
+    n += 3 * (regime in ("heavy top", "model", "contact") or "invariants" in outputs)  # Γ
     n += len(_INVARIANTS.get(regime, ("energy", "L2", "gamma_norm2", "q_norm2"))) * ("invariants" in outputs)
     return n
 
