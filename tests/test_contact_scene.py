@@ -306,3 +306,30 @@ def test_a_contact_sweep_in_chunks_keeps_gamma_as_the_one_pass_does(tmp_path):
     for name in whole.state_quantities:
         assert np.array_equal(whole.state_quantities[name], chunked.state_quantities[name]), name
     assert whole.notes == chunked.notes and whole.drift == chunked.drift
+
+
+def test_lift_off_in_a_chunk_names_the_sweeps_member_and_the_earliest_time(tmp_path):
+    """Tippe tops at 150 rad/s with μ = 0.02, 0.02, 0.09, 0.1: the last two leave the plane, μ = 0.1 (member 3) first,
+    near t = 2.41 s, μ = 0.09 (member 2) near 2.67 s. In chunks of two, the second chunk's members are named 2 and 3
+    (not 0 and 1), and the time quoted is member 3's, the earliest — as the one pass says."""
+    text = (open(contact_scene.bundled()["tippe-top"]).read().replace("mu = 0.3 ", "mu = [0.02, 0.02, 0.09, 0.1] ")
+            .replace("omega = [0.0, 0.0, 100.0]", "omega = [0.0, 0.0, 150.0]").replace("end = 6.0", "end = 3.0")
+            .replace("points = 601", "points = 31"))
+    from eulersym.scene import cost as scene_cost
+
+    scene = _load(_write(tmp_path, text))
+    plan = scene.plan()
+    small = scene_cost.estimate(scene, plan)
+    budget = small.output_bytes + small.per_member_working * 2 * scene_cost.threads(plan)
+    assert scene_cost.estimate(scene, plan, memory=budget).chunk == 2
+    said = []
+    for memory in (None, budget):
+        with pytest.raises(LiftOff) as info:
+            simulate(scene, memory=memory)
+        said.append(info.value)
+    for exc in said:
+        assert 2.3 < exc.t < 2.5
+        assert exc.members.split(": ", 1)[1].startswith("member 3 (parameters.mu = 0.1) at t = 2.4")
+        assert "member 2 (parameters.mu = 0.09) at t = 2.6" in exc.members
+        assert "member 0" not in exc.members and "member 1" not in exc.members
+    assert said[0].t == said[1].t

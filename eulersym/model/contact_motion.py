@@ -51,7 +51,8 @@ class LiftOff(EulersymError):
     names : tuple of str
         ``STATE``.
     members : str or None
-        In a sweep: the members that left the plane, each with its time (the first's is ``t``).
+        In a sweep: the members that left the plane, earliest first, each by its index in the sweep (also when run
+        in chunks) and its time (the earliest's is ``t``).
 
     Examples
     --------
@@ -65,7 +66,7 @@ class LiftOff(EulersymError):
         self.state = np.asarray(state, dtype=float)
         self.names = tuple(names)
         self.members = members
-        where = f"{members}: the first" if members else "the body"
+        where = f"{members}: the earliest" if members else "the body"
         super().__init__(f"{where} left the plane at t = {self.t:.10g}: its normal force fell to 0 (lift-off); the "
                          "contact equations hold only while it touches — eulersym models no flight and no impact")
 

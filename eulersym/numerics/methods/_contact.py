@@ -69,6 +69,7 @@ class ContactDOP853(Method):
     def run(self, problem: Problem, *, progress=None) -> Trajectory:
         from eulersym.numerics.methods._accuracy import AIM, deviation, estimate, worst
 
+        problem = numbered(problem)
         accuracy = float(problem.accuracy)
         rtol = np.full(problem.batch, accuracy / 10)
         loose = self._attempt(problem, np.full(problem.batch, accuracy), None)
@@ -153,13 +154,28 @@ def _lift_off(problem: Problem, lifted: list):
     """One :class:`LiftOff` for every member that left the plane: the first's time and state, every member named."""
     from eulersym.model.contact_motion import LiftOff
 
+    lifted = sorted(lifted, key=lambda pair: pair[1].t)  # the earliest first: its member, time and state quoted
     first = lifted[0][1]
-    if problem.batch == 1:
+    index = problem.extras.get("member_index")  # the sweep's own numbering, in a chunk or a selection of members
+    total = problem.extras.get("members_total", problem.batch)
+    if problem.batch == 1 and total == 1:
         return first
     shown = []
     for b, exc in lifted[:8]:
         values = ", ".join(f"{k} = {float(np.asarray(v)[b]):.6g}" for k, v in problem.members.items())
-        shown.append(f"member {b}" + (f" ({values})" if values else "") + f" at t = {exc.t:.10g}")
+        number = int(index[b]) if index is not None else b
+        shown.append(f"member {number}" + (f" ({values})" if values else "") + f" at t = {exc.t:.10g}")
     more = f", and {len(lifted) - 8} more" if len(lifted) > 8 else ""
+    whole = "" if total == problem.batch else f" (a chunk or a selection of the sweep's {total})"
     return LiftOff(first.t, first.state, first.names,
-                   members=f"{len(lifted)} of {problem.batch} members: " + "; ".join(shown) + more)
+                   members=f"{len(lifted)} of {problem.batch} members{whole}: " + "; ".join(shown) + more)
+
+
+def numbered(problem: Problem) -> Problem:
+    """``problem`` with each member's index in the whole sweep among its extras (``member_index``, sliced with the
+    members by :meth:`Problem.take` and :meth:`Problem.select`), so that a lift-off in a chunk names the sweep's
+    member; unchanged when it already has them."""
+    if "member_index" in problem.extras:
+        return problem
+    return dataclasses.replace(problem, extras={**problem.extras, "member_index": np.arange(problem.batch),
+                                                "members_total": problem.batch})
