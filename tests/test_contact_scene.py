@@ -333,3 +333,22 @@ def test_lift_off_in_a_chunk_names_the_sweeps_member_and_the_earliest_time(tmp_p
         assert "member 2 (parameters.mu = 0.09) at t = 2.6" in exc.members
         assert "member 0" not in exc.members and "member 1" not in exc.members
     assert said[0].t == said[1].t
+
+
+def test_a_plot_refusal_comes_before_o_writes_anything(tmp_path, capsys):
+    """(a) A contact sweep kept as summaries has no figure to draw: ``--plot`` is refused, naming why the map does not
+    fit (no ``--figure='map'`` the user never gave), and ``-o`` is not written. (b) ``--figure contact-trace`` on a
+    torque-free scene is refused before it runs: nothing written."""
+    text = (SPHERE.format(contact="", omega="[0, 10, 0]", initial="").replace("a = 0.1", "a = [0.05, 0.1]")
+            + '[output]\nwant = ["summary"]\n')
+    path = _write(tmp_path, text)
+    out, png = tmp_path / "s.npz", tmp_path / "s.png"
+    assert main(["simulate", path, "-o", str(out), "--plot", str(png)]) == 2
+    err = capsys.readouterr().err
+    assert "--plot=" in err and "--figure='map'" not in err and "map: ball kept per-member summaries" in err
+    assert not out.exists() and not png.exists()
+    out, png = tmp_path / "t.npz", tmp_path / "t.png"
+    assert main(["simulate", "tennis-racket", "-o", str(out), "--plot", str(png), "--figure", "contact-trace"]) == 2
+    captured = capsys.readouterr()
+    assert "for a body on a plane" in captured.err and "scene 'tennis-racket'" not in captured.out
+    assert not out.exists() and not png.exists()
