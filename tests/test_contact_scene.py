@@ -103,6 +103,8 @@ def test_lift_off_is_a_named_error_at_its_time(tmp_path, capsys):
     ("", "[0, 10]", "", "initial.omega"),
     ("", "[0, 10, 0]", "position = [0, 0, 0.5]", "initial.position"),
     ("", "[0, 10, 0]", "velocity = [3, 0]", "initial.velocity"),
+    ('mode = "sliding"\nfriction = "none"', "[0, 10, 0]", "velocity = [1, 0, 0.5]", "initial.velocity"),
+    ('mode = "sliding"\nfriction = "none"', "[0, 10, 0]", "velocity = [1, 0, 0]", None),
     ("", "[0, 10, 0]", "quaternion = [0, 0, 0, 0]", "initial.quaternion"),
 ])
 def test_bad_contact_scenes_name_the_key(tmp_path, contact, omega, initial, key):

@@ -188,6 +188,11 @@ def start(kernel, *, omega, q=(1.0, 0.0, 0.0, 0.0), position=(0.0, 0.0), velocit
     if position.size not in (2, 3):
         raise InvalidInput("initial.position", position.tolist(), "(x, y) or (x, y, z) of the centre of mass")
     sliding = kernel.FLAGS["contact"] == "sliding"
+    if velocity is not None:
+        v = finite_array("initial.velocity", velocity, shape=(None,))
+        if v.size == 3 and v[2] != 0:  # the vertical velocity follows from the contact: not the user's to give
+            raise InvalidInput("initial.velocity", v.tolist(), "(v_x, v_y) of the centre of mass, or (v_x, v_y, 0): "
+                               "its vertical velocity is fixed by the contact with the plane")
     y = np.concatenate([omega, _vertical(q), q, position[:2], np.zeros(2 if sliding else 0)])
     if sliding and velocity is not None:
         v = finite_array("initial.velocity", velocity, shape=(None,))
