@@ -354,3 +354,17 @@ def test_a_plot_refusal_comes_before_o_writes_anything(tmp_path, capsys):
     captured = capsys.readouterr()
     assert "for a body on a plane" in captured.err and "scene 'tennis-racket'" not in captured.out
     assert not out.exists() and not png.exists()
+
+
+def test_a_disk_lying_flat_is_refused_by_name(tmp_path, capsys):
+    """Euler's disk left at the default attitude lies flat (its axis vertical): its rim does not touch at one point.
+    Refused at the start, naming the attitude — not a ZeroDivisionError inside the kernel — exit 2, nothing written."""
+    text = "\n".join(line for line in open(contact_scene.bundled()["euler-disk"]).read().splitlines()
+                     if not line.startswith(("axis = ", "angle = ")))
+    path = _write(tmp_path, text)
+    with pytest.raises(InvalidInput) as info:
+        simulate(_load(path))
+    assert info.value.argument == "initial.q" and "the disk lies flat" in str(info.value)
+    out = tmp_path / "x.npz"
+    assert main(["simulate", path, "-o", str(out)]) == 2 and not out.exists()
+    assert "rim down" in capsys.readouterr().err

@@ -199,7 +199,14 @@ def start(kernel, *, omega, q=(1.0, 0.0, 0.0, 0.0), position=(0.0, 0.0), velocit
         if v.size not in (2, 3):
             raise InvalidInput("initial.velocity", v.tolist(), "(v_x, v_y) of the centre of mass (space)")
         y[-2:] = v[:2]
-    rates = kernel.rhs(t, y, *params)
+    try:
+        rates = kernel.rhs(t, y, *params)
+    except ZeroDivisionError:  # the contact point is not one point at this attitude
+        if kernel.FLAGS.get("surface") == "disk":
+            raise InvalidInput("initial.q", q.tolist(), "an attitude with the rim down: the disk lies flat, its rim "
+                               "does not touch at one point (give [initial] axis and angle, or q, that tilt it)") from None
+        raise InvalidInput("initial.q", q.tolist(), "an attitude where the body touches the plane at one point (its "
+                           "contact point is not defined here)") from None
     if position.size == 3:
         height = kernel.height(t, y, *params)[0]
         if abs(position[2] - height) > 1e-9 * max(1.0, abs(height)):
