@@ -368,3 +368,20 @@ def test_a_disk_lying_flat_is_refused_by_name(tmp_path, capsys):
     out = tmp_path / "x.npz"
     assert main(["simulate", path, "-o", str(out)]) == 2 and not out.exists()
     assert "rim down" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("sliding", [False, True])
+def test_the_estimate_counts_the_contact_outputs(tmp_path, sliding):
+    """The estimated output of a contact sweep holds what the run keeps: ω, Γ and the 6 contact quantities (8 when
+    it slides), measured on the one pass's arrays — at least that, within 1.5×."""
+    from eulersym.scene import cost as scene_cost
+
+    contact = 'mode = "sliding"\nfriction = "coulomb"\nmu = 0.3\nwidth = 0.05' if sliding else ""
+    text = (SPHERE.format(contact=contact, omega="[0, 10, 0]", initial="").replace("a = 0.1", "a = [0.05, 0.1, 0.2]")
+            + '[output]\nwant = ["omega"]\n')
+    scene = _load(_write(tmp_path, text))
+    result = simulate(scene)
+    kept = result.omega.nbytes + result.gamma.nbytes + sum(v.nbytes for v in result.state_quantities.values())
+    assert len(result.state_quantities) == (8 if sliding else 6)
+    estimated = scene_cost.estimate(scene, result.plan).output_bytes
+    assert kept <= estimated <= 1.5 * kept, (kept, estimated)
