@@ -103,6 +103,8 @@ def test_lift_off_is_a_named_error_at_its_time(tmp_path, capsys):
     ("", "[0, 10]", "", "initial.omega"),
     ("", "[0, 10, 0]", "position = [0, 0, 0.5]", "initial.position"),
     ("", "[0, 10, 0]", "velocity = [3, 0]", "initial.velocity"),
+    ('mode = "sliding"\nfriction = "none"', "[0, 10, 0]", "velocity = [1, 0, 0.5]", "initial.velocity"),
+    ('mode = "sliding"\nfriction = "none"', "[0, 10, 0]", "velocity = [1, 0, 0]", None),
     ("", "[0, 10, 0]", "quaternion = [0, 0, 0, 0]", "initial.quaternion"),
 ])
 def test_bad_contact_scenes_name_the_key(tmp_path, contact, omega, initial, key):
@@ -211,3 +213,175 @@ def test_simulate_list_names_every_contact_scene_and_each_name_runs(capsys):
         assert scene_files()[name] == path and text.count(f"  {name} ") == 1  # in the one catalogue, once
     assert main(["simulate", "tippe-top", "--explain"]) == 0
     assert "tippe-top" in capsys.readouterr().out
+
+
+def test_an_accuracy_past_the_rtol_floor_is_not_reached_and_the_calls_are_counted_once(tmp_path, capsys,
+                                                                                        monkeypatch):
+    """The rattleback at accuracy 1e-13: the tight run is at rtol 1e-14, the floor, so a "refinement" would repeat it
+    bit for bit and estimate 0. The run keeps the last honest pair's estimate, warns, exits 3, and its kernel calls
+    are the sum of the runs it made (no run counted twice)."""
+    from eulersym.errors import AccuracyNotReached
+    from eulersym.numerics.methods._contact import ContactDOP853
+
+    made = []
+    attempt = ContactDOP853._attempt
+
+    def counted(self, *args, **kwargs):
+        run = attempt(self, *args, **kwargs)
+        made.append(run.n_rhs_calls)
+        return run
+
+    monkeypatch.setattr(ContactDOP853, "_attempt", counted)
+    text = (open(contact_scene.bundled()["rattleback"]).read().replace("end = 10.0", "end = 2.0")
+            .replace("points = 201", "points = 11").replace("accuracy = 1e-9", "accuracy = 1e-13"))
+    path = _write(tmp_path, text)
+    with pytest.warns(AccuracyNotReached, match="was not reached within the contact control's runs") as caught:
+        result = simulate(_load(path))
+    assert "double precision" not in str(caught[0].message)
+    worst = max(float(np.max(v)) for v in result.error.values())
+    assert worst > 1e-13  # an honest estimate, not the 0 of a run compared with itself
+    assert result.n_rhs_calls == sum(made) and len(made) == 2
+    out = tmp_path / "x.npz"
+    made.clear()
+    assert main(["simulate", path, "-o", str(out)]) == 3 and out.exists()
+    assert f"kernel calls: {sum(made)}" in capsys.readouterr().out
+
+
+def test_a_refined_contact_run_counts_each_run_once(tmp_path, monkeypatch):
+    """At accuracy 1e-12 the rattleback is refined once (three runs): its kernel calls are their sum."""
+    from eulersym.numerics.methods._contact import ContactDOP853
+
+    made = []
+    attempt = ContactDOP853._attempt
+
+    def counted(self, *args, **kwargs):
+        run = attempt(self, *args, **kwargs)
+        made.append(run.n_rhs_calls)
+        return run
+
+    monkeypatch.setattr(ContactDOP853, "_attempt", counted)
+    text = (open(contact_scene.bundled()["rattleback"]).read().replace("end = 10.0", "end = 2.0")
+            .replace("points = 201", "points = 11").replace("accuracy = 1e-9", "accuracy = 1e-11"))
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = simulate(_load(_write(tmp_path, text)))
+    assert result.n_rhs_calls == sum(made) and len(made) == 3
+
+
+@pytest.mark.parametrize("contact, swept, key", [
+    ("", "a = [0.1, -0.1]", "contact.radius"),
+    ('mode = "sliding"\nfriction = "coulomb"\nmu = "c"\nwidth = 0.01', "c = [0.3, -0.2]", "contact.mu"),
+    ('mode = "sliding"\nfriction = "coulomb"\nmu = 0.3\nwidth = "c"', "c = [0.01, 0.0]", "contact.width"),
+])
+def test_contact_dimensions_are_checked_at_every_members_values(tmp_path, capsys, contact, swept, key):
+    """A sweep that gives a member a radius −0.1 (or μ < 0, or a zero width) is refused by key, naming the member's
+    value — the defaults alone are valid — exit 2, nothing written."""
+    name = swept.split(" = ")[0]
+    text = SPHERE.format(contact=contact, omega="[0, 10, 0]", initial="")
+    text = text.replace("a = 0.1", swept) if name == "a" else text.replace("a = 0.1", f"a = 0.1\n{swept}")
+    path = _write(tmp_path, text)
+    with pytest.raises(InvalidInput) as info:
+        simulate(_load(path))
+    assert info.value.argument == key and "member 1" in str(info.value)
+    out = tmp_path / "x.npz"
+    assert main(["simulate", path, "-o", str(out)]) == 2 and not out.exists()
+    assert "member 1" in capsys.readouterr().err
+
+
+def test_a_contact_sweep_in_chunks_keeps_gamma_as_the_one_pass_does(tmp_path):
+    """Rolling spheres of six radii, ``outputs = ["omega"]``: a memory budget that forces chunks gives the one pass's
+    Γ (it was None in chunks) and its contact quantities."""
+    from eulersym.scene import cost as scene_cost
+
+    text = (SPHERE.format(contact="", omega="[0, 10, 0]", initial='axis = [1, 0, 0]\nangle = 0.3')
+            .replace("a = 0.1", "a = [0.05, 0.1, 0.15, 0.2, 0.25, 0.3]") + '[output]\nwant = ["omega"]\n')
+    scene = _load(_write(tmp_path, text))
+    whole = simulate(scene)
+    small = scene_cost.estimate(scene, whole.plan)
+    budget = small.output_bytes + small.per_member_working * 2 * scene_cost.threads(whole.plan)
+    assert scene_cost.estimate(scene, whole.plan, memory=budget).chunk < scene.batch
+    chunked = simulate(scene, memory=budget)
+    assert whole.gamma is not None and chunked.gamma is not None
+    for name in ("omega", "gamma"):
+        assert np.array_equal(getattr(whole, name), getattr(chunked, name)), name
+    for name in whole.state_quantities:
+        assert np.array_equal(whole.state_quantities[name], chunked.state_quantities[name]), name
+    assert whole.notes == chunked.notes and whole.drift == chunked.drift
+
+
+def test_lift_off_in_a_chunk_names_the_sweeps_member_and_the_earliest_time(tmp_path):
+    """Tippe tops at 150 rad/s with μ = 0.02, 0.02, 0.09, 0.1: the last two leave the plane, μ = 0.1 (member 3) first,
+    near t = 2.41 s, μ = 0.09 (member 2) near 2.67 s. In chunks of two, the second chunk's members are named 2 and 3
+    (not 0 and 1), and the time quoted is member 3's, the earliest — as the one pass says."""
+    text = (open(contact_scene.bundled()["tippe-top"]).read().replace("mu = 0.3 ", "mu = [0.02, 0.02, 0.09, 0.1] ")
+            .replace("omega = [0.0, 0.0, 100.0]", "omega = [0.0, 0.0, 150.0]").replace("end = 6.0", "end = 3.0")
+            .replace("points = 601", "points = 31"))
+    from eulersym.scene import cost as scene_cost
+
+    scene = _load(_write(tmp_path, text))
+    plan = scene.plan()
+    small = scene_cost.estimate(scene, plan)
+    budget = small.output_bytes + small.per_member_working * 2 * scene_cost.threads(plan)
+    assert scene_cost.estimate(scene, plan, memory=budget).chunk == 2
+    said = []
+    for memory in (None, budget):
+        with pytest.raises(LiftOff) as info:
+            simulate(scene, memory=memory)
+        said.append(info.value)
+    for exc in said:
+        assert 2.3 < exc.t < 2.5
+        assert exc.members.split(": ", 1)[1].startswith("member 3 (parameters.mu = 0.1) at t = 2.4")
+        assert "member 2 (parameters.mu = 0.09) at t = 2.6" in exc.members
+        assert "member 0" not in exc.members and "member 1" not in exc.members
+    assert said[0].t == said[1].t
+
+
+def test_a_plot_refusal_comes_before_o_writes_anything(tmp_path, capsys):
+    """(a) A contact sweep kept as summaries has no figure to draw: ``--plot`` is refused, naming why the map does not
+    fit (no ``--figure='map'`` the user never gave), and ``-o`` is not written. (b) ``--figure contact-trace`` on a
+    torque-free scene is refused before it runs: nothing written."""
+    text = (SPHERE.format(contact="", omega="[0, 10, 0]", initial="").replace("a = 0.1", "a = [0.05, 0.1]")
+            + '[output]\nwant = ["summary"]\n')
+    path = _write(tmp_path, text)
+    out, png = tmp_path / "s.npz", tmp_path / "s.png"
+    assert main(["simulate", path, "-o", str(out), "--plot", str(png)]) == 2
+    err = capsys.readouterr().err
+    assert "--plot=" in err and "--figure='map'" not in err and "map: ball kept per-member summaries" in err
+    assert not out.exists() and not png.exists()
+    out, png = tmp_path / "t.npz", tmp_path / "t.png"
+    assert main(["simulate", "tennis-racket", "-o", str(out), "--plot", str(png), "--figure", "contact-trace"]) == 2
+    captured = capsys.readouterr()
+    assert "for a body on a plane" in captured.err and "scene 'tennis-racket'" not in captured.out
+    assert not out.exists() and not png.exists()
+
+
+def test_a_disk_lying_flat_is_refused_by_name(tmp_path, capsys):
+    """Euler's disk left at the default attitude lies flat (its axis vertical): its rim does not touch at one point.
+    Refused at the start, naming the attitude — not a ZeroDivisionError inside the kernel — exit 2, nothing written."""
+    text = "\n".join(line for line in open(contact_scene.bundled()["euler-disk"]).read().splitlines()
+                     if not line.startswith(("axis = ", "angle = ")))
+    path = _write(tmp_path, text)
+    with pytest.raises(InvalidInput) as info:
+        simulate(_load(path))
+    assert info.value.argument == "initial.q" and "the disk lies flat" in str(info.value)
+    out = tmp_path / "x.npz"
+    assert main(["simulate", path, "-o", str(out)]) == 2 and not out.exists()
+    assert "rim down" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("sliding", [False, True])
+def test_the_estimate_counts_the_contact_outputs(tmp_path, sliding):
+    """The estimated output of a contact sweep holds what the run keeps: ω, Γ and the 6 contact quantities (8 when
+    it slides), measured on the one pass's arrays — at least that, within 1.5×."""
+    from eulersym.scene import cost as scene_cost
+
+    contact = 'mode = "sliding"\nfriction = "coulomb"\nmu = 0.3\nwidth = 0.05' if sliding else ""
+    text = (SPHERE.format(contact=contact, omega="[0, 10, 0]", initial="").replace("a = 0.1", "a = [0.05, 0.1, 0.2]")
+            + '[output]\nwant = ["omega"]\n')
+    scene = _load(_write(tmp_path, text))
+    result = simulate(scene)
+    kept = result.omega.nbytes + result.gamma.nbytes + sum(v.nbytes for v in result.state_quantities.values())
+    assert len(result.state_quantities) == (8 if sliding else 6)
+    estimated = scene_cost.estimate(scene, result.plan).output_bytes
+    assert kept <= estimated <= 1.5 * kept, (kept, estimated)

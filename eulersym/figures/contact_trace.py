@@ -1,7 +1,7 @@
 """A body on a plane seen from above: the trace of its contact point on the plane and the path of its centre of mass,
 beside the normal force over time.
 
-The run's quantities (``Result.quantities``, from the contact kernel) carry both: the contact point ``(x_P, y_P)``
+The run's quantities (``Result.state_quantities``, from the contact kernel) carry both: the contact point ``(x_P, y_P)``
 and the centre of mass ``(x_cm, y_cm)`` in space (the plane is z = 0, seen from +z: x to the right, y up, equal
 scales), and the normal force ``N(t)`` (the body lifts off where it would fall to 0: the run stops there). A sweep
 draws its first member (the title says which).

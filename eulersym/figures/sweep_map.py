@@ -40,6 +40,13 @@ def fits(result, scene=None) -> str | None:
     """
     if result.plan.batch < 2 or not result.sweep:
         return f"a sweep map needs a sweep; {result.plan.scene} runs one member"
+    facts = facts_of(result, scene)
+    if facts.gravity and "tilt_max" not in (result.summary or {}) and result.gamma is None:
+        return (f"{result.plan.scene} kept per-member summaries without the largest tilt; a map of a heavy top needs "
+                "its tilt (leave \"summary\" out of [output] want)")
+    if not facts.gravity and result.omega is None:
+        return (f"{result.plan.scene} kept per-member summaries only; a map of a body without gravity needs ω over "
+                "time (leave \"summary\" out of [output] want)")
     return None
 
 

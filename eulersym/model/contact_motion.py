@@ -51,7 +51,8 @@ class LiftOff(EulersymError):
     names : tuple of str
         ``STATE``.
     members : str or None
-        In a sweep: the members that left the plane, each with its time (the first's is ``t``).
+        In a sweep: the members that left the plane, earliest first, each by its index in the sweep (also when run
+        in chunks) and its time (the earliest's is ``t``).
 
     Examples
     --------
@@ -65,7 +66,7 @@ class LiftOff(EulersymError):
         self.state = np.asarray(state, dtype=float)
         self.names = tuple(names)
         self.members = members
-        where = f"{members}: the first" if members else "the body"
+        where = f"{members}: the earliest" if members else "the body"
         super().__init__(f"{where} left the plane at t = {self.t:.10g}: its normal force fell to 0 (lift-off); the "
                          "contact equations hold only while it touches — eulersym models no flight and no impact")
 
@@ -187,13 +188,25 @@ def start(kernel, *, omega, q=(1.0, 0.0, 0.0, 0.0), position=(0.0, 0.0), velocit
     if position.size not in (2, 3):
         raise InvalidInput("initial.position", position.tolist(), "(x, y) or (x, y, z) of the centre of mass")
     sliding = kernel.FLAGS["contact"] == "sliding"
+    if velocity is not None:
+        v = finite_array("initial.velocity", velocity, shape=(None,))
+        if v.size == 3 and v[2] != 0:  # the vertical velocity follows from the contact: not the user's to give
+            raise InvalidInput("initial.velocity", v.tolist(), "(v_x, v_y) of the centre of mass, or (v_x, v_y, 0): "
+                               "its vertical velocity is fixed by the contact with the plane")
     y = np.concatenate([omega, _vertical(q), q, position[:2], np.zeros(2 if sliding else 0)])
     if sliding and velocity is not None:
         v = finite_array("initial.velocity", velocity, shape=(None,))
         if v.size not in (2, 3):
             raise InvalidInput("initial.velocity", v.tolist(), "(v_x, v_y) of the centre of mass (space)")
         y[-2:] = v[:2]
-    rates = kernel.rhs(t, y, *params)
+    try:
+        rates = kernel.rhs(t, y, *params)
+    except ZeroDivisionError:  # the contact point is not one point at this attitude
+        if kernel.FLAGS.get("surface") == "disk":
+            raise InvalidInput("initial.q", q.tolist(), "an attitude with the rim down: the disk lies flat, its rim "
+                               "does not touch at one point (give [initial] axis and angle, or q, that tilt it)") from None
+        raise InvalidInput("initial.q", q.tolist(), "an attitude where the body touches the plane at one point (its "
+                           "contact point is not defined here)") from None
     if position.size == 3:
         height = kernel.height(t, y, *params)[0]
         if abs(position[2] - height) > 1e-9 * max(1.0, abs(height)):

@@ -935,6 +935,7 @@ class Model:
         if "contact" in self._data:  # a body on a plane: its own regime (the contact kernel integrates it)
             import dataclasses
 
+            _check_contact(self._data, values, out.batch)
             out = dataclasses.replace(out, contact=True)
         if self.pivot_path is not None:  # the pivot's acceleration: a time-dependent potential (the model's kernel)
             import dataclasses
@@ -1224,3 +1225,29 @@ class Model:
         from eulersym.model import kernels
 
         return kernels.compile(self.mechanics)
+
+
+def _check_contact(data: dict, values, batch: int) -> None:
+    """A body on a plane's dimensions and coefficients at every member's parameter values (NumPy): positive radius,
+    semi-axes, curvatures, g and width; mu, rolling_resistance and spin_friction >= 0 — refused by key, naming the
+    member and its value (the SymPy check of :class:`~eulersym.model.rolling.BodyOnPlane` sees the defaults only)."""
+    from eulersym.model.contact import SURFACES
+    from eulersym.model.facts import _positive, _Reader
+
+    contact = data["contact"]
+    reader = _Reader(data["parameters"], dict(values or {}), batch)
+    key, count = SURFACES[contact["surface"]]
+    raw = contact.get(key)
+    entries = [(f"contact.{key}", raw)] if count == 1 else [(f"contact.{key}[{k}]", x) for k, x in enumerate(raw)]
+    if contact.get("g") is not None:
+        entries.append(("contact.g", contact["g"]))
+    if contact.get("width") is not None:
+        entries.append(("contact.width", contact["width"]))
+    for name, value in entries:
+        if value is not None:
+            _positive(name, value, reader.scalar(name, value), batch, "a positive value at every member's parameters")
+    for name in ("mu", "rolling_resistance", "spin_friction"):
+        value = contact.get(name)
+        if value is not None:
+            _positive(f"contact.{name}", value, reader.scalar(f"contact.{name}", value), batch,
+                      "a value >= 0 at every member's parameters", zero=True)

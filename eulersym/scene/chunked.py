@@ -217,7 +217,11 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
         chunk = min(chunk, max(-(-share // grain) * grain, grain))
     if problem.batch > chunk and chunk % grain:
         chunk = max(chunk // grain, 1) * grain  # whole groups of members that step together: the same bits
-    keep_gamma = plan.regime in ("heavy top", "model") or "invariants" in problem.outputs
+    if plan.regime == "contact":  # each member keeps its index in the sweep: a lift-off in a chunk names it
+        from eulersym.numerics.methods._contact import numbered
+
+        problem = numbered(problem)
+    keep_gamma = plan.regime in ("heavy top", "model", "contact") or "invariants" in problem.outputs
     static = {"plan": plan, "layout": layout, "keep_gamma": keep_gamma}
     path = zarr_store.target() if layout is None else None
     if path is not None:  # the trajectories to a Zarr store as each chunk is computed (by whoever computes it)

@@ -175,6 +175,9 @@ def cli(argv: list) -> int:
             raise InvalidInput("--figure", args.figure, "one of " + ", ".join(FIGURES))
         if not args.plot:
             raise InvalidInput("--figure", args.figure, "--plot FILE as well (the file the figure is drawn into)")
+        if args.figure == "contact-trace" and scene.regime != "contact":  # known before running: refused first
+            raise InvalidInput("--figure", args.figure, "a figure that fits this scene: the contact point's trace is "
+                               f"for a body on a plane ([contact]); {scene.name} is {scene.regime}")
         if args.figure in _NEEDS_ATTITUDE and "attitude" not in scene.outputs and "summary" not in scene.outputs:
             scene = dataclasses.replace(scene, outputs=(*scene.outputs, "attitude"))  # drawn from the attitude
     memory, work = cost.budgets(scene, args.memory_budget, args.work_budget)
@@ -203,6 +206,8 @@ def cli(argv: list) -> int:
         raise InvalidInput("SCENE", args.scene, f"a scene that fits in memory: {scene.batch} member(s) × "
                                                 f"{scene.points} output times did not (fewer points or members)") from None
     _refuse_not_finite(result, scene)  # no NaN is reported or written as a result
+    if args.plot:  # a figure that does not fit this run is refused before -o writes anything
+        _check_figure(result, scene, args.plot, args.figure)
     print(f"scene {scene.name!r}" + (f" — {scene.description}" if scene.description else ""))
     print(report(result))
     if args.output:
@@ -213,6 +218,22 @@ def cli(argv: list) -> int:
     if message:
         sys.stderr.write(f"eulersym simulate: {message}; exit status {status}\n")
     return status
+
+
+def _check_figure(result, scene, path: str, figure) -> None:
+    """InvalidInput (before anything is written) when ``figure`` does not fit ``result``, or, without one, when no
+    figure does — as :func:`eulersym.figures.plot` would refuse after ``-o`` was written."""
+    from eulersym.figures.draw import FIGURES, fitting
+    from eulersym.figures.motion import scene_of
+
+    drawn = scene_of(result)  # as eulersym.scene.io.plot draws it
+    if figure is not None:
+        why = FIGURES[figure][0].fits(result, drawn)
+        if why is not None:
+            raise InvalidInput("--figure", figure, why)
+    elif not fitting(result, drawn):
+        reasons = "; ".join(f"{name}: {module.fits(result, drawn)}" for name, (module, _) in FIGURES.items())
+        raise InvalidInput("--plot", path, f"a run with a figure that fits it (none does — {reasons})")
 
 
 def _explain(scene, memory: int, work: float) -> None:

@@ -213,9 +213,19 @@ def _output_values(scene, regime: str) -> int:
     n = 3  # ω
     n += 4 * ("attitude" in outputs or "euler_angles" in outputs)
     n += 3 * ("euler_angles" in outputs) + 3 * ("polhode" in outputs)
-    n += 3 * (regime in ("heavy top", "model") or "invariants" in outputs)  # Γ
+    n += 3 * (regime in ("heavy top", "model", "contact") or "invariants" in outputs)  # Γ
     n += len(_INVARIANTS.get(regime, ("energy", "L2", "gamma_norm2", "q_norm2"))) * ("invariants" in outputs)
-    return n
+    return n + _contact_values(scene, regime)
+
+
+def _contact_values(scene, regime: str) -> int:
+    """Floats per member and output time of a body on a plane's contact outputs (its quantities: the contact point,
+    N and the centre of mass — 6; and the slip's 2 when it slides), kept in memory even when the trajectories are
+    streamed to a store; 0 for any other regime."""
+    if regime != "contact":
+        return 0
+    contact = getattr(getattr(scene, "model", None), "_data", {}).get("contact", {})
+    return 6 + 2 * (contact.get("mode") == "sliding")
 
 
 def budgets(scene, memory=None, work=None) -> tuple:
@@ -328,7 +338,7 @@ def _one(scene, plan, *, memory, chunk, kernel, rate=None) -> model.Estimate:
     cost = method_cost(plan)
     values = _output_values(scene, regime)
     if zarr_store.target() is not None and scene.batch > 1:  # streamed to a store: trajectories leave with each chunk
-        values = 0
+        values = _contact_values(scene, regime)  # the contact outputs are gathered in memory
     return model.estimate(members=scene.batch, points=scene.points, state=_state(plan.propagate),
                           output_values=values, engine=cost.name, rate=rate,
                           t_end=float(scene.t_end), accuracy=float(scene.accuracy), summary_values=n_summary,

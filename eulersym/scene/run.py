@@ -205,13 +205,19 @@ def _not_reached(scene, problem, error, beyond, sigma) -> AccuracyNotReached:
     reached = float(worst[b])
     asked = float(scene.accuracy)
     t = problem.t
-    try:
-        s = sigma[b] if sigma is not None else sensitivity(problem.select([b]))[0][0]
-    except Exception:  # noqa: BLE001 - the warning must come even when the conditioning cannot be computed
+    contact = problem.regime == "contact"  # no variational equations for a body on a plane: no amplification
+    unknown = ""
+    if contact:
         s = None
+    else:
+        try:
+            s = sigma[b] if sigma is not None else sensitivity(problem.select([b]))[0][0]
+        except Exception as exc:  # noqa: BLE001 - the warning must come even when the conditioning cannot be computed
+            s, unknown = None, f" (the conditioning could not be computed: {type(exc).__name__}: {exc})"
     who = "" if problem.batch == 1 else f" for {int(np.sum(beyond))} of {problem.batch} members (member {b} worst)"
-    text = (f"the accuracy asked ({asked:g}) is not reachable in double precision over t = {t[0]:g} … {t[-1]:g}"
-            f"{who}: the best estimated error is {reached:.2g}")
+    why = ("was not reached within the contact control's runs" if contact else "is not reachable in double precision")
+    text = (f"the accuracy asked ({asked:g}) {why} over t = {t[0]:g} … {t[-1]:g}"
+            f"{who}: the best estimated error is {reached:.2g}{unknown}")
     amplification = None
     if s is not None and np.all(np.isfinite(s)):
         amplification = float(np.max(s))

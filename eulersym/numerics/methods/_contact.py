@@ -69,6 +69,7 @@ class ContactDOP853(Method):
     def run(self, problem: Problem, *, progress=None) -> Trajectory:
         from eulersym.numerics.methods._accuracy import AIM, deviation, estimate, worst
 
+        problem = numbered(problem)
         accuracy = float(problem.accuracy)
         rtol = np.full(problem.batch, accuracy / 10)
         loose = self._attempt(problem, np.full(problem.batch, accuracy), None)
@@ -76,13 +77,16 @@ class ContactDOP853(Method):
         error = estimate(deviation(loose, tight, vertical=True), 10.0, tight=False)
         calls = loose.n_rhs_calls
         beyond = np.flatnonzero(worst(error) > accuracy)
+        finer = np.maximum(rtol[beyond] * np.clip(accuracy / (AIM * worst(error)[beyond]), 1e-4, 0.5), 1e-14)
+        # a rerun less than 2× finer than the last (rtol already at its floor) would repeat the same bits and estimate
+        # 0: those members keep the last honest pair's estimate, so the run says it did not reach the accuracy
+        finer_enough = rtol[beyond] / finer >= 2.0
+        beyond, finer = beyond[finer_enough], finer[finer_enough]
         if len(beyond):  # those members once more, by proportionality, paired with the run before it (per member)
-            finer = np.maximum(rtol[beyond] * np.clip(accuracy / (AIM * worst(error)[beyond]), 1e-4, 0.5), 1e-14)
             fresh = self._attempt(problem.select(beyond), finer, None,
                                   steps=_tighter(tight, float(np.max(rtol[beyond] / finer))))
             previous = Trajectory(t=tight.t, omega=tight.omega[beyond], q=tight.q[beyond], gamma=tight.gamma[beyond])
             redone = estimate(deviation(previous, fresh, vertical=True), rtol[beyond] / finer, tight=False)
-            calls += tight.n_rhs_calls
             fields = {name: np.array(getattr(tight, name), copy=True) for name in ("omega", "q", "gamma", "state")}
             for name in fields:
                 fields[name][beyond] = getattr(fresh, name)
@@ -150,13 +154,28 @@ def _lift_off(problem: Problem, lifted: list):
     """One :class:`LiftOff` for every member that left the plane: the first's time and state, every member named."""
     from eulersym.model.contact_motion import LiftOff
 
+    lifted = sorted(lifted, key=lambda pair: pair[1].t)  # the earliest first: its member, time and state quoted
     first = lifted[0][1]
-    if problem.batch == 1:
+    index = problem.extras.get("member_index")  # the sweep's own numbering, in a chunk or a selection of members
+    total = problem.extras.get("members_total", problem.batch)
+    if problem.batch == 1 and total == 1:
         return first
     shown = []
     for b, exc in lifted[:8]:
         values = ", ".join(f"{k} = {float(np.asarray(v)[b]):.6g}" for k, v in problem.members.items())
-        shown.append(f"member {b}" + (f" ({values})" if values else "") + f" at t = {exc.t:.10g}")
+        number = int(index[b]) if index is not None else b
+        shown.append(f"member {number}" + (f" ({values})" if values else "") + f" at t = {exc.t:.10g}")
     more = f", and {len(lifted) - 8} more" if len(lifted) > 8 else ""
+    whole = "" if total == problem.batch else f" (a chunk or a selection of the sweep's {total})"
     return LiftOff(first.t, first.state, first.names,
-                   members=f"{len(lifted)} of {problem.batch} members: " + "; ".join(shown) + more)
+                   members=f"{len(lifted)} of {problem.batch} members{whole}: " + "; ".join(shown) + more)
+
+
+def numbered(problem: Problem) -> Problem:
+    """``problem`` with each member's index in the whole sweep among its extras (``member_index``, sliced with the
+    members by :meth:`Problem.take` and :meth:`Problem.select`), so that a lift-off in a chunk names the sweep's
+    member; unchanged when it already has them."""
+    if "member_index" in problem.extras:
+        return problem
+    return dataclasses.replace(problem, extras={**problem.extras, "member_index": np.arange(problem.batch),
+                                                "members_total": problem.batch})
