@@ -216,3 +216,36 @@ def test_generate_model_writes_a_body_on_a_plane_its_contact_kernel_and_checks_i
     written.write_text(written.read_text() + "# edited\n")
     assert main(["generate", "--model", path, "--dir", str(tmp_path), "--check"]) == 1
     assert "stale" in capsys.readouterr().err
+
+
+def test_a_contact_sweep_streamed_to_zarr_and_a_run_saved_to_zarr_hold_the_contact_outputs(tmp_path):
+    """``-o out.zarr``: the contact point, N and the height are ``quantity_<name>`` arrays over (member, time), streamed
+    chunk by chunk or written from memory, equal to the one pass's (they were dropped from stores before)."""
+    import xarray
+
+    from eulersym.scene import cost as scene_cost
+    from eulersym.scene.io import save, stream
+    from eulersym.sweeps import zarr_store
+
+    radii = list(np.linspace(0.05, 0.2, 12))
+
+    def scene(a=radii):
+        return Scene(model=Model(**SPHERE), parameters={"a": a}, omega=(0, 10, 0), t_end=1, points=11)
+
+    one = simulate(scene())
+    target = str(tmp_path / "streamed.zarr")
+    with zarr_store.streaming(target):  # a budget that forces chunks of two members
+        small = scene_cost.estimate(scene(), one.plan)
+        budget = small.output_bytes + small.per_member_working * 2 * scene_cost.threads(one.plan)
+        assert scene_cost.estimate(scene(), one.plan, memory=budget).chunk < len(radii)
+    stream(scene(), target, memory=budget)
+    save(one, str(tmp_path / "saved.zarr"))
+    single = simulate(scene(0.1))
+    save(single, str(tmp_path / "single.zarr"))
+    for name in ("streamed", "saved"):
+        ds = xarray.open_zarr(str(tmp_path / f"{name}.zarr"))
+        for key, values in one.quantities.items():
+            assert ds[f"quantity_{key}"].dims == ("member", "time")
+            assert np.array_equal(ds[f"quantity_{key}"].values, values), (name, key)
+    ds = xarray.open_zarr(str(tmp_path / "single.zarr"))
+    assert np.array_equal(ds["quantity_N"].values[0], single.quantities["N"])

@@ -171,12 +171,14 @@ def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
 
 
 def _stored(name: str):
-    """The store's name of a chunk's output: a trajectory's own, an invariant's without ``invariant:``; None for the
-    bookkeeping (``_calls``, ``_theta_min``…)."""
+    """The store's name of a chunk's output: a trajectory's own, an invariant's without ``invariant:``, a contact
+    output's ``quantity_<name>``; None for the bookkeeping (``_calls``, ``_theta_min``…)."""
     if name in _TRAJECTORIES or name == "gamma":
         return name
     if name.startswith("invariant:"):
         return name.split(":", 1)[1]
+    if name.startswith("quantity:"):  # a body on a plane's contact outputs, as the .npz names them
+        return "quantity_" + name.split(":", 1)[1]
     return None
 
 

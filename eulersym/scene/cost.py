@@ -220,8 +220,8 @@ def _output_values(scene, regime: str) -> int:
 
 def _contact_values(scene, regime: str) -> int:
     """Floats per member and output time of a body on a plane's contact outputs (its quantities: the contact point,
-    N and the centre of mass — 6; and the slip's 2 when it slides), kept in memory even when the trajectories are
-    streamed to a store; 0 for any other regime."""
+    N and the centre of mass — 6; and the slip's 2 when it slides), kept beside the trajectories (and streamed with
+    them to a store); 0 for any other regime."""
     if regime != "contact":
         return 0
     contact = getattr(getattr(scene, "model", None), "_data", {}).get("contact", {})
@@ -338,7 +338,7 @@ def _one(scene, plan, *, memory, chunk, kernel, rate=None) -> model.Estimate:
     cost = method_cost(plan)
     values = _output_values(scene, regime)
     if zarr_store.target() is not None and scene.batch > 1:  # streamed to a store: trajectories leave with each chunk
-        values = _contact_values(scene, regime)  # the contact outputs are gathered in memory
+        values = 0  # (a body on a plane's contact outputs too: quantity_<name> in the store)
     return model.estimate(members=scene.batch, points=scene.points, state=_state(plan.propagate),
                           output_values=values, engine=cost.name, rate=rate,
                           t_end=float(scene.t_end), accuracy=float(scene.accuracy), summary_values=n_summary,

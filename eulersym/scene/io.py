@@ -266,6 +266,8 @@ def _save_zarr(result, path: str) -> str:
             fields[key] = lift(getattr(result, key))
     for key, values in result.invariants.items():
         fields[key] = lift(values)
+    for key, values in (getattr(result, "state_quantities", None) or {}).items():  # a body on a plane's outputs
+        fields[f"quantity_{key}"] = lift(values)
     members = result.plan.batch
     coords = {k: np.asarray(v) for k, v in result.sweep.items()}
     folder = os.path.dirname(os.path.abspath(path))

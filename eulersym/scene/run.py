@@ -131,10 +131,6 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
                           threads=cost.threads(plan) if client is None else 1)
         timings["motion"] += time.perf_counter() - clock
         clock = time.perf_counter()
-        if plan.regime == "contact" and layout is None and not out.get("state_quantities"):
-            out["notes"].append("the contact outputs (contact point, normal force, slip, height) are not written to "
-                                "a Zarr store: its trajectories are the state's (the summaries and in-memory "
-                                "chunks keep them)")
     else:
         out = outputs(problem, plan, traj, bound=bound, turning=turning, tensor_given=tensor_given)
         if len(singular):
