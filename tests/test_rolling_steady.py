@@ -27,10 +27,11 @@ def _families(name):
 
 @functools.lru_cache(maxsize=None)
 def _scene(name):
-    from eulersym.model import contact_scene
+    from eulersym.model.spec import Model
+    from eulersym.scene.catalog import bundled
 
-    scene = contact_scene.load(name)
-    return scene.body, contact_scene.kernel(scene)
+    model = Model.from_toml(bundled()[name])  # the bundled scene's model, its [contact] read by Model
+    return model.body_on_plane, model.compile()
 
 
 @functools.lru_cache(maxsize=None)

@@ -391,7 +391,7 @@ def steady_motions(body: BodyOnPlane, *, budget: float = DEFAULT_BUDGET) -> Stea
     Parameters
     ----------
     body : eulersym.model.rolling.BodyOnPlane
-        From :mod:`eulersym.model.contact_examples` or a contact scene (:func:`eulersym.model.contact_scene.load`).
+        From :mod:`eulersym.model.contact_examples` or a model with ``[contact]`` (``Model.body_on_plane``).
     budget : float
         Seconds the exact solver may spend.
 

@@ -39,6 +39,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from pathlib import Path
 
 from eulersym.errors import InvalidInput
 
@@ -168,15 +169,21 @@ def main(argv) -> int:
     ranges = _parse_map(args.map) if args.map is not None else None
     from eulersym.model import contact_scene
 
-    if contact_scene.handles(args.model) and contact_scene.load(args.model).kind == "contact":
+    scenes = contact_scene.bundled()  # a bundled body on a plane (or moving pivot) is named like a model
+    if args.model in scenes and not Path(args.model).exists():
+        from eulersym.model.spec import Model
+
+        model = Model.from_toml(scenes[args.model])
+    else:
+        model = load(args.model)
+    if model.body_on_plane is not None:
         # a body on a plane: its contact equations (eulersym.model.rolling_steady), never the free body's
         from eulersym.model.rolling_steady import steady_motions as on_a_plane
 
-        body = contact_scene.load(args.model).body
+        body = model.body_on_plane
         model = _OnAPlane(body)
         families = on_a_plane(body) if args.budget is None else on_a_plane(body, budget=args.budget)
     else:
-        model = load(args.model)
         families = steady_motions(model) if args.budget is None else steady_motions(model, budget=args.budget)
     chosen = list(families)
     if args.family is not None:
