@@ -102,7 +102,7 @@ def test_a_streamed_sweep_prepares_its_starts_a_chunk_at_a_time(tmp_path, monkey
     from eulersym.numerics.methods import Problem
     from eulersym.scene import problem as prepared
 
-    scene = _free(n=250)  # 62 500 members
+    scene = _free(n=500)  # 250 000 members: what the whole preparation holds (26 MB) well above a chunk in flight
     whole = prepared.prepare(scene, scene.plan(), per_chunk=False)
     held = sum(getattr(whole, name).nbytes for name in Problem.MEMBER_FIELDS if getattr(whole, name) is not None)
     del whole
