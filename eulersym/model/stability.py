@@ -585,21 +585,31 @@ class _NumericStability(Stability):
                                + "; ".join(", ".join(f"{k} = {v:.6g}" for k, v in m.items()) for m in members))
         return members[0], values
 
-    def eigenvalues(self, values=None):
+    def _spectrum(self, values, *, floats: bool = False):
+        """``(point, x, eigenvalues)``: the member's point, the state and the eigenvalues of ``∂f/∂x`` there at 30
+        digits (``floats``: the family's own values taken as 30-digit floats too)."""
         import mpmath
-        import numpy as np
 
         member, rest = self._member(values)
         fam = self.family
         ctx = fam._context
         point = fam.values(rest)
+        if floats:
+            point = {k: sp.Float(v, 30) for k, v in point.items()}
         point.update({sp.Symbol(k, real=True): sp.Float(v, 30) for k, v in member.items()})
         x = list(ctx.x)
         J = sp.Matrix(ctx.f).jacobian(x).xreplace(point).evalf(30)
         with mpmath.workdps(30):
             ev = mpmath.eig(mpmath.matrix([[complex(e) for e in row] for row in J.tolist()]), left=False,
                             right=False)
-        ev = sorted((complex(v) for v in ev), key=abs)
+        return point, x, [complex(v) for v in ev]
+
+    def eigenvalues(self, values=None):
+        import numpy as np
+
+        point, x, ev = self._spectrum(values)
+        ev = sorted(ev, key=abs)
+        ctx = self.family._context
         integrals = _integrals(ctx, [])
         grads = [[sp.diff(H, s).xreplace(point) for s in x] for H in integrals.values()]
         r = _numeric_rank(grads, {}) if grads else 0
@@ -943,21 +953,9 @@ class _FrameStability(_NumericStability):
     against ``A(q) ẑ``: numerically zero, below 1e-10 of the largest) dropped."""
 
     def eigenvalues(self, values=None):
-        import mpmath
         import numpy as np
 
-        member, rest = self._member(values)
-        fam = self.family
-        ctx = fam._context
-        point = fam.values(rest)
-        point = {k: sp.Float(v, 30) for k, v in point.items()}
-        point.update({sp.Symbol(k, real=True): sp.Float(v, 30) for k, v in member.items()})
-        x = list(ctx.x)
-        J = sp.Matrix(ctx.f).jacobian(x).xreplace(point).evalf(30)
-        with mpmath.workdps(30):
-            ev = mpmath.eig(mpmath.matrix([[complex(e) for e in row] for row in J.tolist()]), left=False,
-                            right=False)
-        ev = [complex(v) for v in ev]
+        _, _, ev = self._spectrum(values, floats=True)
         scale = max([1e-300] + [abs(v) for v in ev])
         out = np.array([v for v in ev if abs(v) > 1e-10 * scale], dtype=complex)
         return out[np.lexsort((out.imag, out.real))]
