@@ -150,3 +150,27 @@ def test_threads_give_the_same_bits(rng):
     two = chunks.run(heavy_top_chunk, piece, members=300, chunk=40, static={"t": T, "summarize": True}, threads=2)
     for name in one:
         assert np.array_equal(one[name], two[name]), name
+
+
+def test_large_outputs_are_mapped_arrays_that_behave_as_any_array():
+    """An output of 4 MiB or more lives in an anonymous map (small pages: cheaper to fill on this machine than the
+    huge pages NumPy advises); it reads, writes, slices and pickles as np.empty's array does."""
+    import mmap
+    import pickle
+
+    from eulersym.sweeps.outputs import empty
+
+    def mapped(a):
+        while isinstance(a, np.ndarray):
+            a = a.base
+        return isinstance(a, memoryview) and isinstance(a.obj, mmap.mmap)
+
+    big = empty((20_000, 31, 3))
+    assert mapped(big) and big.flags.writeable and big.flags.c_contiguous
+    big[:] = np.arange(big.size, dtype=float).reshape(big.shape)
+    assert np.array_equal(pickle.loads(pickle.dumps(big)), big)
+    flags = empty((5 * 2**20,), bool)
+    assert flags.dtype == bool and mapped(flags)
+    small = empty((10, 3))
+    assert not mapped(small) and small.shape == (10, 3)
+    assert empty((0, 31, 3)).shape == (0, 31, 3)
