@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from eulersym.numerics.elliptic import _agm_landen_columns, _rf, _rj, _sncndn, _third_kind
+from eulersym.numerics.elliptic import _agm_landen_columns, _rf, _rj, _sncndn, _sncndn_within, _third_kind
 
 __all__ = ["batch_motion"]
 
@@ -71,7 +71,7 @@ def _W_series(mc, landen, K, characteristics):
         M = _DCT[N] = _dct1(N)
     half = N // 2
     y = K * (np.arange(half + 1) / N)[None, :]
-    sn, cn, dn = _sncndn(y, np.sqrt(mc), landen)
+    sn, cn, dn = _sncndn_within(y, np.sqrt(mc), landen)  # 0 ≤ y ≤ K/2
     s2 = np.empty((mc.shape[0], N + 1))
     s2[:, :half + 1] = sn * sn
     s2[:, N:half - 1:-1] = (cn / dn) ** 2  # sn²(K − y) = cd² y
@@ -346,7 +346,7 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None, *, attitude=True):
     j = np.round(tau / col(2 * K))
     r = tau - j * col(2 * K)
     landen = _agm_landen_columns(np.sqrt(mc))
-    sn, cn, dn = _jacobi(r, col(mc), landen)
+    sn, cn, dn = _sncndn_within(r, np.sqrt(col(mc)), landen)  # |r| ≤ K: no reduction modulo 4K
     parity = 1.0 - 2.0 * np.mod(j, 2.0)
     sn_t, cn_t = parity * sn, parity * cn
     dl = col(delta)

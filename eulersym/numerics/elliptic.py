@@ -258,6 +258,27 @@ def _sncndn(u: np.ndarray, rootmc: float, landen):
     return sign_sn * sn, sign_cn * cn, dn
 
 
+def _sncndn_within(u: np.ndarray, rootmc, landen):
+    """:func:`_sncndn` of arguments already within |u| < 2K (a phase the caller reduced), bit for bit, without its
+    reduction modulo 4K (``np.mod``: the dearest of its passes): there ``|u| mod 4K = |u|`` exactly and the upper
+    half-period never applies, so the signs are those of u (sn) and of the reflection past K (cn)."""
+    avals, bvals, agm = landen
+    K = math.pi / (2.0 * agm)
+    r = np.abs(u)
+    back = r > K
+    x = np.where(back, 2.0 * K - r, r)
+    near = x > 0.5 * K
+    z = np.where(near, K - x, x)
+    z = np.maximum(z, 0.0)
+    sz, cz, dz = _sncndn_reduced(z, avals, bvals, agm)
+    sn = np.where(near, cz / dz, sz)
+    cn = np.where(near, rootmc * sz / dz, cz)
+    dn = np.where(near, rootmc / dz, dz)
+    np.negative(sn, out=sn, where=u < 0)  # −1 · sn, as _sncndn's sign
+    np.negative(cn, out=cn, where=back)
+    return sn, cn, dn
+
+
 def _sncndn_half(r: np.ndarray, K: float, rootmc: float, landen):
     """sn, cn, dn of a phase already reduced to |r| ≤ K (no reduction modulo 4K: Landen on [0, K/2], the
     quarter-period reflection above), as new arrays."""
