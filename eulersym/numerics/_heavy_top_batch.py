@@ -91,11 +91,12 @@ def _sine_series(b, c2, s1):
     """Σ_k b_k sin kθ by Clenshaw's recurrence, from b (P, B, N), 2 cos θ and sin θ (P, B, n)."""
     u1 = np.zeros_like(c2)
     u2 = np.zeros_like(c2)
-    for k in range(b.shape[-1] - 1, -1, -1):
-        u = c2 * u1
+    u = np.empty_like(c2)
+    for k in range(b.shape[-1] - 1, -1, -1):  # three buffers in turn: no allocation a step
+        np.multiply(c2, u1, out=u)
         u -= u2
         u += b[:, :, k, None]
-        u2, u1 = u1, u
+        u, u1, u2 = u2, u, u1
     return u1 * s1
 
 
