@@ -424,8 +424,11 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None, *, attitude=True):
     pos = col(sigma) > 0
     cos_n, sin_n = np.cos(0.5 * chi_n), np.sin(0.5 * chi_n)  # the half angles' cosines and sines, once
     cos_f, sin_f = np.cos(0.5 * chi_f), np.sin(0.5 * chi_f)
-    cp, sp_ = np.where(pos, cos_f, cos_n), np.where(pos, sin_f, sin_n)
-    cm, sm = np.where(pos, cos_n, cos_f), np.where(pos, sin_n, sin_f)
+    if pos.all() or not pos.any():  # one sign of M g l for every member (a sweep of one body): no selection
+        cp, sp_, cm, sm = (cos_f, sin_f, cos_n, sin_n) if pos.all() else (cos_n, sin_n, cos_f, sin_f)
+    else:
+        cp, sp_ = np.where(pos, cos_f, cos_n), np.where(pos, sin_f, sin_n)
+        cm, sm = np.where(pos, cos_n, cos_f), np.where(pos, sin_n, sin_f)
     cos_psi, sin_psi = cp * cm + sp_ * sm, sp_ * cm - cp * sm
     A_ = 0.5 * col(Bn) * rf / rn + 0.5 * col(Bf) * rn / rf
     B_ = col(sigma) * 2.0 * col(lam) * dn * ratio_n * ratio_f
