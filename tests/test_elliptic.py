@@ -246,3 +246,24 @@ def test_the_landen_columns_are_the_scalar_sequence_member_by_member():
             assert float(agm[k, 0]) == mean
     with_nan = _agm_landen_columns(np.array([0.5, np.nan]))
     assert len(with_nan[0]) == len(_agm_landen(0.5)[0])
+
+
+def test_sncndn_within_two_k_is_the_general_sncndn_bit_for_bit(rng):
+    """A phase the caller reduced to |u| < 2K (the sweeps' closed forms) skips the reduction modulo 4K and gives the
+    bits of the general _sncndn — signs of zero included — at 0, ±K, just past K, just below 2K, and at random,
+    for m_c from 1e-300 to 1; and sn against mpmath at a few of them."""
+    B = 600
+    mc = np.concatenate([10.0 ** rng.uniform(-14, 0, B - 3), [1.0, 1e-300, 0.5]])[:, None]
+    root = np.sqrt(mc)
+    landen = elliptic._agm_landen_columns(root)
+    K = (math.pi / (2 * landen[2]))[:, 0]
+    u = rng.uniform(-2, 2, (B, 31)) * K[:, None] * rng.choice([1.0, 0.5, 0.25, 1 - 2 ** -52], (B, 31))
+    u[:, :7] = np.stack([np.zeros(B), -np.zeros(B), K, -K, np.nextafter(K, 2 * K), 0.5 * K,
+                         -np.nextafter(2 * K, 0)], axis=1)
+    general, within = elliptic._sncndn(u, root, landen), elliptic._sncndn_within(u, root, landen)
+    for a, b in zip(general, within):
+        assert np.array_equal(a, b) and np.array_equal(np.signbit(a), np.signbit(b))
+    for k in (0, 1, 2, B - 1):
+        with mp.workdps(30):
+            want = [float(mp.ellipfun("sn", mp.mpf(float(x)), 1 - mp.mpf(float(mc[k, 0])))) for x in u[k, 2:9]]
+        assert np.allclose(within[0][k, 2:9], want, rtol=0, atol=4e-15)

@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from eulersym.numerics.elliptic import _agm_landen_columns, _rf, _rj, _sncndn, _third_kind
+from eulersym.numerics.elliptic import _agm_landen_columns, _rf, _rj, _sncndn, _sncndn_within, _third_kind
 
 __all__ = ["batch_motion"]
 
@@ -71,7 +71,7 @@ def _W_series(mc, landen, K, characteristics):
         M = _DCT[N] = _dct1(N)
     half = N // 2
     y = K * (np.arange(half + 1) / N)[None, :]
-    sn, cn, dn = _sncndn(y, np.sqrt(mc), landen)
+    sn, cn, dn = _sncndn_within(y, np.sqrt(mc), landen)  # 0 ≤ y ≤ K/2
     s2 = np.empty((mc.shape[0], N + 1))
     s2[:, :half + 1] = sn * sn
     s2[:, N:half - 1:-1] = (cn / dn) ** 2  # sn²(K − y) = cd² y
@@ -91,11 +91,12 @@ def _sine_series(b, c2, s1):
     """Σ_k b_k sin kθ by Clenshaw's recurrence, from b (P, B, N), 2 cos θ and sin θ (P, B, n)."""
     u1 = np.zeros_like(c2)
     u2 = np.zeros_like(c2)
-    for k in range(b.shape[-1] - 1, -1, -1):
-        u = c2 * u1
+    u = np.empty_like(c2)
+    for k in range(b.shape[-1] - 1, -1, -1):  # three buffers in turn: no allocation a step
+        np.multiply(c2, u1, out=u)
         u -= u2
         u += b[:, :, k, None]
-        u2, u1 = u1, u
+        u, u1, u2 = u2, u, u1
     return u1 * s1
 
 
@@ -211,9 +212,9 @@ def _W_complementary(u, n, n1, nm, mc, m, K, Pi, Kp=None):
 CONDITION_ULPS = 64.0
 
 
-def batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
+def batch_motion(I1, I3, mgl, omega, q, t, accuracy=None, *, attitude=True):
     with np.errstate(invalid="ignore", divide="ignore"):  # the rows left to the precise path may be nan here
-        return _batch_motion(I1, I3, mgl, omega, q, t, accuracy)
+        return _batch_motion(I1, I3, mgl, omega, q, t, accuracy, attitude=attitude)
 
 
 def _conditioning(A, B, C, D, Bmag, Cmag, x1, x2, x3):
@@ -230,9 +231,10 @@ def _conditioning(A, B, C, D, Bmag, Cmag, x1, x2, x3):
     return (d2 + d3) / (x3 - x2) + (d1 + d3) / (x3 - x1)
 
 
-def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
+def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None, *, attitude=True):
     """Constants and motion of B members at the times t (n,): returns (ok (B,), omega, gamma, q, euler, period,
-    turning) with the motion arrays of shape (B, n, ·); rows where ``ok`` is False are to be computed precisely:
+    turning) with the motion arrays of shape (B, n, ·) (q and euler None unless ``attitude``: ω and Γ need only the
+    half angles' cosines and sines, not the quaternion nor the angles themselves); rows where ``ok`` is False are to be computed precisely:
     among them every member whose m_c is ill-conditioned in double (:func:`_conditioning`) beyond
     :data:`CONDITION_ULPS` ulp — or, for an ``accuracy`` asked, beyond a tenth of it over the phase λ·max|t| the
     times span (a near-double root: next to the upright top's separatrix, where the cubic's coefficients cancel)."""
@@ -345,7 +347,7 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
     j = np.round(tau / col(2 * K))
     r = tau - j * col(2 * K)
     landen = _agm_landen_columns(np.sqrt(mc))
-    sn, cn, dn = _jacobi(r, col(mc), landen)
+    sn, cn, dn = _sncndn_within(r, np.sqrt(col(mc)), landen)  # |r| ≤ K: no reduction modulo 4K
     parity = 1.0 - 2.0 * np.mod(j, 2.0)
     sn_t, cn_t = parity * sn, parity * cn
     dl = col(delta)
@@ -419,10 +421,34 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
     chi_n = np.mod(col(nu_near) * tt + col(per_n) * j, four_pi) + col(chi_n0) + col(coef_n) * (Wn - col(W0n))
     chi_f = np.mod(col(rate_f) * tt + col(per_f) * (jf - col(j0f)), four_pi) + col(chi_f0) + col(coef_f) * (Wf - col(W0f))
     half_near, half_far = rn / math.sqrt(2.0), rf / math.sqrt(2.0)
-    out_q = np.empty(r.shape + (4,))
     pos = col(sigma) > 0
     cos_n, sin_n = np.cos(0.5 * chi_n), np.sin(0.5 * chi_n)  # the half angles' cosines and sines, once
     cos_f, sin_f = np.cos(0.5 * chi_f), np.sin(0.5 * chi_f)
+    if pos.all() or not pos.any():  # one sign of M g l for every member (a sweep of one body): no selection
+        cp, sp_, cm, sm = (cos_f, sin_f, cos_n, sin_n) if pos.all() else (cos_n, sin_n, cos_f, sin_f)
+    else:
+        cp, sp_ = np.where(pos, cos_f, cos_n), np.where(pos, sin_f, sin_n)
+        cm, sm = np.where(pos, cos_n, cos_f), np.where(pos, sin_n, sin_f)
+    cos_psi, sin_psi = cp * cm + sp_ * sm, sp_ * cm - cp * sm
+    A_ = 0.5 * col(Bn) * rf / rn + 0.5 * col(Bf) * rn / rf
+    B_ = col(sigma) * 2.0 * col(lam) * dn * ratio_n * ratio_f
+    out_w = np.empty(r.shape + (3,))  # each component written in place (no stack of temporaries)
+    np.multiply(A_, sin_psi, out=out_w[..., 0])
+    out_w[..., 0] -= B_ * cos_psi
+    np.multiply(A_, cos_psi, out=out_w[..., 1])
+    out_w[..., 1] += B_ * sin_psi
+    out_w[..., 2] = col(w[:, 2])
+    s_theta = rn * rf
+    rn2, rf2 = rn * rn, rf * rf
+    out_g = np.empty(r.shape + (3,))
+    np.multiply(s_theta, sin_psi, out=out_g[..., 0])
+    np.multiply(s_theta, cos_psi, out=out_g[..., 1])
+    np.multiply(col(sigma), np.where(rn2 < rf2, 1.0 - rn2, rf2 - 1.0), out=out_g[..., 2])
+    period = 2 * K / lam
+    turning = np.sort(np.stack([sigma * (w0 + x1), sigma * (w0 + x2)], axis=1), axis=1)
+    if not attitude:
+        return ok, out_w, out_g, None, None, period, turning
+    out_q = np.empty(r.shape + (4,))
     cn_n, sn_n = half_near * cos_n, half_near * sin_n
     cf, sf = half_far * cos_f, half_far * sin_f
     out_q[..., 0] = np.where(pos, cf, cn_n)
@@ -431,21 +457,8 @@ def _batch_motion(I1, I3, mgl, omega, q, t, accuracy=None):
     out_q[..., 2] = np.where(pos, sn_n, sf)
     out_q /= np.sqrt(np.sum(out_q * out_q, axis=-1, keepdims=True))
     chi_plus, chi_minus = np.where(pos, chi_f, chi_n), np.where(pos, chi_n, chi_f)
-    cp, sp_ = np.where(pos, cos_f, cos_n), np.where(pos, sin_f, sin_n)
-    cm, sm = np.where(pos, cos_n, cos_f), np.where(pos, sin_n, sin_f)
-    cos_psi, sin_psi = cp * cm + sp_ * sm, sp_ * cm - cp * sm
-    A_ = 0.5 * col(Bn) * rf / rn + 0.5 * col(Bf) * rn / rf
-    B_ = col(sigma) * 2.0 * col(lam) * dn * ratio_n * ratio_f
-    out_w = np.stack([A_ * sin_psi - B_ * cos_psi, A_ * cos_psi + B_ * sin_psi,
-                      np.broadcast_to(col(w[:, 2]), r.shape)], axis=-1)
-    s_theta = rn * rf
-    rn2, rf2 = rn * rn, rf * rf
-    ww = np.where(rn2 < rf2, 1.0 - rn2, rf2 - 1.0)
-    out_g = np.stack([s_theta * sin_psi, s_theta * cos_psi, col(sigma) * ww], axis=-1)
     Sh, Ch = np.where(pos, half_near, half_far), np.where(pos, half_far, half_near)
     theta = 2.0 * np.arctan2(Sh, Ch)
     wrap = lambda v: np.mod(v + math.pi, 2 * math.pi) - math.pi  # noqa: E731
     euler = np.stack([wrap(0.5 * (chi_plus + chi_minus)), theta, wrap(0.5 * (chi_plus - chi_minus))], axis=-1)
-    period = 2 * K / lam
-    turning = np.sort(np.stack([sigma * (w0 + x1), sigma * (w0 + x2)], axis=1), axis=1)
     return ok, out_w, out_g, out_q, euler, period, turning

@@ -235,11 +235,22 @@ def jacobi_sncndn(u, mc, *, rootmc=None):
     return sn.reshape(shape), cn.reshape(shape), dn.reshape(shape)
 
 
+def _sncndn_quarter(x: np.ndarray, K, rootmc, landen):
+    """sn, cn, dn for 0 ≤ x ≤ K: Landen on [0, K/2], the quarter-period reflection above."""
+    near = x > 0.5 * K
+    z = np.where(near, K - x, x)
+    z = np.maximum(z, 0.0)
+    sz, cz, dz = _sncndn_reduced(z, *landen)
+    sn = np.where(near, cz / dz, sz)
+    cn = np.where(near, rootmc * sz / dz, cz)
+    dn = np.where(near, rootmc / dz, dz)
+    return sn, cn, dn
+
+
 def _sncndn(u: np.ndarray, rootmc: float, landen):
     """sn, cn, dn of a float array (checked by the caller), ``0 < √m_c ≤ 1``, Landen sequence given; ``rootmc`` and
     the sequence may be arrays broadcasting against ``u`` (one modulus per member of a batch)."""
-    avals, bvals, agm = landen
-    K = math.pi / (2.0 * agm)
+    K = math.pi / (2.0 * landen[2])
     r = np.mod(np.abs(u), 4.0 * K)  # sn is odd, cn and dn even: reduce |u| so small arguments stay exact
     upper = r >= 2.0 * K
     r = np.where(upper, r - 2.0 * K, r)
@@ -248,14 +259,22 @@ def _sncndn(u: np.ndarray, rootmc: float, landen):
     back = r > K
     x = np.where(back, 2.0 * K - r, r)
     sign_cn = np.where(back, -sign, sign)
-    near = x > 0.5 * K
-    z = np.where(near, K - x, x)
-    z = np.maximum(z, 0.0)
-    sz, cz, dz = _sncndn_reduced(z, avals, bvals, agm)
-    sn = np.where(near, cz / dz, sz)
-    cn = np.where(near, rootmc * sz / dz, cz)
-    dn = np.where(near, rootmc / dz, dz)
+    sn, cn, dn = _sncndn_quarter(x, K, rootmc, landen)
     return sign_sn * sn, sign_cn * cn, dn
+
+
+def _sncndn_within(u: np.ndarray, rootmc, landen):
+    """:func:`_sncndn` of arguments already within |u| < 2K (a phase the caller reduced), bit for bit, without its
+    reduction modulo 4K (``np.mod``: the dearest of its passes): there ``|u| mod 4K = |u|`` exactly and the upper
+    half-period never applies, so the signs are those of u (sn) and of the reflection past K (cn)."""
+    K = math.pi / (2.0 * landen[2])
+    r = np.abs(u)
+    back = r > K
+    x = np.where(back, 2.0 * K - r, r)
+    sn, cn, dn = _sncndn_quarter(x, K, rootmc, landen)
+    np.negative(sn, out=sn, where=u < 0)  # −1 · sn, as _sncndn's sign
+    np.negative(cn, out=cn, where=back)
+    return sn, cn, dn
 
 
 def _sncndn_half(r: np.ndarray, K: float, rootmc: float, landen):

@@ -142,9 +142,10 @@ def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
         arrays.update({f"invariant:{k}": v for k, v in out["invariants"].items()})
         arrays.update({f"drift:{k}": v for k, v in out["member_drift"].items()})  # as the one pass measures it
         arrays.update({f"quantity:{k}": v for k, v in out.get("state_quantities", {}).items()})  # a body on a plane
-        if plan.regime == "heavy top":  # the tilt range per member, from the principal frame's vertical
-            theta = np.degrees(np.arccos(np.clip(traj.gamma[..., 2], -1.0, 1.0)))
-            arrays["_theta_min"], arrays["_theta_max"] = theta.min(axis=1), theta.max(axis=1)
+        if plan.regime == "heavy top":  # the tilt range per member, from the principal frame's vertical: cos θ = Γ3
+            up = traj.gamma[..., 2]  # (θ falls as Γ3 rises: the extremes of Γ3, two arccos a member, not one a time)
+            arrays["_theta_min"] = np.degrees(np.arccos(np.clip(up.max(axis=1), -1.0, 1.0)))
+            arrays["_theta_max"] = np.degrees(np.arccos(np.clip(up.min(axis=1), -1.0, 1.0)))
     else:
         quantities, invariants, tilt = layout
         values = {name: (gamma if name == "gamma" else out[name]) for name in quantities}

@@ -115,7 +115,7 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     elif "top.turning_points" in plan.derive or plan.options.get("turning") == "closed form":
         # needs the start's E, p_φ, p_ψ: derived once the state is known (also for a member the closed form left)
         clock = time.perf_counter()
-        start = (traj.omega[0, 0], traj.gamma[0, 0], traj.q[0, 0]) if traj is not None else (
+        start = (traj.omega[0, 0], traj.gamma[0, 0], traj.q[0, 0]) if traj is not None and traj.q is not None else (
             problem.omega0[0], problem.gamma0[0], problem.q0[0])
         turning = symbolic.turning_points(problem.moments[0], problem.mass[0], problem.g[0], problem.l[0], *start,
                                         record)

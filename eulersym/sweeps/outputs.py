@@ -9,13 +9,15 @@ Examples
 
 from __future__ import annotations
 
+import math
+import mmap
 from typing import Mapping
 
 import numpy as np
 
 from eulersym.errors import InvalidInput
 
-__all__ = ["allocate", "store"]
+__all__ = ["allocate", "empty", "store"]
 
 
 def allocate(first: Mapping, members: int) -> dict:
@@ -27,7 +29,34 @@ def allocate(first: Mapping, members: int) -> dict:
     >>> out["y"].shape, out["y"].dtype.name
     ((5, 3), 'float64')
     """
-    return {name: np.empty((members, *np.shape(v)[1:]), dtype=np.asarray(v).dtype) for name, v in first.items()}
+    return {name: empty((members, *np.shape(v)[1:]), np.asarray(v).dtype) for name, v in first.items()}
+
+
+#: From this size on (NumPy's own threshold for advising huge pages), an output is an anonymous memory map.
+_MAPPED = 4 * 2**20
+
+
+def empty(shape, dtype=np.float64) -> np.ndarray:
+    """``np.empty(shape, dtype)``; from 4 MiB on, its memory an anonymous map of ordinary 4 KiB pages.
+
+    NumPy advises huge pages for its large arrays, and on a machine whose huge pages must be compacted and zeroed at
+    the first touch (this one: a 744 MB output filled chunk by chunk took 1.5 s of system time with them, 0.4–0.7 s
+    without), an output written once, a chunk's rows at a time, is cheaper in small pages. The array owns its map: it
+    is released with the array, and it pickles (Dask) as any array does.
+
+    Examples
+    --------
+    >>> a = empty((1000, 31, 3)); a[:] = 1.0
+    >>> a.shape, a.dtype.name, float(a.sum())
+    ((1000, 31, 3), 'float64', 93000.0)
+    >>> empty((2, 0)).shape
+    (2, 0)
+    """
+    dtype = np.dtype(dtype)
+    size = dtype.itemsize * math.prod(shape)
+    if size < _MAPPED:
+        return np.empty(shape, dtype=dtype)
+    return np.frombuffer(mmap.mmap(-1, size), dtype=dtype).reshape(shape)
 
 
 def store(out: Mapping, part: Mapping, lo: int, hi: int) -> None:
