@@ -15,6 +15,8 @@ import importlib
 import sys
 import warnings
 
+from eulersym._commandline import ArgumentParser
+
 __all__ = ["main", "COMMANDS"]
 
 #: name → (``module:function``, one-line description).
@@ -36,7 +38,7 @@ _MODEL_ROUTES: dict[str, str] = {
     "verify": "eulersym.model.cli:verify",
 }
 
-class _Parser(argparse.ArgumentParser):
+class _Parser(ArgumentParser):
     def error(self, message):  # bad usage: exit status 2 with the usage line, as every subcommand does
         raise SystemExit(_usage_error(self, message))
 
