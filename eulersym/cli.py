@@ -82,25 +82,28 @@ def main(argv: list[str] | None = None) -> int:
     from eulersym.errors import CheckFailed, EulersymError, EulersymWarning, InvalidInput
 
     argv = list(sys.argv[1:] if argv is None else argv)
-    parser = _parser()
-    if not argv or argv[0] in ("-h", "--help"):
-        print(parser.format_help())
-        return 0 if argv else 2
-    if argv[0] not in COMMANDS and not argv[0].startswith("-"):
-        valid = ", ".join(COMMANDS)
-        return _usage_error(parser, f"unknown command {argv[0]!r}; valid: {valid}")
-    try:
-        args, rest = parser.parse_known_args(argv)  # the command's own arguments pass through in their order
-    except SystemExit as exc:
-        return int(exc.code or 0)
-    if args.version:
-        from eulersym import __version__
+    if argv and argv[0] in COMMANDS:  # a command: its own arguments pass through in their order, as the parser
+        name, rest = argv[0], argv[1:]  # below would pass them (built only for help, --version and bad usage)
+    else:
+        parser = _parser()
+        if not argv or argv[0] in ("-h", "--help"):
+            print(parser.format_help())
+            return 0 if argv else 2
+        if not argv[0].startswith("-"):
+            valid = ", ".join(COMMANDS)
+            return _usage_error(parser, f"unknown command {argv[0]!r}; valid: {valid}")
+        try:
+            args, rest = parser.parse_known_args(argv)
+        except SystemExit as exc:
+            return int(exc.code or 0)
+        if args.version:
+            from eulersym import __version__
 
-        print(f"eulersym {__version__}")
-        return 0
-    name = args.command
-    if name is None:
-        return _usage_error(parser, "a command, one of " + ", ".join(COMMANDS))
+            print(f"eulersym {__version__}")
+            return 0
+        name = args.command
+        if name is None:
+            return _usage_error(parser, "a command, one of " + ", ".join(COMMANDS))
     target = COMMANDS[name][0]
     if name in _MODEL_ROUTES and _model_given(rest):  # a user's model: eulersym.model.cli handles the subcommand
         target = _MODEL_ROUTES[name]
