@@ -11,13 +11,14 @@ verification failed, 2 bad usage or bad input.
 from __future__ import annotations
 
 import argparse
+import gc
 import importlib
 import sys
 import warnings
 
 from eulersym._commandline import ArgumentParser
 
-__all__ = ["main", "COMMANDS"]
+__all__ = ["main", "run", "COMMANDS"]
 
 #: name → (``module:function``, one-line description).
 COMMANDS: dict[str, tuple[str, str]] = {
@@ -142,5 +143,20 @@ def main(argv: list[str] | None = None) -> int:
         warnings.showwarning = show
 
 
+def run() -> None:
+    """The process's entry point (``python -m eulersym``; the ``eulersym`` script): :func:`main` on the command line,
+    then exit with its status.
+
+    The command is the process's last work: every object still alive (NumPy's and eulersym's modules, the result) is
+    frozen (:func:`gc.freeze`) before the exit, so the interpreter's final garbage collections do not traverse them
+    all again only to find what the exit frees anyway — ~25 M instructions, more than a closed-form scene's own run.
+    Standard streams are flushed and ``atexit`` handlers run as before; the files the commands write are closed by
+    then. :func:`main` itself (called in a process of one's own) freezes nothing.
+    """
+    status = main()
+    gc.freeze()
+    raise SystemExit(status)
+
+
 if __name__ == "__main__":  # pragma: no cover
-    raise SystemExit(main())
+    run()
