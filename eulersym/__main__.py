@@ -1,5 +1,5 @@
 """``python -m eulersym`` — the same as the ``eulersym`` command."""
 
-from eulersym.cli import main
+from eulersym.cli import run
 
-raise SystemExit(main())
+run()

@@ -11,11 +11,14 @@ verification failed, 2 bad usage or bad input.
 from __future__ import annotations
 
 import argparse
+import gc
 import importlib
 import sys
 import warnings
 
-__all__ = ["main", "COMMANDS"]
+from eulersym._commandline import ArgumentParser
+
+__all__ = ["main", "run", "COMMANDS"]
 
 #: name → (``module:function``, one-line description).
 COMMANDS: dict[str, tuple[str, str]] = {
@@ -36,7 +39,7 @@ _MODEL_ROUTES: dict[str, str] = {
     "verify": "eulersym.model.cli:verify",
 }
 
-class _Parser(argparse.ArgumentParser):
+class _Parser(ArgumentParser):
     def error(self, message):  # bad usage: exit status 2 with the usage line, as every subcommand does
         raise SystemExit(_usage_error(self, message))
 
@@ -80,25 +83,28 @@ def main(argv: list[str] | None = None) -> int:
     from eulersym.errors import CheckFailed, EulersymError, EulersymWarning, InvalidInput
 
     argv = list(sys.argv[1:] if argv is None else argv)
-    parser = _parser()
-    if not argv or argv[0] in ("-h", "--help"):
-        print(parser.format_help())
-        return 0 if argv else 2
-    if argv[0] not in COMMANDS and not argv[0].startswith("-"):
-        valid = ", ".join(COMMANDS)
-        return _usage_error(parser, f"unknown command {argv[0]!r}; valid: {valid}")
-    try:
-        args, rest = parser.parse_known_args(argv)  # the command's own arguments pass through in their order
-    except SystemExit as exc:
-        return int(exc.code or 0)
-    if args.version:
-        from eulersym import __version__
+    if argv and argv[0] in COMMANDS:  # a command: its own arguments pass through in their order, as the parser
+        name, rest = argv[0], argv[1:]  # below would pass them (built only for help, --version and bad usage)
+    else:
+        parser = _parser()
+        if not argv or argv[0] in ("-h", "--help"):
+            print(parser.format_help())
+            return 0 if argv else 2
+        if not argv[0].startswith("-"):
+            valid = ", ".join(COMMANDS)
+            return _usage_error(parser, f"unknown command {argv[0]!r}; valid: {valid}")
+        try:
+            args, rest = parser.parse_known_args(argv)
+        except SystemExit as exc:
+            return int(exc.code or 0)
+        if args.version:
+            from eulersym import __version__
 
-        print(f"eulersym {__version__}")
-        return 0
-    name = args.command
-    if name is None:
-        return _usage_error(parser, "a command, one of " + ", ".join(COMMANDS))
+            print(f"eulersym {__version__}")
+            return 0
+        name = args.command
+        if name is None:
+            return _usage_error(parser, "a command, one of " + ", ".join(COMMANDS))
     target = COMMANDS[name][0]
     if name in _MODEL_ROUTES and _model_given(rest):  # a user's model: eulersym.model.cli handles the subcommand
         target = _MODEL_ROUTES[name]
@@ -137,5 +143,20 @@ def main(argv: list[str] | None = None) -> int:
         warnings.showwarning = show
 
 
+def run() -> None:
+    """The process's entry point (``python -m eulersym``; the ``eulersym`` script): :func:`main` on the command line,
+    then exit with its status.
+
+    The command is the process's last work: every object still alive (NumPy's and eulersym's modules, the result) is
+    frozen (:func:`gc.freeze`) before the exit, so the interpreter's final garbage collections do not traverse them
+    all again only to find what the exit frees anyway — ~25 M instructions, more than a closed-form scene's own run.
+    Standard streams are flushed and ``atexit`` handlers run as before; the files the commands write are closed by
+    then. :func:`main` itself (called in a process of one's own) freezes nothing.
+    """
+    status = main()
+    gc.freeze()
+    raise SystemExit(status)
+
+
 if __name__ == "__main__":  # pragma: no cover
-    raise SystemExit(main())
+    run()

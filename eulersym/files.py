@@ -24,7 +24,7 @@ __all__ = ["atomic_write", "write_all", "check_target", "clean_leftovers", "desc
 #: Temporary files are named ``.<target>.eulersym-tmp-<pid><suffix>`` beside the target: a run killed while writing
 #: leaves one behind, and the next write into that folder removes every such file whose process is gone.
 _TMP_MARK = ".eulersym-tmp-"
-_TMP_NAME = re.compile(r"^\..+\.eulersym-tmp-(\d+)(\.[A-Za-z0-9]+)*$")
+_TMP_NAME = r"^\..+\.eulersym-tmp-(\d+)(\.[A-Za-z0-9]+)*$"  # compiled on first use (re's cache): a clean-up only
 
 
 def _temporary(path: str) -> str:
@@ -67,7 +67,7 @@ def clean_leftovers(folder: str) -> list:
     except OSError:
         return removed
     for name in entries:
-        m = _TMP_NAME.match(name)
+        m = re.match(_TMP_NAME, name)
         if m and not _alive(int(m.group(1))):
             try:
                 os.unlink(os.path.join(folder, name))

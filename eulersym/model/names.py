@@ -68,7 +68,8 @@ FORBIDDEN = frozenset(set(keyword.kwlist) - {"lambda"}) | frozenset({
     "subprocess", "builtins",
 })
 
-_LEXEME = re.compile(r"(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|([A-Za-z_][A-Za-z0-9_]*)", re.ASCII)
+#: A number or a name (group 1); compiled on first use by :mod:`re`'s cache (a scene without formulas never needs it).
+_LEXEME = r"(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|([A-Za-z_][A-Za-z0-9_]*)"
 
 
 def names_in(text: str) -> list[str]:
@@ -79,4 +80,4 @@ def names_in(text: str) -> list[str]:
     >>> names_in("1.5e-3*omega1 + sin(a_2)")
     ['omega1', 'sin', 'a_2']
     """
-    return [m.group(1) for m in _LEXEME.finditer(text) if m.group(1)]
+    return [m.group(1) for m in re.finditer(_LEXEME, text, re.ASCII) if m.group(1)]

@@ -933,18 +933,12 @@ class Model:
 
         out = facts(self._data, values, batch)
         if "contact" in self._data:  # a body on a plane: its own regime (the contact kernel integrates it)
-            import dataclasses
-
             _check_contact(self._data, values, out.batch)
-            out = dataclasses.replace(out, contact=True)
+            out = out._replace(contact=True)
         if self.pivot_path is not None:  # the pivot's acceleration: a time-dependent potential (the model's kernel)
-            import dataclasses
-
-            out = dataclasses.replace(out, potential=True)
+            out = out._replace(potential=True)
         if "frame" in self._data:  # a turning frame's kinematics live only in the model's own equations
-            import dataclasses
-
-            out = dataclasses.replace(out, turning=True)
+            out = out._replace(turning=True)
         return out
 
     def _check_centre(self) -> None:

@@ -46,7 +46,7 @@ is constant to round-off for all t.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -83,10 +83,10 @@ def _rotate(q, v):
 
 
 # ----------------------------------------------------------------------------------------------------------------
-# The solution's constants, computed once per initial condition (exact rational discriminants)
+# The solution's constants, computed once per initial condition (exact rational discriminants): immutable records
+# (a NamedTuple is made in a tenth of a frozen dataclass's time, and this module is imported by every free-body scene)
 # ----------------------------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class _Elliptic:
+class _Elliptic(NamedTuple):
     idx: tuple[int, int, int]  # body indices of the (a, b, c) axes
     signs: tuple[float, float, float]  # ω_abc[k] = signs[k] * ω_body[idx[k]]
     moments: tuple[float, float, float]  # (Ia, Ib, Ic)
@@ -110,16 +110,14 @@ class _Elliptic:
         return (self.lam, self.lam_lo), (self.u0, self.u0_lo), (self.period, self.period_lo)
 
 
-@dataclass(frozen=True)
-class _Symmetric:
+class _Symmetric(NamedTuple):
     axis: int  # body index of the symmetry axis (or 0 for a spherical body)
     rate: float  # Ω = (Is − I⊥)/I⊥ · ω_s: the transverse ω turns by +Ω t about the axis
     i_perp: float
 
 
-@dataclass(frozen=True)
-class _Constant:
-    pass
+class _Constant(NamedTuple):
+    """Steady rotation (or rest): ω is constant."""
 
 
 def _integers(values) -> tuple[list[int], int]:

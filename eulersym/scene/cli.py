@@ -8,6 +8,7 @@ import dataclasses
 import os
 import sys
 
+from eulersym._commandline import ArgumentParser
 from eulersym.errors import InvalidInput, accuracy_status
 from eulersym.scene import cost
 from eulersym.scene.catalog import bundled
@@ -84,7 +85,7 @@ work = 1e9                  #   (kernel evaluations); --memory-budget / --work-b
 __all__ = ["cli"]
 
 
-class _Parser(argparse.ArgumentParser):
+class _Parser(ArgumentParser):
     def error(self, message):  # exit status 2 through eulersym.cli, with the usage line
         raise InvalidInput("arguments", message, self.format_usage().strip())
 

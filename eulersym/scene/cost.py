@@ -24,14 +24,14 @@ from __future__ import annotations
 
 import math
 import os
+import sys
 
 import numpy as np
 
 from eulersym.errors import InvalidInput
 from eulersym.numerics import methods
 from eulersym.scene.values import values_of
-from eulersym.sweeps import cost as model, zarr_store
-from eulersym.sweeps.summary import summary_names
+from eulersym.sweeps import cost as model
 
 __all__ = ["ONE_MEMBER_WORK_BUDGET", "PHASE_LIMIT", "rate_bound", "largest", "refuse_phase", "estimate", "check",
            "budgets", "describe", "summary_layout", "wants_summary", "prepared_per_chunk", "threads", "method_cost",
@@ -54,6 +54,14 @@ _INVARIANTS = {"torque-free": ("energy", "L2", "L_space_deviation", "q_norm2"),
                "heavy top": ("energy", "gamma_norm2", "L_dot_gamma", "q_norm2", "p_psi"),
                "torque": ()}
 _COMPONENTS = {"omega": 3, "attitude": 4, "euler_angles": 3, "polhode": 3, "gamma": 3}
+
+
+def _store():
+    """The Zarr store a sweep's trajectories stream to (:func:`eulersym.sweeps.zarr_store.target`), or None. Only
+    :func:`eulersym.sweeps.zarr_store.streaming` sets one, so none is set while that module is not loaded: a scene
+    that names no store does not load it."""
+    store = sys.modules.get("eulersym.sweeps.zarr_store")
+    return None if store is None else store.target()
 
 
 def largest(x) -> float:
@@ -161,7 +169,7 @@ def prepared_per_chunk(scene) -> bool:
     """
     outputs = scene.outputs
     return (scene.batch > 1 and "sensitivity" not in outputs
-            and ("summary" in outputs or zarr_store.target() is not None))
+            and ("summary" in outputs or _store() is not None))
 
 
 def wants_summary(scene) -> bool:
@@ -309,12 +317,10 @@ def baseline_bytes(plan) -> int:
     >>> baseline_bytes(Scene(moments=(1, 2, 3), omega=(0, 1, 0), t_end=1).plan()) > 0
     True
     """
-    import sys
-
     module, extra = _IMPORTS.get(method_cost(plan).name, (None, _SMALL_IMPORTS))
     if module is not None and module in sys.modules:
         extra = _SMALL_IMPORTS
-    if zarr_store.target() is not None and "zarr" not in sys.modules:
+    if _store() is not None and "zarr" not in sys.modules:
         extra += _ZARR_WRITER
     return resident_bytes() + extra
 
@@ -337,7 +343,7 @@ def _one(scene, plan, *, memory, chunk, kernel, rate=None) -> model.Estimate:
     rate = model.body_rate(rate_bound(scene) if rate is None else rate, max(low, 1e-300), high)
     cost = method_cost(plan)
     values = _output_values(scene, regime)
-    if zarr_store.target() is not None and scene.batch > 1:  # streamed to a store: trajectories leave with each chunk
+    if _store() is not None and scene.batch > 1:  # streamed to a store: trajectories leave with each chunk
         values = 0  # (a body on a plane's contact outputs too: quantity_<name> in the store)
     return model.estimate(members=scene.batch, points=scene.points, state=_state(plan.propagate),
                           output_values=values, engine=cost.name, rate=rate,
@@ -396,6 +402,8 @@ def check(scene, plan=None, *, memory=None, work=None, kernel=None) -> model.Est
 def _n_summaries(layout) -> int:
     """How many per-member summaries a :func:`summary_layout` keeps."""
     quantities, invariants, tilt = layout
+    from eulersym.sweeps.summary import summary_names
+
     return len(summary_names(quantities, invariants=invariants, tilt=tilt))
 
 

@@ -17,7 +17,6 @@ from eulersym.errors import InvalidInput
 from eulersym.files import atomic_write as _atomic, check_target as _check_target, clean_leftovers, write_all
 from eulersym.labels import quantity_label
 from eulersym.scene.result import report
-from eulersym.sweeps.summary import largest_tilt
 
 __all__ = ["report", "save", "stream", "plot", "figure", "summary", "summary_table", "summary_path", "quantity_label", "clean_leftovers",
            "check_target",
@@ -122,6 +121,8 @@ def summary(result) -> tuple:
         names += ["omega1_max_abs", "omega2_max_abs", "omega3_max_abs"]
         cols += [np.abs(omega[..., j]).max(axis=1) for j in range(3)]
         if result.gamma is not None:
+            from eulersym.sweeps.summary import largest_tilt
+
             gamma = result.gamma if batch > 1 else result.gamma[None]
             names.append("theta_max_deg")  # as a summary run reduces it (eulersym.sweeps.summary), column for column
             cols.append(np.degrees(largest_tilt(gamma)))

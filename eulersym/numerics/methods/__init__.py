@@ -26,7 +26,8 @@ error, and its trajectory carries the estimate (``Trajectory.error``; :mod:`~eul
 ``ivp``                    ``scipy.integrate.solve_ivp`` on a kernel (one member: RK45, Radau, LSODA by name)
 =========================  ==========================================================================================
 
-Methods live here, below the scene: they never import it. Each imports what it computes with when it runs.
+Methods live here, below the scene: they never import it. Each imports what it computes with when it runs, and the
+registry imports a method's own module when the method is first looked up (a closed-form scene loads no integrator).
 
 Examples
 --------
@@ -44,6 +45,8 @@ Examples
 from __future__ import annotations
 
 import dataclasses
+import importlib
+from collections.abc import Mapping
 
 import numpy as np
 
@@ -58,18 +61,6 @@ from eulersym.numerics.methods._base import (
     symmetric_about_axis3,
     tolerances,
 )
-from eulersym.numerics.methods._free_body import FreeBodyClosedForm
-from eulersym.numerics.methods._heavy_top import LagrangeTopClosedForm
-from eulersym.numerics.methods._splitting import (
-    SPLITTING_ACCURACY,
-    FreeBodySplitting,
-    HeavyTopSplitting,
-    PivotedSplitting,
-)
-from eulersym.numerics.methods._accuracy import Integrator
-from eulersym.numerics.methods._integrators import BatchedDOP853, CompiledDOP853, OwnDOP853, SolveIVP
-from eulersym.numerics.methods._contact import ContactDOP853
-from eulersym.numerics.methods._sensitivity import sensitivity
 from eulersym.numerics.trajectory import Trajectory
 
 __all__ = [
@@ -103,19 +94,90 @@ __all__ = [
     "ContactDOP853",
 ]
 
-#: Every method, in order of preference: name → the method.
-METHODS = {m.name: m for m in (
-    FreeBodyClosedForm(),
-    LagrangeTopClosedForm(),
-    ContactDOP853(),
-    FreeBodySplitting(),
-    PivotedSplitting(),
-    CompiledDOP853(),
-    HeavyTopSplitting(),
-    OwnDOP853(),
-    BatchedDOP853(),
-    SolveIVP(),
-)}
+#: Every method, in order of preference: name → the module of this package and the class that implement it. A
+#: module is imported when its method is first used (:data:`METHODS`), so a torque-free scene in closed form loads
+#: the closed form alone — not the integrators, the splittings, the contact or the accuracy control.
+_WHERE = {
+    "free_body_exact": ("_free_body", "FreeBodyClosedForm"),
+    "heavy_top_exact": ("_heavy_top", "LagrangeTopClosedForm"),
+    "contact_dop853": ("_contact", "ContactDOP853"),
+    "free_body_splitting": ("_splitting", "FreeBodySplitting"),
+    "batched_splitting": ("_splitting", "PivotedSplitting"),
+    "compiled_dop853": ("_integrators", "CompiledDOP853"),
+    "heavy_top_splitting": ("_splitting", "HeavyTopSplitting"),
+    "dop853": ("_integrators", "OwnDOP853"),
+    "batched_dop853": ("_integrators", "BatchedDOP853"),
+    "ivp": ("_integrators", "SolveIVP"),
+}
+
+#: The other names this package exports from its modules (loaded on first access, PEP 562).
+_EXPORTS = {
+    "Integrator": "_accuracy",
+    "sensitivity": "_sensitivity",
+    "SPLITTING_ACCURACY": "_splitting",
+    **{cls: module for module, cls in _WHERE.values()},
+}
+
+
+class _Registry(Mapping):
+    """Name → :class:`Method`, in order of preference (:data:`_WHERE`); a method's module is imported, and the method
+    made, when it is first looked up — iterating the values in order imports only as far as the loop goes."""
+
+    def __init__(self, where: dict):
+        self._where = where
+        self._made = {}
+
+    def __getitem__(self, name: str) -> Method:
+        method = self._made.get(name)
+        if method is None:
+            module, cls = self._where[name]
+            self._made[name] = method = getattr(importlib.import_module(f"{__name__}.{module}"), cls)()
+        return method
+
+    def __iter__(self):
+        return iter(self._where)
+
+    def __len__(self) -> int:
+        return len(self._where)
+
+    def __repr__(self) -> str:
+        return f"<methods {', '.join(self._where)}>"
+
+
+class _Costs(Mapping):
+    """Cost name → :class:`Cost`, from the methods themselves (methods of one arithmetic share one): looking up a
+    name imports the methods in order only until one has it."""
+
+    def __getitem__(self, name: str) -> Cost:
+        for method in METHODS.values():
+            if method.cost.name == name:
+                return method.cost
+        raise KeyError(name)
+
+    def __iter__(self):
+        return iter(dict.fromkeys(m.cost.name for m in METHODS.values()))
+
+    def __len__(self) -> int:
+        return sum(1 for _ in self)
+
+    def __repr__(self) -> str:
+        return repr(dict(self))
+
+
+#: Every method, in order of preference: name → the method (made on first use).
+METHODS = _Registry(_WHERE)
+
+
+def __getattr__(name: str):
+    if name not in _EXPORTS:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
 
 
 def get(name: str) -> Method:
@@ -270,12 +332,15 @@ def _join_errors(pieces: list):
     return joined
 
 
-def costs() -> dict:
-    """``{name: Cost}`` of the cost model: each method's (methods of one arithmetic share one).
+def costs() -> Mapping:
+    """``{name: Cost}`` of the cost model: each method's (methods of one arithmetic share one). A mapping that looks
+    a name up in the methods in order, importing only as many as it takes (the closed form's: the first).
 
     Examples
     --------
     >>> sorted(costs())
     ['closed-form', 'dop853', 'dop853-contact', 'dop853-members', 'yoshida4']
+    >>> costs()["closed-form"].order
+    0
     """
-    return {m.cost.name: m.cost for m in METHODS.values()}
+    return _Costs()
