@@ -43,6 +43,12 @@ NOT_LOADED = {
     "eulersym.numerics.methods._contact": "a body on a plane",
     "eulersym.numerics.methods._sensitivity": "the variational equations (an accuracy not reached)",
     "shutil": "argparse's terminal width (eulersym._commandline reads it with os alone); it loads bz2, lzma, zlib",
+    "eulersym.numerics.methods._accuracy": "an integration's accuracy control",
+    "eulersym.scene.symbolic": "SymPy's sleeping-top bound or turning points (the closed forms give their own)",
+    "eulersym.sweeps.chunks": "a sweep streamed in chunks",
+    "eulersym.sweeps.outputs": "a sweep's preallocated outputs",
+    "eulersym.sweeps.summary": "a sweep's per-member summaries",
+    "eulersym.sweeps.zarr_store": "-o out.zarr",
 }
 
 #: What one closed form does not load of the other's (each scene's own exclusions).

@@ -21,7 +21,7 @@ import numpy as np
 __all__ = ["Trajectory"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # arrays: no field-wise == (nor a hash made of them)
 class Trajectory:
     """Sampled motion of one body, or of many (batch-first).
 

@@ -32,11 +32,7 @@ import numpy as np
 
 from eulersym.errors import SingularConfiguration
 from eulersym.numerics import methods
-from eulersym.numerics.methods._accuracy import QUANTITIES as ESTIMATED
-from eulersym.scene.quantities import along, reduced
 from eulersym.scene.result import outputs, report_notes
-from eulersym.sweeps import chunks, zarr_store
-from eulersym.sweeps.summary import summarize
 
 __all__ = ["take", "motion", "singular_note", "run_chunk", "run_chunk_to", "run", "SEPARATRIX"]
 
@@ -116,9 +112,10 @@ def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
     """One chunk: the plan's engine on ``problem``, its outputs in the scene's frame, as ``{name: (members, ...)}``
     arrays — trajectories, or the summaries of ``layout`` = ``(quantities, invariants, tilt)`` — each invariant's
     drift per member (``"drift:<name>"``; ``"<name>.drift"`` among summaries), and the estimated global error per
-    member (``"error:<quantity>"`` for each of :data:`ESTIMATED`: NaN where this chunk has none — a closed form's
-    members — which :func:`run` drops or zeroes as a one-pass run joins its pieces). A plain function
-    of a problem's arrays: it runs on a Dask worker as well (imports the engine and kernels, never SymPy).
+    member (``"error:<quantity>"`` for each of :data:`eulersym.numerics.methods._accuracy.QUANTITIES`: NaN where
+    this chunk has none — a closed form's members — which :func:`run` drops or zeroes as a one-pass run joins its
+    pieces). A plain function of a problem's arrays: it runs on a Dask worker as well (imports the engine and
+    kernels, never SymPy).
 
     Examples
     --------
@@ -132,6 +129,10 @@ def run_chunk(problem, *, plan, layout=None, keep_gamma: bool = True) -> dict:
     >>> bool(np.isnan(out["error:omega"]).all())  # a closed form: no estimate (exact to round-off)
     True
     """
+    from eulersym.numerics.methods._accuracy import QUANTITIES as ESTIMATED
+    from eulersym.scene.quantities import along, reduced
+    from eulersym.sweeps.summary import summarize
+
     traj, singular = motion(problem, plan)
     out = outputs(problem, plan, traj)
     gamma = out["gamma"]  # the body (model) frame's vertical
@@ -212,6 +213,8 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
     ``"n_calls"``. Trajectories are kept unless ``layout`` (a summary scene) is given. ``"error"``, the estimated
     global error per member (an integration's; empty for a closed form), is each chunk's, in member order: the
     one-pass estimate, since a chunk is a whole number of the method's groups of members."""
+    from eulersym.sweeps import chunks, zarr_store
+
     grain = _grain(plan)
     if client is not None:  # several chunks per worker, so that every worker stays busy to the end
         from eulersym.sweeps.distributed import workers

@@ -100,7 +100,7 @@ def _starts(scene, regime, members, batch: int) -> tuple:
     return omega0 @ P, q0, gamma0  # ω0 rows: (Pᵀ ω)ᵀ
 
 
-@dataclasses.dataclass(frozen=True)
+@dataclasses.dataclass(frozen=True, eq=False)  # as Problem: arrays, no field-wise ==
 class PerChunk(Problem):
     """A sweep's :class:`~eulersym.numerics.methods.Problem` whose starts are prepared a chunk at a time: ``omega0``,
     ``q0`` and ``gamma0`` are None here and computed from the swept values of the members asked when

@@ -15,8 +15,7 @@ import warnings
 import numpy as np
 
 from eulersym.errors import AccuracyNotReached, InvalidInput
-from eulersym.numerics.methods._accuracy import FLOOR, MAX_RUNS
-from eulersym.scene import chunked, cost, symbolic
+from eulersym.scene import chunked, cost
 from eulersym.scene.plan import make_plan
 from eulersym.scene.problem import prepare
 from eulersym.scene.progress import Progress
@@ -94,6 +93,8 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     problem = prepare(scene, plan, kernel=kernel, per_chunk=True if larger else None, **extras)
     bound = None
     if "top.sleeping_top_threshold" in plan.derive:
+        from eulersym.scene import symbolic
+
         bound = symbolic.sleeping_threshold(problem.moments, problem.mass, problem.g, problem.l, record)
     timings["derive"] = time.perf_counter() - clock
     bar.stage("derived", 0.1)
@@ -117,6 +118,8 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
         clock = time.perf_counter()
         start = (traj.omega[0, 0], traj.gamma[0, 0], traj.q[0, 0]) if traj is not None and traj.q is not None else (
             problem.omega0[0], problem.gamma0[0], problem.q0[0])
+        from eulersym.scene import symbolic
+
         turning = symbolic.turning_points(problem.moments[0], problem.mass[0], problem.g[0], problem.l[0], *start,
                                         record)
         timings["derive"] += time.perf_counter() - clock
@@ -195,6 +198,7 @@ def _not_reached(scene, problem, error, beyond, sigma) -> AccuracyNotReached:
     """The warning for members whose estimate stayed above the accuracy asked: the amplification of a change of the
     start (from the variational equations, for the worst member), the best error reached, what would help."""
     from eulersym.numerics.methods import sensitivity
+    from eulersym.numerics.methods._accuracy import FLOOR, MAX_RUNS
 
     worst = np.max(np.stack(list(error.values())), axis=0)
     b = int(np.argmax(np.where(beyond, worst, -np.inf)))

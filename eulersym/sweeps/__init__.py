@@ -19,14 +19,12 @@ Examples
 
 from __future__ import annotations
 
-from eulersym.sweeps import chunks, cost, summary
+import importlib
 
 __all__ = ["cost", "summary", "chunks", "distributed"]
 
 
 def __getattr__(name: str):
-    if name == "distributed":  # imports dask only when asked for
-        import eulersym.sweeps.distributed  # the import sets the attribute: no recursion into __getattr__
-
-        return eulersym.sweeps.distributed
+    if name in __all__:  # each submodule when first asked for (distributed: dask only then)
+        return importlib.import_module(f"{__name__}.{name}")  # the import sets the attribute: no recursion
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
