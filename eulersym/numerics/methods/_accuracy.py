@@ -80,6 +80,11 @@ AIM = 2.0
 #: [½, 10] × the truth for true ratios (ρ − 1)/6 + 1 … 3.3 (ρ − 1) + 1, i.e. 17 … 328 at ρ = 100. (30 until
 #: session 29: a pilot that missed by 30–100× paid a fourth run, a third of the control's work.)
 PAIR_SPAN = 100.0
+#: How far below the accuracy the pilot pair's tighter tolerance is (an adaptive method; :func:`_pilot`).
+PILOT_SPAN = 10.0
+#: The pilot's looser run is at least this loose (for accuracies near round-off, where its tighter run is kept at
+#: :data:`ROUNDOFF_RTOL`): cheap, it only steers the next run.
+PILOT_LOOSE = 1e-10
 #: The same below :data:`ROUNDOFF_RTOL`, where the error's ratio falls towards 1 (round-off): the span it had before.
 ROUNDOFF_SPAN = 30.0
 #: Near round-off the error cannot fall below about ``FLOOR · ε · A``, A the largest growth of a change of the start
@@ -230,6 +235,12 @@ class Integrator(Method):
         """The pilot's setting per member: the tolerance ``accuracy`` (adaptive), or the method's step rule."""
         return np.full(problem.batch, float(problem.accuracy))
 
+    def pilot_span(self, problem: Problem) -> float:
+        """How far below the accuracy the pilot's tighter tolerance is (an adaptive method): :data:`PILOT_SPAN` for
+        DOP853, whose global error is 6–8000 × its tolerance on the bench's motions; a method whose error is nearer
+        its tolerance keeps 10 (LSODA's fell 340× over two decades: pilots 100 below over-deliver)."""
+        return PILOT_SPAN
+
     def attempt(self, problem: Problem, setting: np.ndarray) -> Trajectory:
         """One run of every member of ``problem`` at its ``setting`` (batch,)."""
         raise NotImplementedError
@@ -269,6 +280,20 @@ def _ratio(method, loose, tight):
     return loose / tight if method.adaptive else (tight / loose) ** method.order
 
 
+def _pilot(method, first, span):
+    """The pilot pair's settings (loose, tight) per member from the method's first setting (the accuracy, for an
+    adaptive method): the tolerances ``(accuracy / 10, accuracy / span) × …`` — a pair 10 apart, whose estimate
+    holds before the asymptotic regime too, placed ``span`` below the accuracy, where the global error of most
+    motions (6–8000 × rtol) lands near the accuracy. Near round-off (the tighter kept at :data:`ROUNDOFF_RTOL`, or
+    10 below the accuracy) the looser is at :data:`PILOT_LOOSE`: cheap, the pair only steers the next run. A
+    fixed-step method: a step and half of it."""
+    if not method.adaptive:
+        return first, first * 2.0
+    tight = np.maximum(np.maximum(first / span, np.minimum(ROUNDOFF_RTOL, first / 10.0)), method.min_rtol)
+    steer = first / 100.0 < ROUNDOFF_RTOL
+    return np.where(steer, np.maximum(10.0 * tight, np.minimum(100.0 * first, PILOT_LOOSE)), 10.0 * tight), tight
+
+
 def deliver(method: Integrator, problem: Problem) -> Trajectory:
     """Run ``method`` on ``problem`` until every member's estimated global error is within ``problem.accuracy``
     (the module docstring); the trajectory carries the estimate (``error``: quantity → (batch,)) and its
@@ -276,16 +301,17 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
     accuracy = float(problem.accuracy)
     vertical = problem.regime == "model"
     members = np.arange(problem.batch)
-    s_loose = np.broadcast_to(np.asarray(method.first(problem), dtype=float), (problem.batch,)).copy()
-    s_tight = np.maximum(s_loose / 10.0, method.min_rtol) if method.adaptive else s_loose * 2.0
+    first = np.broadcast_to(np.asarray(method.first(problem), dtype=float), (problem.batch,)).copy()
+    s_loose, s_tight = _pilot(method, first, method.pilot_span(problem) if method.adaptive else 2.0)
     loose = method.attempt(problem, s_loose)
     best = method.attempt(problem, s_tight)
     err = estimate(deviation(loose, best, vertical=vertical), _ratio(method, s_loose, s_tight),
                    tight=_near(method, s_tight))
     best = dataclasses.replace(best, error=err, n_rhs_calls=int(best.n_rhs_calls) + int(loose.n_rhs_calls))
-    setting = s_tight.copy()
+    setting = np.array(s_tight, dtype=float)
     runs = np.full(problem.batch, 2)
-    active = worst(err) > accuracy
+    # a pilot pair wider than 10 (near round-off) steers the next run: it never ends the control
+    active = (worst(err) > accuracy) | (s_loose / s_tight > 10.0 * (1 + 1e-9))
     while np.any(active):
         idx = members[active]
         whole = len(idx) == problem.batch  # every member (one alone): no copies of the trajectory or the problem
@@ -295,14 +321,19 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
         s_old = setting[idx]
         s_new = _refine(method, s_old, previous, accuracy)
         partner, s_partner, extra = current, s_old, 0
-        far = _ratio(method, s_old, s_new) > np.where(_near(method, s_new), ROUNDOFF_SPAN, PAIR_SPAN)
-        if method.adaptive and np.any(far):  # a pair 10× apart: one more run, 10× looser than the new one
-            s_partner = np.where(far, 10.0 * s_new, s_old)
-            where = np.flatnonzero(far)
-            every = len(where) == len(idx)
-            extra_run = method.attempt(sub if every else sub.select(where), s_partner[where])
-            partner = extra_run if every else splice(current, where, extra_run)
-            extra = int(extra_run.n_rhs_calls)
+        if method.adaptive:
+            near = _near(method, s_new)
+            # near round-off a pair is at least 10 apart: closer, its difference is mostly the two runs' own
+            # round-off, which σ |Δ| / (ρ − 1) would take for truncation and inflate (a satellite at ρ = 2: 3 |Δ|)
+            s_new = np.where(near, np.maximum(np.minimum(s_new, s_old / 10.0), method.min_rtol), s_new)
+            far = s_old / s_new > np.where(near, ROUNDOFF_SPAN, PAIR_SPAN)
+            if np.any(far):  # the previous run is too far to pair with: one more run, as far from the new as may be
+                s_partner = np.where(far, s_new * np.where(near, 10.0, PAIR_SPAN), s_old)
+                where = np.flatnonzero(far)
+                every = len(where) == len(idx)
+                extra_run = method.attempt(sub if every else sub.select(where), s_partner[where])
+                partner = extra_run if every else splice(current, where, extra_run)
+                extra = int(extra_run.n_rhs_calls)
         fresh = method.attempt(sub, s_new)
         runs[idx] += 1
         e_new = estimate(deviation(partner, fresh, vertical=vertical), _ratio(method, s_partner, s_new),
@@ -318,17 +349,17 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
         flat = w_new > 0.7 * previous
         stalled = runs[idx] >= MAX_RUNS
         if method.adaptive:
-            stalled |= (s_new <= method.min_rtol) | (flat & (s_new < ROUNDOFF_RTOL))
+            stalled |= (s_new <= method.min_rtol * (1 + 1e-9)) | (flat & (s_new < ROUNDOFF_RTOL))
         else:
             stalled |= flat
         still = w_new > accuracy
         active[:] = False
         active[idx[still & ~stalled]] = True
     floor = ""
-    near = _near(method, setting)
-    if np.any(near):  # round-off: the error cannot fall below FLOOR ε A, however tight the tolerance
-        idx = members[near]
-        amplification = method.amplification(problem.select(idx))
+    beyond = _near(method, setting) & (worst(best.error) > accuracy)
+    if np.any(beyond):  # refused near round-off: the error cannot fall below FLOOR ε A, however tight the tolerance
+        idx = members[beyond]  # (a member that meets the accuracy is not charged: its pair, 10 apart near round-off,
+        amplification = method.amplification(problem.select(idx))  # sees the runs' own round-off)
         bound = FLOOR * np.finfo(float).eps * amplification
         error = {k: np.array(v, dtype=float, copy=True) for k, v in best.error.items()}
         for k in error:
@@ -341,7 +372,7 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
     text = " … ".join(dict.fromkeys(f"{s:.3g}" for s in shown))
     return dataclasses.replace(best, message=(best.message + "; " if best.message else "")
                                + f"{what} {text} for accuracy {accuracy:g} (global error estimated from a run "
-                               + ("10× looser" if method.adaptive else "at twice the step") + ")" + floor)
+                               + ("looser" if method.adaptive else "at twice the step") + ")" + floor)
 
 
 def richardson(run, first: int, accuracy: float, order: int) -> Trajectory:
