@@ -80,10 +80,9 @@ AIM = 2.0
 #: [½, 10] × the truth for true ratios (ρ − 1)/6 + 1 … 3.3 (ρ − 1) + 1, i.e. 17 … 328 at ρ = 100. (30 until
 #: session 29: a pilot that missed by 30–100× paid a fourth run, a third of the control's work.)
 PAIR_SPAN = 100.0
-#: How far below the accuracy the pilot pair's tighter tolerance is (an adaptive method; :func:`_pilot`).
-PILOT_SPAN = 10.0
-#: The pilot's looser run is at least this loose (for accuracies near round-off, where its tighter run is kept at
-#: :data:`ROUNDOFF_RTOL`): cheap, it only steers the next run.
+#: The pilot's looser run for accuracies below ``100 ROUNDOFF_RTOL`` (1e-11), whose tighter run is kept at
+#: :data:`ROUNDOFF_RTOL`: cheap (a sixth of a run at 1e-15), it only steers the next run — never the last pair — whose
+#: tolerance near round-off the motion decides (the bench's 1e-12 rows: 1e-14 … 4e-16).
 PILOT_LOOSE = 1e-10
 #: The same below :data:`ROUNDOFF_RTOL`, where the error's ratio falls towards 1 (round-off): the span it had before.
 ROUNDOFF_SPAN = 30.0
@@ -235,12 +234,6 @@ class Integrator(Method):
         """The pilot's setting per member: the tolerance ``accuracy`` (adaptive), or the method's step rule."""
         return np.full(problem.batch, float(problem.accuracy))
 
-    def pilot_span(self, problem: Problem) -> float:
-        """How far below the accuracy the pilot's tighter tolerance is (an adaptive method): :data:`PILOT_SPAN` for
-        DOP853, whose global error is 6–8000 × its tolerance on the bench's motions; a method whose error is nearer
-        its tolerance keeps 10 (LSODA's fell 340× over two decades: pilots 100 below over-deliver)."""
-        return PILOT_SPAN
-
     def attempt(self, problem: Problem, setting: np.ndarray) -> Trajectory:
         """One run of every member of ``problem`` at its ``setting`` (batch,)."""
         raise NotImplementedError
@@ -280,16 +273,13 @@ def _ratio(method, loose, tight):
     return loose / tight if method.adaptive else (tight / loose) ** method.order
 
 
-def _pilot(method, first, span):
-    """The pilot pair's settings (loose, tight) per member from the method's first setting (the accuracy, for an
-    adaptive method): the tolerances ``(accuracy / 10, accuracy / span) × …`` — a pair 10 apart, whose estimate
-    holds before the asymptotic regime too, placed ``span`` below the accuracy, where the global error of most
-    motions (6–8000 × rtol) lands near the accuracy. Near round-off (the tighter kept at :data:`ROUNDOFF_RTOL`, or
-    10 below the accuracy) the looser is at :data:`PILOT_LOOSE`: cheap, the pair only steers the next run. A
-    fixed-step method: a step and half of it."""
+def _pilot(method, first):
+    """The pilot pair's settings (loose, tight) per member from the method's first setting: an adaptive method's
+    ``(accuracy, accuracy / 10)``, except that where the accuracy is below ``100 ROUNDOFF_RTOL`` the looser is at
+    :data:`PILOT_LOOSE` (the pair only steers); a fixed-step method's step and half of it."""
     if not method.adaptive:
         return first, first * 2.0
-    tight = np.maximum(np.maximum(first / span, np.minimum(ROUNDOFF_RTOL, first / 10.0)), method.min_rtol)
+    tight = np.maximum(first / 10.0, method.min_rtol)
     steer = first / 100.0 < ROUNDOFF_RTOL
     return np.where(steer, np.maximum(10.0 * tight, np.minimum(100.0 * first, PILOT_LOOSE)), 10.0 * tight), tight
 
@@ -302,7 +292,7 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
     vertical = problem.regime == "model"
     members = np.arange(problem.batch)
     first = np.broadcast_to(np.asarray(method.first(problem), dtype=float), (problem.batch,)).copy()
-    s_loose, s_tight = _pilot(method, first, method.pilot_span(problem) if method.adaptive else 2.0)
+    s_loose, s_tight = _pilot(method, first)
     loose = method.attempt(problem, s_loose)
     best = method.attempt(problem, s_tight)
     err = estimate(deviation(loose, best, vertical=vertical), _ratio(method, s_loose, s_tight),
@@ -328,7 +318,7 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
             s_new = np.where(near, np.maximum(np.minimum(s_new, s_old / 10.0), method.min_rtol), s_new)
             far = s_old / s_new > np.where(near, ROUNDOFF_SPAN, PAIR_SPAN)
             if np.any(far):  # the previous run is too far to pair with: one more run, as far from the new as may be
-                s_partner = np.where(far, s_new * np.where(near, 10.0, PAIR_SPAN), s_old)
+                s_partner = np.where(far, 10.0 * s_new, s_old)
                 where = np.flatnonzero(far)
                 every = len(where) == len(idx)
                 extra_run = method.attempt(sub if every else sub.select(where), s_partner[where])

@@ -324,9 +324,6 @@ class SolveIVP(Integrator):
         steps = (("integrate", f"solve_ivp {m} on {system} ({state})", f"{why}; {control}"),)
         return Explanation(engine=engine, steps=steps, kernels=kernels, runner=runner, options=options)
 
-    def pilot_span(self, problem: Problem) -> float:
-        return super().pilot_span(problem) if problem.method in ("auto", "DOP853", "closed-form") else 10.0
-
     def attempt(self, problem: Problem, setting):
         rtol = float(np.max(setting))
         try:
