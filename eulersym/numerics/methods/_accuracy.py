@@ -402,7 +402,12 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
         active[:] = False
         active[idx[still & ~stalled]] = True
     floor = ""
-    beyond = _near(method, setting) & (worst(best.error) > accuracy)
+    missed = worst(best.error) > accuracy
+    if np.any(missed):  # why the control stopped short, for the refusal's words
+        spent = missed & (runs >= MAX_RUNS)
+        floor = (f"; not reached: {int(np.sum(missed & ~spent))} member(s) whose estimate stopped falling (round-off, "
+                 f"or the method's order), {int(np.sum(spent))} after {MAX_RUNS} runs")
+    beyond = _near(method, setting) & missed
     if np.any(beyond):  # refused near round-off: the error cannot fall below FLOOR ε A, however tight the tolerance
         idx = members[beyond]  # (a member that meets the accuracy is not charged: its pair, 10 apart near round-off,
         amplification = method.amplification(problem.select(idx))  # sees the runs' own round-off)
@@ -411,8 +416,8 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
         for k in error:
             error[k][idx] = np.maximum(error[k][idx], bound)
         best = dataclasses.replace(best, error=error)
-        floor = (f"; round-off floor {FLOOR:g} ε × amplification {float(np.max(amplification)):.3g} "
-                 "(variational equations)")
+        floor += (f"; round-off floor {FLOOR:g} ε × amplification {float(np.max(amplification)):.3g} "
+                  "(variational equations)")
     what = "rtol" if method.adaptive else "steps per output interval"
     shown = setting if len(setting) < 4 else np.array([setting.min(), setting.max()])
     text = " … ".join(dict.fromkeys(f"{s:.3g}" for s in shown))
