@@ -264,9 +264,9 @@ def test_a_long_horizon_free_body_gets_its_accuracy_near_round_off():
 
 
 def test_a_satellite_near_round_off_gets_1e_12_and_says_so_honestly():
-    """The bench's gravity-gradient satellite over 3000 s at 1e-12: its round-off floor is ~6e-13 (cos(n t) at
-    n t = 300 and 4400 steps), and runs at rtol 3.1e-14 and 1.5e-14 differ by 1.8e-12 — a pair that close took that
-    round-off for truncation (3 |Δ|: 5e-12, 'not reached'). Near round-off a pair is at least 10 apart: against the
+    """The bench's gravity-gradient satellite over 3000 s at 1e-12: single runs' errors stop falling at ~6e-13 below
+    rtol 5.6e-14 (the round-off of 4400 steps grown 30×), and runs at rtol 3.1e-14 and 1.5e-14 differ by 1.8e-12 — a
+    pair that close took that round-off for truncation (3 |Δ|: 5e-12, 'not reached', on main). Near round-off a pair is at least 10 apart: against the
     stored 38-digit reference, delivered ≤ 1e-12 and the estimate within [½, 10] × the truth, without a warning."""
     from eulersym.bench._accuracy_references import STATES, STRIDE
     from eulersym.bench._cases import case

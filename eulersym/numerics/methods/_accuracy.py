@@ -96,7 +96,8 @@ PILOT_LOOSE = 1e-10
 #: Charged to the members refused near round-off (their estimate and the refusal's advice); a member whose pair, 10
 #: apart, meets the accuracy is not (its difference sees the runs' own round-off, uncorrelated between them; the
 #: variational run cost 0.2–1.3 single runs on the bench's 1e-12 rows, where the floor was 4e-14 … 3e-12: the
-#: satellite's true floor, 6e-13 from cos(n t) at n t ≈ 300 over 4400 steps, is 90 ε A — its pair sees it).
+#: satellite's true floor, ~6e-13 = 90 ε A with A = 30 — the round-off of its 4400 steps, √N ε A ≈ 4e-13, not its
+#: start's — is what its pair sees and FLOOR ε A does not).
 FLOOR = 6.0
 #: The variational integration that measures A, for its size, not its digits (FLOOR spans 0.2–9.6): at rtol 1e-4
 #: and at most AMPLIFICATION_TIMES output times (evenly picked, the last kept) — until session 29 at 1e-7 and every
