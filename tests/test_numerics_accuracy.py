@@ -263,6 +263,51 @@ def test_a_long_horizon_free_body_gets_its_accuracy_near_round_off():
     assert true <= 1e-10 and true / 2 <= result.error["omega"] <= 1e-10, (true, result.error)
 
 
+def test_a_satellite_near_round_off_gets_1e_12_and_says_so_honestly():
+    """The bench's gravity-gradient satellite over 3000 s at 1e-12: single runs' errors stop falling at ~6e-13 below
+    rtol 5.6e-14 (the round-off of 4400 steps grown 30×), and runs at rtol 3.1e-14 and 1.5e-14 differ by 1.8e-12 — a
+    pair that close took that round-off for truncation (3 |Δ|: 5e-12, 'not reached', on main). Near round-off a pair is at least 10 apart: against the
+    stored 38-digit reference, delivered ≤ 1e-12 and the estimate within [½, 10] × the truth, without a warning."""
+    from eulersym.bench._accuracy_references import STATES, STRIDE
+    from eulersym.bench._cases import case
+    from eulersym.bench.accuracy import true_error
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AccuracyNotReached)
+        result = simulate(case("satellite").scene(1e-12))
+    k = slice(None, None, STRIDE)
+    true = true_error(result.omega[k], result.attitude[k], result.gamma[k], np.array(STATES["satellite"]))
+    est = {name: float(v) for name, v in result.error.items()}
+    assert max(true.values()) <= 1e-12, (true, est)
+    assert all(est[name] >= v / 2 for name, v in true.items()) and max(est.values()) <= 10 * max(true.values())
+
+
+@pytest.mark.parametrize("gamma", [False, True])
+@pytest.mark.parametrize("vertical", [False, True])
+def test_the_compiled_deviation_is_numpy_s(gamma, vertical):
+    """The control's deviation of two runs compiled by numba (eulersym's DOP853 uses it) against the NumPy form on
+    seeded random members, quaternions not normalised: the same to round-off, NaN where a run has one, no members."""
+    from eulersym.numerics.methods._accuracy import deviation
+    from eulersym.numerics.trajectory import Trajectory
+
+    rng = np.random.default_rng(21)
+    t = np.zeros(7)
+
+    def run(batch):
+        return Trajectory(t=t, omega=rng.normal(size=(batch, 7, 3)), q=rng.normal(size=(batch, 7, 4)),
+                          gamma=rng.normal(size=(batch, 7, 3)) if gamma else None)
+
+    a, b = run(5), run(5)
+    a.omega[3, 4, 1] = np.nan
+    slow, fast = deviation(a, b, vertical=vertical), deviation(a, b, vertical=vertical, compiled=True)
+    assert slow.keys() == fast.keys() == ({"omega", "attitude"} | ({"gamma"} if gamma or vertical else set()))
+    for name in slow:
+        assert np.array_equal(np.isnan(slow[name]), np.isnan(fast[name]))
+        assert np.allclose(slow[name], fast[name], rtol=1e-14, atol=0, equal_nan=True), name
+    assert np.isnan(fast["omega"][3]) and not np.isnan(fast["omega"][2])
+    assert all(len(v) == 0 for v in deviation(run(0), run(0), vertical=vertical, compiled=True).values())
+
+
 # ---- round-off: refused, with the amplification ------------------------------------------------------------------
 def _chaotic(t_end, accuracy):
     """A tumbling asymmetric heavy top: a finite-time Lyapunov exponent ≈ 0.5 /s."""

@@ -18,13 +18,17 @@ against 38-digit Taylor references: the ratio of the two runs' errors at toleran
 
 **Round-off.** Below rtol ≈ 1e-13 (:data:`ROUNDOFF_RTOL`) the runs' own round-off (uncorrelated between them) may
 rival their truncation difference: the error ratio falls from 10 to 2 or 1 (Kovalevskaya's top over T = 10³:
-2.0 between 1e-13 and 1e-14). There the two runs are kept a factor 10 apart and the estimate is at least
-``|Δ| / √2`` — the size of either run's round-off when both are made of it.
+2.0 between 1e-13 and 1e-14). There the two runs are kept at least a factor 10 apart (closer, their difference is
+mostly their own round-off, which ``σ |Δ| / (ρ − 1)`` would take for truncation and inflate: a satellite's runs 2.08
+apart gave 8.6× its error and a refusal) and the estimate is at least ``|Δ| / √2`` — the size of either run's
+round-off when both are made of it. A member refused near round-off has its estimate raised to :data:`FLOOR` ε A.
 
 **How it is controlled** (:func:`deliver`). A pilot pair at ``(accuracy, accuracy / 10)`` (a step from the method's
-rule and half of it); if its estimate exceeds the accuracy, the next run's tolerance follows from proportionality
-(``rtol · accuracy / (2 · estimate)``; a step by ``(…)^(1/p)``) and pairs with the run before it — per member: in a
-sweep only the members still beyond the accuracy run again. It stops when every member meets the accuracy, or a
+rule and half of it; for accuracies below 1e-11 the looser at :data:`PILOT_LOOSE`, a pair that only steers); if its
+estimate exceeds the accuracy, the next run's tolerance follows from proportionality (``rtol · accuracy / (2 ·
+estimate)``, near round-off at least 10 below; a step by ``(…)^(1/p)``) and pairs with the run before it, or with
+one more run 10× looser when the run before is more than :data:`PAIR_SPAN` away — per member: in a sweep only the
+members still beyond the accuracy run again. It stops when every member meets the accuracy, or a
 member's estimate no longer falls near round-off (its error is round-off amplified by the motion: it cannot be
 reached in double precision; an adaptive run far above round-off goes on — before its asymptotic regime its error
 may stray from proportionality), or after :data:`MAX_RUNS` runs; the result is the last run of each member with its estimate
@@ -56,7 +60,7 @@ from eulersym.numerics.methods._base import Method, Problem
 from eulersym.numerics.trajectory import Trajectory
 
 __all__ = ["Integrator", "deliver", "richardson", "deviation", "estimate", "worst", "QUANTITIES", "SAFETY",
-           "ROUNDOFF_RTOL", "MAX_RUNS", "PAIR_SPAN", "AMPLIFICATION_RTOL", "AMPLIFICATION_TIMES", "select",
+           "ROUNDOFF_RTOL", "MAX_RUNS", "PAIR_SPAN", "PILOT_LOOSE", "AMPLIFICATION_RTOL", "AMPLIFICATION_TIMES", "select",
            "splice"]
 
 #: The integrated quantities an estimate covers (those a trajectory has).
@@ -66,8 +70,8 @@ QUANTITIES = ("omega", "attitude", "gamma")
 #: error of an adaptive run fluctuates with its step sequence (a free body 1e-4 off its separatrix at rtol 1e-11):
 #: σ = 3 keeps the estimate within [1/2, 10] × the true error for ratios 2.5 … 31.
 SAFETY = 3.0
-#: Tolerances below this are near round-off (see the module docstring): the pair is kept ×10 apart and the estimate
-#: is at least |Δ| / √2.
+#: Tolerances below this are near round-off (see the module docstring): the pair is kept at least ×10 apart and the
+#: estimate is at least |Δ| / √2.
 ROUNDOFF_RTOL = 1e-13
 #: At most this many runs per member (the pilot pair included; a partner run does not count).
 MAX_RUNS = 7
@@ -82,9 +86,18 @@ AIM = 2.0
 PAIR_SPAN = 100.0
 #: The same below :data:`ROUNDOFF_RTOL`, where the error's ratio falls towards 1 (round-off): the span it had before.
 ROUNDOFF_SPAN = 30.0
+#: The pilot's looser run for accuracies below ``100 ROUNDOFF_RTOL`` (1e-11): cheap (a sixth of a run at 1e-15), the
+#: pair only steers the next run — never the last pair — whose tolerance near round-off the motion decides (the
+#: bench's 1e-12 rows: 1e-14 … 4e-16).
+PILOT_LOOSE = 1e-10
 #: Near round-off the error cannot fall below about ``FLOOR · ε · A``, A the largest growth of a change of the start
 #: over the span (the variational equations): the start's own rounding (into the principal frame, the quaternion's
 #: norm) and the steps' grow with the motion. Measured on the bench's motions at rtol 1e-15 … 1e-16: 0.2–9.6 ε A.
+#: Charged to the members refused near round-off (their estimate and the refusal's advice); a member whose pair, 10
+#: apart, meets the accuracy is not (its difference sees the runs' own round-off, uncorrelated between them; the
+#: variational run cost 0.2–1.3 single runs on the bench's 1e-12 rows, where the floor was 4e-14 … 3e-12: the
+#: satellite's true floor, ~6e-13 = 90 ε A with A = 30 — the round-off of its 4400 steps, √N ε A ≈ 4e-13, not its
+#: start's — is what its pair sees and FLOOR ε A does not).
 FLOOR = 6.0
 #: The variational integration that measures A, for its size, not its digits (FLOOR spans 0.2–9.6): at rtol 1e-4
 #: and at most AMPLIFICATION_TIMES output times (evenly picked, the last kept) — until session 29 at 1e-7 and every
@@ -102,22 +115,45 @@ def _norms(x, axis=-1):
 def _farthest(a, b) -> np.ndarray:
     """The largest Euclidean distance over the output times between (batch, m, k) arrays: (batch,)."""
     d = a - b
-    return np.sqrt(np.max(np.einsum("bmk,bmk->bm", d, d), axis=1, initial=0.0))
+    return np.sqrt(np.einsum("bmk,bmk->bm", d, d).max(axis=1, initial=0.0))
+
+
+def _unit(q) -> np.ndarray:
+    """Quaternions (batch, m, 4) divided by their norms."""
+    return q / np.sqrt(np.einsum("bmk,bmk->bm", q, q))[..., None]
+
+
+#: Γ = R(q)ᵀ ẑ of a unit quaternion q = (a, b, c, d) as three quadratic forms, Γ_k = qᵀ V_k q:
+#: (2(bd − ac), 2(cd + ab), a² − b² − c² + d²) — one einsum instead of nine products of views.
+_V = np.zeros((3, 4, 4))
+_V[0, 1, 3] = _V[0, 3, 1] = 1.0
+_V[0, 0, 2] = _V[0, 2, 0] = -1.0
+_V[1, 2, 3] = _V[1, 3, 2] = 1.0
+_V[1, 0, 1] = _V[1, 1, 0] = 1.0
+_V[2] = np.diag([1.0, -1.0, -1.0, 1.0])
 
 
 def _vertical(q, *, unit=False):
-    """Γ = R(q)ᵀ ẑ of (not necessarily unit, or with ``unit`` unit) quaternions (..., 4)."""
+    """Γ = R(q)ᵀ ẑ of (not necessarily unit, or with ``unit`` unit) quaternions (..., 4).
+
+    Examples
+    --------
+    >>> _vertical(np.array([np.cos(0.25), np.sin(0.25), 0.0, 0.0])).round(12).tolist()  # turned 0.5 rad about x
+    [0.0, 0.479425538604, 0.87758256189]
+    """
+    q = np.asarray(q, dtype=float)
     if not unit:
         q = q / _norms(q)[..., None]
-    a, b, c, d = np.moveaxis(q, -1, 0)
-    return np.stack([2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d], axis=-1)
+    return np.einsum("...i,kij,...j->...k", q, _V, q)
 
 
-def deviation(a: Trajectory, b: Trajectory, *, vertical: bool = False) -> dict:
+def deviation(a: Trajectory, b: Trajectory, *, vertical: bool = False, compiled: bool = False) -> dict:
     """``{quantity: (batch,)}``: the largest distance over the output times between two runs of the same members —
     ω relative to its scale (the largest |ω| of ``b``), q (normalised; both runs carry the same sign) and Γ absolute
     (with ``vertical``, Γ = R(q)ᵀ ẑ from the attitude when the runs do not carry it: a model's kernel that integrates
-    ω and q only, whose vertical is an output all the same).
+    ω and q only, whose vertical is an output all the same). ``compiled``: in one pass compiled by numba
+    (:func:`eulersym.numerics.methods._deviation.farthest`, for the methods that run on it; the same quantities,
+    the last bits may differ).
 
     Examples
     --------
@@ -127,13 +163,13 @@ def deviation(a: Trajectory, b: Trajectory, *, vertical: bool = False) -> dict:
     >>> sorted(deviation(a, b)), float(deviation(a, b)["attitude"][0]) < 2e-9
     (['attitude', 'omega'], True)
     """
-    out = {}
+    if compiled:
+        return _compiled_deviation(a, b, vertical)
     wa, wb = np.asarray(a.omega), np.asarray(b.omega)
-    scale = np.sqrt(np.max(np.einsum("bmk,bmk->bm", wb, wb), axis=1, initial=0.0))
-    out["omega"] = _farthest(wa, wb) / np.where(scale > 0, scale, 1.0)
+    scale = np.sqrt(np.einsum("bmk,bmk->bm", wb, wb).max(axis=1, initial=0.0))
+    out = {"omega": _farthest(wa, wb) / np.where(scale > 0, scale, 1.0)}
     if a.q is not None and b.q is not None:
-        qa = np.asarray(a.q) / _norms(np.asarray(a.q))[..., None]
-        qb = np.asarray(b.q) / _norms(np.asarray(b.q))[..., None]
+        qa, qb = _unit(np.asarray(a.q)), _unit(np.asarray(b.q))
         out["attitude"] = _farthest(qa, qb)
     if a.gamma is not None and b.gamma is not None:
         out["gamma"] = _farthest(np.asarray(a.gamma), np.asarray(b.gamma))
@@ -142,27 +178,48 @@ def deviation(a: Trajectory, b: Trajectory, *, vertical: bool = False) -> dict:
     return out
 
 
+def _compiled_deviation(a: Trajectory, b: Trajectory, vertical: bool) -> dict:
+    from eulersym.numerics.methods._deviation import farthest
+
+    def rows(x, k):  # one layout for the compiled function: C-contiguous float64 (batch, m, k); none: no members
+        return np.empty((0, 0, k)) if x is None else np.ascontiguousarray(x, dtype=float)
+
+    has_q = a.q is not None and b.q is not None
+    has_g = a.gamma is not None and b.gamma is not None
+    out = np.empty((3, len(a.omega)))
+    farthest(rows(a.omega, 3), rows(b.omega, 3), rows(a.q if has_q else None, 4), rows(b.q if has_q else None, 4),
+             rows(a.gamma if has_g else None, 3), rows(b.gamma if has_g else None, 3), bool(vertical), out)
+    dev = {"omega": out[0]}
+    if has_q:
+        dev["attitude"] = out[1]
+    if has_g or (vertical and has_q):
+        dev["gamma"] = out[2]
+    return dev
+
+
 def estimate(dev: dict, rho, *, tight) -> dict:
     """The tighter run's error from the two runs' ``dev`` (:func:`deviation`), their nominal error ratio ``rho``
     (per member or one) and whether the tighter run is near round-off (``tight``, per member or one)."""
-    rho = np.asarray(rho, dtype=float)
+    factor = SAFETY / np.maximum(np.asarray(rho, dtype=float) - 1.0, 1e-300)
     tight = np.asarray(tight, dtype=bool)
-    out = {}
-    for name, d in dev.items():
-        e = SAFETY * d / np.maximum(rho - 1.0, 1e-300)
-        out[name] = np.where(tight, np.maximum(e, d / math.sqrt(2.0)), e)
-    return out
+    if not tight.any():
+        return {name: d * factor for name, d in dev.items()}
+    return {name: np.where(tight, np.maximum(d * factor, d / math.sqrt(2.0)), d * factor) for name, d in dev.items()}
 
 
 def worst(error: dict) -> np.ndarray:
-    """Each member's largest estimate over the quantities.
+    """Each member's largest estimate over the quantities (NaN where any is NaN).
 
     Examples
     --------
     >>> worst({"omega": np.array([1e-9, 2e-9]), "gamma": np.array([3e-9, 1e-10])}).tolist()
     [3e-09, 2e-09]
     """
-    return np.max(np.stack(list(error.values())), axis=0)
+    values = iter(error.values())
+    out = np.asarray(next(values))
+    for v in values:
+        out = np.maximum(out, v)
+    return out
 
 
 def select(traj: Trajectory, idx) -> Trajectory:
@@ -220,9 +277,12 @@ class Integrator(Method):
         The order of a fixed-step method.
     min_rtol : float
         The tightest tolerance the method takes (an adaptive one).
+    compiled : bool
+        The method runs on numba: the control's deviations are compiled too (:func:`deviation`).
     """
 
     adaptive: ClassVar[bool] = True
+    compiled: ClassVar[bool] = False
     order: ClassVar[int] = 8
     min_rtol: ClassVar[float] = 1e-16
 
@@ -269,23 +329,36 @@ def _ratio(method, loose, tight):
     return loose / tight if method.adaptive else (tight / loose) ** method.order
 
 
+def _pilot(method, first):
+    """The pilot pair's settings (loose, tight) per member from the method's first setting: an adaptive method's
+    ``(accuracy, accuracy / 10)``, except that where the accuracy is below ``100 ROUNDOFF_RTOL`` the looser is at
+    :data:`PILOT_LOOSE` (the pair only steers); a fixed-step method's step and half of it."""
+    if not method.adaptive:
+        return first, first * 2.0
+    tight = np.maximum(first / 10.0, method.min_rtol)
+    steer = first / 100.0 < ROUNDOFF_RTOL
+    return np.where(steer, np.maximum(10.0 * tight, np.minimum(100.0 * first, PILOT_LOOSE)), 10.0 * tight), tight
+
+
 def deliver(method: Integrator, problem: Problem) -> Trajectory:
     """Run ``method`` on ``problem`` until every member's estimated global error is within ``problem.accuracy``
     (the module docstring); the trajectory carries the estimate (``error``: quantity → (batch,)) and its
     ``message`` the setting that delivered it."""
     accuracy = float(problem.accuracy)
     vertical = problem.regime == "model"
+    compiled = method.compiled
     members = np.arange(problem.batch)
-    s_loose = np.broadcast_to(np.asarray(method.first(problem), dtype=float), (problem.batch,)).copy()
-    s_tight = np.maximum(s_loose / 10.0, method.min_rtol) if method.adaptive else s_loose * 2.0
+    first = np.broadcast_to(np.asarray(method.first(problem), dtype=float), (problem.batch,)).copy()
+    s_loose, s_tight = _pilot(method, first)
     loose = method.attempt(problem, s_loose)
     best = method.attempt(problem, s_tight)
-    err = estimate(deviation(loose, best, vertical=vertical), _ratio(method, s_loose, s_tight),
+    err = estimate(deviation(loose, best, vertical=vertical, compiled=compiled), _ratio(method, s_loose, s_tight),
                    tight=_near(method, s_tight))
     best = dataclasses.replace(best, error=err, n_rhs_calls=int(best.n_rhs_calls) + int(loose.n_rhs_calls))
-    setting = s_tight.copy()
+    setting = np.array(s_tight, dtype=float)
     runs = np.full(problem.batch, 2)
-    active = worst(err) > accuracy
+    # a pilot pair wider than 10 (near round-off) steers the next run: it never ends the control
+    active = (worst(err) > accuracy) | (s_loose / s_tight > 10.0 * (1 + 1e-9))
     while np.any(active):
         idx = members[active]
         whole = len(idx) == problem.batch  # every member (one alone): no copies of the trajectory or the problem
@@ -295,17 +368,22 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
         s_old = setting[idx]
         s_new = _refine(method, s_old, previous, accuracy)
         partner, s_partner, extra = current, s_old, 0
-        far = _ratio(method, s_old, s_new) > np.where(_near(method, s_new), ROUNDOFF_SPAN, PAIR_SPAN)
-        if method.adaptive and np.any(far):  # a pair 10× apart: one more run, 10× looser than the new one
-            s_partner = np.where(far, 10.0 * s_new, s_old)
-            where = np.flatnonzero(far)
-            every = len(where) == len(idx)
-            extra_run = method.attempt(sub if every else sub.select(where), s_partner[where])
-            partner = extra_run if every else splice(current, where, extra_run)
-            extra = int(extra_run.n_rhs_calls)
+        if method.adaptive:
+            near = _near(method, s_new)
+            # near round-off a pair is at least 10 apart: closer, its difference is mostly the two runs' own
+            # round-off, which σ |Δ| / (ρ − 1) would take for truncation and inflate (a satellite at ρ = 2: 3 |Δ|)
+            s_new = np.where(near, np.maximum(np.minimum(s_new, s_old / 10.0), method.min_rtol), s_new)
+            far = s_old / s_new > np.where(near, ROUNDOFF_SPAN, PAIR_SPAN)
+            if np.any(far):  # the previous run is too far to pair with: one more run, as far from the new as may be
+                s_partner = np.where(far, 10.0 * s_new, s_old)
+                where = np.flatnonzero(far)
+                every = len(where) == len(idx)
+                extra_run = method.attempt(sub if every else sub.select(where), s_partner[where])
+                partner = extra_run if every else splice(current, where, extra_run)
+                extra = int(extra_run.n_rhs_calls)
         fresh = method.attempt(sub, s_new)
         runs[idx] += 1
-        e_new = estimate(deviation(partner, fresh, vertical=vertical), _ratio(method, s_partner, s_new),
+        e_new = estimate(deviation(partner, fresh, vertical=vertical, compiled=compiled), _ratio(method, s_partner, s_new),
                          tight=_near(method, s_new))
         fresh = dataclasses.replace(fresh, error=e_new, n_rhs_calls=int(fresh.n_rhs_calls) + extra)
         best = (dataclasses.replace(fresh, n_rhs_calls=int(best.n_rhs_calls) + int(fresh.n_rhs_calls)) if whole
@@ -318,30 +396,35 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
         flat = w_new > 0.7 * previous
         stalled = runs[idx] >= MAX_RUNS
         if method.adaptive:
-            stalled |= (s_new <= method.min_rtol) | (flat & (s_new < ROUNDOFF_RTOL))
+            stalled |= (s_new <= method.min_rtol * (1 + 1e-9)) | (flat & (s_new < ROUNDOFF_RTOL))
         else:
             stalled |= flat
         still = w_new > accuracy
         active[:] = False
         active[idx[still & ~stalled]] = True
     floor = ""
-    near = _near(method, setting)
-    if np.any(near):  # round-off: the error cannot fall below FLOOR ε A, however tight the tolerance
-        idx = members[near]
-        amplification = method.amplification(problem.select(idx))
+    missed = worst(best.error) > accuracy
+    if np.any(missed):  # why the control stopped short, for the refusal's words
+        spent = missed & (runs >= MAX_RUNS)
+        floor = (f"; not reached: {int(np.sum(missed & ~spent))} member(s) whose estimate stopped falling (round-off, "
+                 f"or the method's order), {int(np.sum(spent))} after {MAX_RUNS} runs")
+    beyond = _near(method, setting) & missed
+    if np.any(beyond):  # refused near round-off: the error cannot fall below FLOOR ε A, however tight the tolerance
+        idx = members[beyond]  # (a member that meets the accuracy is not charged: its pair, 10 apart near round-off,
+        amplification = method.amplification(problem.select(idx))  # sees the runs' own round-off)
         bound = FLOOR * np.finfo(float).eps * amplification
         error = {k: np.array(v, dtype=float, copy=True) for k, v in best.error.items()}
         for k in error:
             error[k][idx] = np.maximum(error[k][idx], bound)
         best = dataclasses.replace(best, error=error)
-        floor = (f"; round-off floor {FLOOR:g} ε × amplification {float(np.max(amplification)):.3g} "
-                 "(variational equations)")
+        floor += (f"; round-off floor {FLOOR:g} ε × amplification {float(np.max(amplification)):.3g} "
+                  "(variational equations)")
     what = "rtol" if method.adaptive else "steps per output interval"
     shown = setting if len(setting) < 4 else np.array([setting.min(), setting.max()])
     text = " … ".join(dict.fromkeys(f"{s:.3g}" for s in shown))
     return dataclasses.replace(best, message=(best.message + "; " if best.message else "")
                                + f"{what} {text} for accuracy {accuracy:g} (global error estimated from a run "
-                               + ("10× looser" if method.adaptive else "at twice the step") + ")" + floor)
+                               + ("looser" if method.adaptive else "at twice the step") + ")" + floor)
 
 
 def richardson(run, first: int, accuracy: float, order: int) -> Trajectory:

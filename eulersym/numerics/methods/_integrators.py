@@ -116,6 +116,7 @@ class OwnDOP853(Integrator):
 
     name = "dop853"
     cost = MEMBERS_COST
+    compiled = True
     regimes = ("torque-free", "heavy top", "torque", "model")
 
     def applies(self, problem: Problem) -> str | None:
@@ -240,6 +241,7 @@ class CompiledDOP853(Integrator):
 
     name = "compiled_dop853"
     cost = MEMBERS_COST
+    compiled = True
     regimes = ("heavy top",)
 
     def applies(self, problem: Problem) -> str | None:
