@@ -151,7 +151,7 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     if error:
         beyond = np.max(np.stack(list(error.values())), axis=0) > scene.accuracy
         if np.any(beyond):
-            note = _not_reached(scene, problem, error, beyond, sigma)
+            note = _not_reached(scene, problem, error, beyond, sigma, "" if streamed else (traj.message or ""))
             out["notes"].append(note.args[0])
             warnings.warn(note, stacklevel=2)
     bar.done()
@@ -194,7 +194,7 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     )
 
 
-def _not_reached(scene, problem, error, beyond, sigma) -> AccuracyNotReached:
+def _not_reached(scene, problem, error, beyond, sigma, how: str = "") -> AccuracyNotReached:
     """The warning for members whose estimate stayed above the accuracy asked: the amplification of a change of the
     start (from the variational equations, for the worst member), the best error reached, what would help."""
     from eulersym.numerics.methods import sensitivity
@@ -225,10 +225,16 @@ def _not_reached(scene, problem, error, beyond, sigma) -> AccuracyNotReached:
                  "the state-transition matrix, from the variational equations), and so does the round-off of every "
                  "step")
         floor = FLOOR * np.finfo(float).eps * amplification
-        if floor < asked / 10:  # round-off does not explain it: say so rather than blame double precision
+        spent = f"after {MAX_RUNS} runs" in how and f", 0 after {MAX_RUNS} runs" not in how
+        if floor < asked / 10 and spent:  # the runs ran out, not round-off: say so rather than blame double precision
             text = text.replace("is not reachable in double precision", "was not reached within the control's "
                                 f"{MAX_RUNS} runs")
-            text += f" (its round-off floor, {FLOOR:g} ε × that, is only {floor:.2g}: a finer method would reach it)"
+            text += f" (its round-off floor, {FLOOR:g} ε × that, is only {floor:.2g}: more runs would reach it)"
+        elif floor < asked / 10:  # the estimate stopped falling: round-off beyond the start's, grown by the motion
+            text = text.replace("is not reachable in double precision", "was not reached: the estimate stopped "
+                                "falling as the tolerance tightened")
+            text += (f" (above the round-off floor of its start, {FLOOR:g} ε × that = {floor:.2g}: the steps' own "
+                     "round-off — e.g. a torque that reads cos(n t) at large n t — is what remains)")
         # the error of round-off grows about as σ(t) √(t): the last output time it stays within the accuracy
         growth = s * np.sqrt(np.maximum(t - t[0], 0.0) / max(t[-1] - t[0], 1e-300))
         fits = np.flatnonzero(reached * growth / max(growth[-1], 1e-300) <= asked)
