@@ -207,7 +207,7 @@ def _grain(plan) -> int:
 
 
 def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, tensor_given=False, client=None,
-        progress=None, threads: int = 1) -> dict:
+        progress=None, threads: int = 1, processes: int = 1) -> dict:
     """Run ``problem`` in chunks of ``chunk`` members (in-process, or on ``client``'s Dask workers) and return the
     fields :func:`eulersym.scene.result.outputs` returns, plus ``"summary"`` (per member), ``"gamma"`` and
     ``"n_calls"``. Trajectories are kept unless ``layout`` (a summary scene) is given. ``"error"``, the estimated
@@ -240,7 +240,7 @@ def run(problem, plan, *, chunk: int, layout=None, bound=None, turning=None, ten
                               threads=threads)
     else:
         gathered = chunks.run(run_chunk, problem.take, members=problem.batch, chunk=chunk, static=static,
-                              client=client, progress=progress, threads=threads)
+                              client=client, progress=progress, threads=threads, processes=processes)
     n_calls = int(gathered.pop("_calls").sum())
     error = {}  # as a one-pass run joins its pieces' (methods.join): none at all, or 0 for a member exact by a closed form
     for name in [name for name in gathered if name.startswith("error:")]:

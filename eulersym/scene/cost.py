@@ -283,6 +283,26 @@ def threads(plan) -> int:
     return 1 if method_cost(plan).threaded else max(1, min(os.cpu_count() or 1, 8))
 
 
+def processes(plan) -> int:
+    """Worker processes a sweep's chunks are forked to (:func:`eulersym.sweeps.chunks.forked`): one per core for a
+    closed form — its chunk is hundreds of small NumPy operations, between which two threads wait on the GIL (the
+    10⁶-member heavy-top map: two threads as slow as one, with 40 % more CPU; two processes twice as fast) — where
+    :func:`eulersym.sweeps.chunks.can_fork`; else 1 (in this process, :func:`threads`).
+
+    Examples
+    --------
+    >>> from eulersym.scene.spec import Scene
+    >>> s = Scene(moments=(1, 2, 3), omega=(0, [1, 2], 0), t_end=1)
+    >>> 1 <= processes(s.plan()) <= (os.cpu_count() or 1)
+    True
+    """
+    from eulersym.sweeps.chunks import can_fork
+
+    if method_cost(plan).order != 0 or not can_fork():
+        return 1
+    return max(1, min(os.cpu_count() or 1, 8))
+
+
 #: Resident bytes a method's run adds to the process by its imports, where they are not imported yet (measured on
 #: this machine: numba and LLVM with the compiled DOP853 loaded from numba's cache ~150 MB; NumPy methods a few MB).
 _IMPORTS = {"dop853-members": ("numba", 150 * 2**20)}

@@ -131,7 +131,8 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     if streamed:
         out = chunked.run(problem, plan, chunk=chunk, layout=layout, bound=bound, turning=turning,
                           tensor_given=tensor_given, client=client, progress=bar.fraction if bar.enabled else None,
-                          threads=cost.threads(plan) if client is None else 1)
+                          threads=cost.threads(plan) if client is None else 1,
+                          processes=cost.processes(plan) if client is None else 1)
         timings["motion"] += time.perf_counter() - clock
         clock = time.perf_counter()
     else:

@@ -19,6 +19,11 @@ True
 
 from __future__ import annotations
 
+import os
+import pickle
+import select
+import signal
+import sys
 from typing import Callable, Mapping
 
 import numpy as np
@@ -26,7 +31,7 @@ import numpy as np
 from eulersym.errors import InvalidInput
 from eulersym.sweeps.outputs import allocate, store
 
-__all__ = ["bounds", "allocate", "store", "run", "retain_freed_memory"]
+__all__ = ["bounds", "allocate", "store", "run", "retain_freed_memory", "can_fork", "forked"]
 
 
 def bounds(members: int, chunk: int) -> tuple:
@@ -46,7 +51,8 @@ def bounds(members: int, chunk: int) -> tuple:
 
 
 def run(task: Callable, piece: Callable, *, members: int, chunk: int, static: Mapping | None = None,
-        out: Mapping | None = None, client=None, progress: Callable | None = None, threads: int = 1) -> dict:
+        out: Mapping | None = None, client=None, progress: Callable | None = None, threads: int = 1,
+        processes: int = 1) -> dict:
     """Run ``task`` over all members, a chunk at a time, into ``out`` (allocated from the first chunk if None).
 
     Parameters
@@ -67,6 +73,11 @@ def run(task: Callable, piece: Callable, *, members: int, chunk: int, static: Ma
     threads : int
         Chunks run at once in this process (NumPy releases the GIL in its loops: two threads use two cores); at
         most ``threads`` chunks' temporaries are alive. Each chunk is computed alone, so the bits do not change.
+    processes : int
+        Worker processes forked for the chunks (:func:`forked`: where ``fork`` exists and ``out`` is None), each
+        writing its chunks' rows into outputs shared with this process: for tasks of many small NumPy operations,
+        whose threads wait on the GIL more than they compute (the heavy top's closed form: two threads as slow as
+        one, two processes twice as fast). Overrides ``threads``.
 
     Returns
     -------
@@ -93,6 +104,8 @@ def run(task: Callable, piece: Callable, *, members: int, chunk: int, static: Ma
     result = None if out is None else dict(out)
     if len(spans) > 1:
         retain_freed_memory()
+    if processes > 1 and len(spans) > 1 and result is None and can_fork():
+        return forked(task, piece, spans, members, static, progress, int(processes))
     if threads > 1 and len(spans) > 1:
         return _threaded(task, piece, spans, members, static, result, progress, int(threads))
     for lo, hi in spans:
@@ -162,3 +175,128 @@ def _threaded(task, piece, spans, members, static, result, progress, threads) ->
                 if progress is not None:
                     progress(done / members)
     return result if result is not None else {}
+
+
+def can_fork() -> bool:
+    """Whether chunks may run in forked worker processes here: Linux (``os.fork``; elsewhere a forked child of a
+    process with threads may hang, and macOS's frameworks refuse it).
+
+    Examples
+    --------
+    >>> can_fork() == sys.platform.startswith("linux")
+    True
+    """
+    return sys.platform.startswith("linux") and hasattr(os, "fork")
+
+
+def forked(task, piece, spans, members, static, progress, processes) -> dict:
+    """The chunks ``spans`` on ``processes`` forked workers, each writing its rows into outputs shared with this one.
+
+    The first chunk runs here and lays the outputs out (:func:`~eulersym.sweeps.outputs.allocate` with ``shared``:
+    anonymous ``MAP_SHARED`` maps); worker ``k`` then takes every ``processes``-th of the other chunks, computes each
+    alone (the same bits as in-process) and stores it, and reports each one done over a pipe. A worker's exception
+    comes back pickled and is raised here; a worker that dies without a word (killed, out of memory) raises
+    :class:`RuntimeError` naming its status; on any exception here (Ctrl-C) the workers are ended. A worker leaves
+    by ``os._exit``: no ``atexit`` handler or buffered stream of this process runs twice. Peak memory: the outputs
+    once, and a chunk's working set in each process.
+
+    Examples
+    --------
+    >>> x = np.arange(10.0)
+    >>> def square(piece):
+    ...     return {"y": piece ** 2}
+    >>> spans = bounds(10, 3)
+    >>> forked(square, lambda lo, hi: x[lo:hi], spans, 10, {}, None, 2)["y"].tolist() == (x ** 2).tolist()
+    True
+    """
+    lo, hi = spans[0]
+    part = task(piece(lo, hi), **static)
+    result = allocate(part, members, shared=True)
+    store(result, part, lo, hi)
+    del part
+    done = hi - lo
+    if progress is not None:
+        progress(done / members)
+    children = {}  # read end → pid
+    try:
+        for k in range(processes):
+            mine = spans[1 + k::processes]
+            if not mine:
+                continue
+            read, write = os.pipe()
+            pid = os.fork()
+            if pid == 0:  # the worker: compute, store, report; never return into the caller's code
+                os.close(read)
+                _work(task, piece, mine, static, result, write)
+            os.close(write)
+            children[read] = pid
+        failure, buffers = None, {fd: b"" for fd in children}
+        while buffers:
+            ready, _, _ = select.select(list(buffers), [], [])
+            for fd in ready:
+                data = os.read(fd, 1 << 16)
+                if not data:  # the worker has closed its end: it is leaving
+                    os.close(fd)
+                    del buffers[fd]
+                    continue
+                buffers[fd] += data
+                *messages, buffers[fd] = buffers[fd].split(b"\n")
+                for message in messages:
+                    kind, _, body = message.partition(b" ")
+                    if kind == b"done":
+                        done += int(body)
+                        if progress is not None:
+                            progress(done / members)
+                    elif failure is None:
+                        failure = _unpickled(body)
+        for fd, pid in list(children.items()):
+            _, status = os.waitpid(pid, 0)
+            del children[fd]
+            code = os.waitstatus_to_exitcode(status)
+            if failure is None and code != 0:
+                failure = RuntimeError(f"a sweep's worker process (pid {pid}) ended with status {code} before its "
+                                       "chunks were done (killed, or out of memory?)")
+        if failure is not None:
+            raise failure
+    finally:
+        for pid in children.values():  # only on an exception here: end the workers and reap them
+            try:
+                os.kill(pid, signal.SIGTERM)
+                os.waitpid(pid, 0)
+            except (ProcessLookupError, ChildProcessError):
+                pass
+    return result
+
+
+def _unpickled(body: bytes) -> BaseException:
+    """A worker's exception from its hex-encoded pickle (one that does not unpickle: a RuntimeError with its bytes'
+    length, never a silent success)."""
+    try:
+        return pickle.loads(bytes.fromhex(body.decode()))
+    except Exception as exc:  # noqa: BLE001
+        return RuntimeError(f"a sweep's worker process failed, and its exception could not be read back ({exc})")
+
+
+def _work(task, piece, spans, static, result, write) -> None:
+    """A forked worker's whole life: its chunks into the shared ``result``, a line per chunk on ``write``."""
+    code = 0
+    try:
+        for lo, hi in spans:
+            part = task(piece(lo, hi), **static)
+            store(result, part, lo, hi)
+            del part
+            os.write(write, b"done %d\n" % (hi - lo))
+    except BaseException as exc:  # noqa: BLE001 — everything goes back to the parent, which raises it
+        code = 1
+        try:
+            payload = pickle.dumps(exc)
+        except Exception:  # an exception that does not pickle: its words
+            payload = pickle.dumps(RuntimeError(f"{type(exc).__name__}: {exc}"))
+        try:
+            message = b"error " + payload.hex().encode() + b"\n"
+            while message:
+                message = message[os.write(write, message):]
+        except OSError:
+            pass
+    finally:
+        os._exit(code)
