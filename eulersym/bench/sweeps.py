@@ -81,9 +81,9 @@ def _pss(pid):
             return sum(int(l.split()[1]) for l in f if l.startswith("Pss:"))
     except OSError:
         return 0
-def _sample(stop):  # the process and its forked workers: proportional set sizes, summed, every 100 ms
+def _sample(stop):  # the process and its forked workers: proportional set sizes, summed, every 500 ms
     me = os.getpid()
-    while not stop.wait(0.1):
+    while not stop.wait(0.5):
         kids = []
         for task in os.listdir(f"/proc/{{me}}/task"):
             try:
@@ -493,7 +493,7 @@ def main(argv) -> int:
             return "the whole process"
         return (f"the process {r['parent_bytes'] / 1e6:.0f} MB + {r['workers']} forked workers × "
                 f"{r['worker_bytes'] / 1e6:.0f} MB, each counting the pages it shares; their proportional set sizes "
-                f"summed, sampled every 100 ms: {r['pss_bytes'] / 1e6:.0f} MB, what the floor reads")
+                f"summed, sampled every 500 ms: {r['pss_bytes'] / 1e6:.0f} MB, what the floor reads")
 
     if "map" in only:
         r = bench_map(args.tilts, args.spins, memory="2 GiB")

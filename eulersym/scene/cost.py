@@ -283,22 +283,30 @@ def threads(plan) -> int:
     return 1 if method_cost(plan).threaded else max(1, min(os.cpu_count() or 1, 8))
 
 
+#: From this many members on, the heavy top's closed form runs on worker processes (~25 ms a 1024-member chunk: 32
+#: chunks pay for the workers' start; the free body's chunks, 5 ms, do not: 2.4× its NumPy floor in threads, 4.4× in
+#: workers, `eulersym bench sweeps --only closed-form`).
+POOLED_MEMBERS = 32768
+
+
 def processes(plan) -> int:
-    """Worker processes a sweep's chunks are forked to (:func:`eulersym.sweeps.chunks.forked`): one per core for a
-    closed form — its chunk is hundreds of small NumPy operations, between which two threads wait on the GIL (the
-    10⁶-member heavy-top map: two threads as slow as one, with 40 % more CPU; two processes twice as fast) — where
-    :func:`eulersym.sweeps.chunks.can_fork`; else 1 (in this process, :func:`threads`).
+    """Worker processes a sweep's chunks run on (:func:`eulersym.sweeps.chunks.pooled`): one per core for the heavy
+    top's closed form — its chunk is hundreds of small NumPy operations, between which two threads wait on the GIL
+    (two threads ran its 10⁶-member map no faster than one, with 40 % more CPU; two processes 1.3–1.5× faster, the
+    results sent back) — where
+    :func:`eulersym.sweeps.chunks.can_pool` and the sweep has at least :data:`POOLED_MEMBERS` members (a worker
+    starts in ~0.25 s: the interpreter, NumPy, eulersym); else 1 (in this process, :func:`threads`).
 
     Examples
     --------
     >>> from eulersym.scene.spec import Scene
     >>> s = Scene(moments=(1, 2, 3), omega=(0, [1, 2], 0), t_end=1)
-    >>> 1 <= processes(s.plan()) <= (os.cpu_count() or 1)
-    True
+    >>> processes(s.plan())  # two members: not worth a worker
+    1
     """
-    from eulersym.sweeps.chunks import can_fork
+    from eulersym.sweeps.chunks import can_pool
 
-    if method_cost(plan).order != 0 or not can_fork():
+    if plan.options.get("engine") != "heavy_top_exact" or plan.batch < POOLED_MEMBERS or not can_pool():
         return 1
     return max(1, min(os.cpu_count() or 1, 8))
 

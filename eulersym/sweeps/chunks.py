@@ -20,10 +20,10 @@ True
 from __future__ import annotations
 
 import os
-import pickle
 import select
-import signal
 import sys
+import threading
+from queue import SimpleQueue
 from typing import Callable, Mapping
 
 import numpy as np
@@ -31,7 +31,7 @@ import numpy as np
 from eulersym.errors import InvalidInput
 from eulersym.sweeps.outputs import allocate, store
 
-__all__ = ["bounds", "allocate", "store", "run", "retain_freed_memory", "can_fork", "forked"]
+__all__ = ["bounds", "allocate", "store", "run", "retain_freed_memory", "can_pool", "pooled"]
 
 
 def bounds(members: int, chunk: int) -> tuple:
@@ -74,10 +74,10 @@ def run(task: Callable, piece: Callable, *, members: int, chunk: int, static: Ma
         Chunks run at once in this process (NumPy releases the GIL in its loops: two threads use two cores); at
         most ``threads`` chunks' temporaries are alive. Each chunk is computed alone, so the bits do not change.
     processes : int
-        Worker processes forked for the chunks (:func:`forked`: where ``fork`` exists and ``out`` is None), each
-        writing its chunks' rows into outputs shared with this process: for tasks of many small NumPy operations,
-        whose threads wait on the GIL more than they compute (the heavy top's closed form: two threads as slow as
-        one, two processes twice as fast). Overrides ``threads``.
+        Worker processes for the chunks (:func:`pooled`, where ``out`` is None): for tasks of many small NumPy
+        operations, whose threads wait on the GIL more than they compute (the heavy top's closed form: two threads as
+        slow as one, two processes twice as fast). ``task`` and ``piece``'s values must pickle (as for Dask).
+        Overrides ``threads``.
 
     Returns
     -------
@@ -104,8 +104,8 @@ def run(task: Callable, piece: Callable, *, members: int, chunk: int, static: Ma
     result = None if out is None else dict(out)
     if len(spans) > 1:
         retain_freed_memory()
-    if processes > 1 and len(spans) > 1 and result is None and can_fork():
-        return forked(task, piece, spans, members, static, progress, int(processes))
+    if processes > 1 and len(spans) > 1 and result is None and can_pool():
+        return pooled(task, piece, spans, members, static, progress, int(processes))
     if threads > 1 and len(spans) > 1:
         return _threaded(task, piece, spans, members, static, result, progress, int(threads))
     for lo, hi in spans:
@@ -177,126 +177,143 @@ def _threaded(task, piece, spans, members, static, result, progress, threads) ->
     return result if result is not None else {}
 
 
-def can_fork() -> bool:
-    """Whether chunks may run in forked worker processes here: Linux (``os.fork``; elsewhere a forked child of a
-    process with threads may hang, and macOS's frameworks refuse it).
+
+def _write_all(stream, inbox) -> None:
+    """Write each message of ``inbox`` to ``stream`` until None, then close it (a worker that is gone: nothing)."""
+    try:
+        for message in iter(inbox.get, None):
+            view = memoryview(message)
+            while view:  # a raw stream may take part of it
+                view = view[stream.write(view):]
+        stream.close()
+    except (BrokenPipeError, ValueError, OSError):  # the worker ended (or was ended): its reader says why
+        pass
+
+
+def can_pool() -> bool:
+    """Whether chunks may run on worker processes here (:func:`pooled`): wherever this interpreter can start another
+    one with pipes (not in an interpreter embedded without an executable).
 
     Examples
     --------
-    >>> can_fork() == sys.platform.startswith("linux")
+    >>> can_pool()
     True
     """
-    return sys.platform.startswith("linux") and hasattr(os, "fork")
+    return bool(sys.executable)
 
 
-def forked(task, piece, spans, members, static, progress, processes) -> dict:
-    """The chunks ``spans`` on ``processes`` forked workers, each writing its rows into outputs shared with this one.
+def pooled(task, piece, spans, members, static, progress, processes) -> dict:
+    """The chunks ``spans`` on ``processes`` worker processes (``python -m eulersym.sweeps._worker``), stored here.
 
-    The first chunk runs here and lays the outputs out (:func:`~eulersym.sweeps.outputs.allocate` with ``shared``:
-    anonymous ``MAP_SHARED`` maps); worker ``k`` then takes every ``processes``-th of the other chunks, computes each
-    alone (the same bits as in-process) and stores it, and reports each one done over a pipe. A worker's exception
-    comes back pickled and is raised here; a worker that dies without a word (killed, out of memory) raises
-    :class:`RuntimeError` naming its status; on any exception here (Ctrl-C) the workers are ended. A worker leaves
-    by ``os._exit``: no ``atexit`` handler or buffered stream of this process runs twice. Peak memory: the outputs
-    once, and a chunk's working set in each process.
+    The first chunk runs here and lays the outputs out; each worker is a fresh interpreter (not a fork: nothing of
+    this process's other threads inherited, no ``__main__`` re-run, BLAS and numba on one thread), given ``task``
+    and ``static`` once and then one chunk's piece at a time over a pipe (two in flight: a worker never waits); it sends the chunk's results back
+    (their raw bytes, read straight into the outputs' rows: ~1.5 MB a 1024-member chunk of ω and Γ at 31 times),
+    stored in member order: the same bits as in-process. A worker's exception is raised here; a worker that ends without an answer (killed, out of memory)
+    raises :class:`RuntimeError` naming its status; on any exception here (Ctrl-C) the workers are ended. Memory: the
+    outputs here, and in each worker its imports and one chunk's working set.
 
     Examples
     --------
+    The task runs in the workers (``dict`` here: a chunk's piece is already its result); the pieces are made here:
+
     >>> x = np.arange(10.0)
-    >>> def square(piece):
-    ...     return {"y": piece ** 2}
-    >>> spans = bounds(10, 3)
-    >>> forked(square, lambda lo, hi: x[lo:hi], spans, 10, {}, None, 2)["y"].tolist() == (x ** 2).tolist()
+    >>> out = pooled(dict, lambda lo, hi: {"y": x[lo:hi] ** 2}, bounds(10, 3), 10, {}, None, 2)
+    >>> out["y"].tolist() == (x ** 2).tolist()
     True
     """
+    import subprocess
+
+    from eulersym.sweeps import _worker
+
     lo, hi = spans[0]
     part = task(piece(lo, hi), **static)
-    result = allocate(part, members, shared=True)
+    result = allocate(part, members)
     store(result, part, lo, hi)
     del part
     done = hi - lo
     if progress is not None:
         progress(done / members)
-    children = {}  # read end → pid
+    queue = list(spans[1:])
+    env = {**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
+           "NUMBA_NUM_THREADS": "1"}
+    start = f"import sys; sys.path[:] = {sys.path!r}; from eulersym.sweeps._worker import main; sys.exit(main())"
+    header = _worker.message((task, static))
+    workers, inbox, writers, flight = [], {}, [], {}
+
+    def send(worker) -> None:  # the worker's next chunk, or the end of its input
+        if queue:
+            lo, hi = queue.pop(0)
+            inbox[worker.pid].put(_worker.message((lo, hi, piece(lo, hi))))
+            flight[worker.pid] += 1
+        else:
+            inbox[worker.pid].put(None)
+
     try:
-        for k in range(processes):
-            mine = spans[1 + k::processes]
-            if not mine:
-                continue
-            read, write = os.pipe()
-            pid = os.fork()
-            if pid == 0:  # the worker: compute, store, report; never return into the caller's code
-                os.close(read)
-                _work(task, piece, mine, static, result, write)
-            os.close(write)
-            children[read] = pid
-        failure, buffers = None, {fd: b"" for fd in children}
-        while buffers:
-            ready, _, _ = select.select(list(buffers), [], [])
+        for _ in range(min(processes, len(queue))):
+            # unbuffered: a read never takes the next chunk's bytes out of the pipe, where select would not see them
+            worker = subprocess.Popen([sys.executable, "-c", start], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                      env=env, bufsize=0)
+            workers.append(worker)
+            inbox[worker.pid], flight[worker.pid] = SimpleQueue(), 0
+            inbox[worker.pid].put(header)
+            # a thread writes each worker's input, so that a chunk is sent while the worker sends the one before
+            writers.append(threading.Thread(target=_write_all, args=(worker.stdin, inbox[worker.pid]), daemon=True))
+            writers[-1].start()
+        for _ in range(2):  # two chunks in flight a worker: it never waits for the next one
+            for worker in workers:
+                if queue:
+                    send(worker)
+        busy = {worker.stdout.fileno(): worker for worker in workers if flight[worker.pid]}
+        while busy:
+            ready, _, _ = select.select(list(busy), [], [])
             for fd in ready:
-                data = os.read(fd, 1 << 16)
-                if not data:  # the worker has closed its end: it is leaving
-                    os.close(fd)
-                    del buffers[fd]
-                    continue
-                buffers[fd] += data
-                *messages, buffers[fd] = buffers[fd].split(b"\n")
-                for message in messages:
-                    kind, _, body = message.partition(b" ")
-                    if kind == b"done":
-                        done += int(body)
-                        if progress is not None:
-                            progress(done / members)
-                    elif failure is None:
-                        failure = _unpickled(body)
-        for fd, pid in list(children.items()):
-            _, status = os.waitpid(pid, 0)
-            del children[fd]
-            code = os.waitstatus_to_exitcode(status)
-            if failure is None and code != 0:
-                failure = RuntimeError(f"a sweep's worker process (pid {pid}) ended with status {code} before its "
-                                       "chunks were done (killed, or out of memory?)")
-        if failure is not None:
-            raise failure
+                worker = busy[fd]
+                reply = _worker.read(worker.stdout)
+                if reply is None:
+                    raise RuntimeError(f"a sweep's worker process (pid {worker.pid}) ended with status "
+                                       f"{worker.wait()} before its chunk was done (killed, or out of memory?)")
+                kind, lo, hi, layout = reply
+                if kind == "error":
+                    raise layout
+                if sorted(name for name, _, _ in layout) != sorted(result):
+                    raise InvalidInput("task", sorted(name for name, _, _ in layout),
+                                       f"a chunk result with exactly the outputs {sorted(result)}")
+                try:
+                    for name, dtype, shape in layout:
+                        rows = result[name][lo:hi]
+                        if rows.flags.c_contiguous and rows.dtype.str == dtype and rows.shape == tuple(shape):
+                            _worker.read_into(worker.stdout, rows)  # straight into the outputs: one copy
+                        else:
+                            part = np.empty(shape, dtype=dtype)
+                            _worker.read_into(worker.stdout, part)
+                            rows[...] = part
+                except EOFError:
+                    raise RuntimeError(f"a sweep's worker process (pid {worker.pid}) ended with status "
+                                       f"{worker.wait()} while sending its chunk (killed, or out of memory?)") from None
+                done += hi - lo
+                if progress is not None:
+                    progress(done / members)
+                flight[worker.pid] -= 1
+                send(worker)
+                if not flight[worker.pid]:
+                    del busy[fd]
+        for worker in workers:
+            if worker.wait() != 0:
+                raise RuntimeError(f"a sweep's worker process (pid {worker.pid}) ended with status "
+                                   f"{worker.returncode} after its chunks")
     finally:
-        for pid in children.values():  # only on an exception here: end the workers and reap them
-            try:
-                os.kill(pid, signal.SIGTERM)
-                os.waitpid(pid, 0)
-            except (ProcessLookupError, ChildProcessError):
-                pass
+        for worker in workers:
+            if worker.poll() is None:
+                worker.kill()
+            worker.wait()
+            inbox[worker.pid].put(None)
+        for writer in writers:
+            writer.join()
+        for worker in workers:
+            for stream in (worker.stdin, worker.stdout):
+                try:
+                    stream.close()
+                except OSError:
+                    pass
     return result
-
-
-def _unpickled(body: bytes) -> BaseException:
-    """A worker's exception from its hex-encoded pickle (one that does not unpickle: a RuntimeError with its bytes'
-    length, never a silent success)."""
-    try:
-        return pickle.loads(bytes.fromhex(body.decode()))
-    except Exception as exc:  # noqa: BLE001
-        return RuntimeError(f"a sweep's worker process failed, and its exception could not be read back ({exc})")
-
-
-def _work(task, piece, spans, static, result, write) -> None:
-    """A forked worker's whole life: its chunks into the shared ``result``, a line per chunk on ``write``."""
-    code = 0
-    try:
-        for lo, hi in spans:
-            part = task(piece(lo, hi), **static)
-            store(result, part, lo, hi)
-            del part
-            os.write(write, b"done %d\n" % (hi - lo))
-    except BaseException as exc:  # noqa: BLE001 — everything goes back to the parent, which raises it
-        code = 1
-        try:
-            payload = pickle.dumps(exc)
-        except Exception:  # an exception that does not pickle: its words
-            payload = pickle.dumps(RuntimeError(f"{type(exc).__name__}: {exc}"))
-        try:
-            message = b"error " + payload.hex().encode() + b"\n"
-            while message:
-                message = message[os.write(write, message):]
-        except OSError:
-            pass
-    finally:
-        os._exit(code)

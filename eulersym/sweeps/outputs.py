@@ -20,9 +20,8 @@ from eulersym.errors import InvalidInput
 __all__ = ["allocate", "empty", "store"]
 
 
-def allocate(first: Mapping, members: int, *, shared: bool = False) -> dict:
-    """Outputs for ``members`` rows shaped like a first chunk's results ``{name: ndarray (rows, ...)}``; ``shared``:
-    every one in a shared anonymous map (:func:`empty`), so that worker processes forked afterwards write into them.
+def allocate(first: Mapping, members: int) -> dict:
+    """Outputs for ``members`` rows shaped like a first chunk's results ``{name: ndarray (rows, ...)}``.
 
     Examples
     --------
@@ -30,17 +29,15 @@ def allocate(first: Mapping, members: int, *, shared: bool = False) -> dict:
     >>> out["y"].shape, out["y"].dtype.name
     ((5, 3), 'float64')
     """
-    return {name: empty((members, *np.shape(v)[1:]), np.asarray(v).dtype, shared=shared) for name, v in first.items()}
+    return {name: empty((members, *np.shape(v)[1:]), np.asarray(v).dtype) for name, v in first.items()}
 
 
 #: From this size on (NumPy's own threshold for advising huge pages), an output is an anonymous memory map.
 _MAPPED = 4 * 2**20
 
 
-def empty(shape, dtype=np.float64, *, shared: bool = False) -> np.ndarray:
-    """``np.empty(shape, dtype)``; from 4 MiB on (at any size with ``shared``), its memory an anonymous map of
-    ordinary 4 KiB pages, shared with the processes this one forks afterwards (``mmap``'s ``MAP_SHARED``: what a
-    forked worker writes there, the parent reads).
+def empty(shape, dtype=np.float64) -> np.ndarray:
+    """``np.empty(shape, dtype)``; from 4 MiB on, its memory an anonymous map of ordinary 4 KiB pages.
 
     NumPy advises huge pages for its large arrays, and on a machine whose huge pages must be compacted and zeroed at
     the first touch (this one: a 744 MB output filled chunk by chunk took 1.5 s of system time with them, 0.4–0.7 s
@@ -57,7 +54,7 @@ def empty(shape, dtype=np.float64, *, shared: bool = False) -> np.ndarray:
     """
     dtype = np.dtype(dtype)
     size = dtype.itemsize * math.prod(shape)
-    if size == 0 or (size < _MAPPED and not shared):
+    if size < _MAPPED:
         return np.empty(shape, dtype=dtype)
     return np.frombuffer(mmap.mmap(-1, size), dtype=dtype).reshape(shape)
 
