@@ -259,7 +259,7 @@ else:
     r = simulate(scene)
 hwm = [int(l.split()[1]) for l in open("/proc/self/status") if l.startswith("VmHWM:")][0] * 1024
 import resource
-kid = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss * 1024  # forked workers (a closed form's chunks)
+kid = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss * 1024  # worker processes (the heavy top closed form's chunks)
 workers = cost.processes(scene.plan()) if kid and kind != "zarr" else 0
 print(json.dumps(dict(peak=hwm, estimate=e.process_bytes, arrays=e.peak_bytes, calls=r.n_rhs_calls,
                       evaluations=e.evaluations, chunk=e.chunk, members=scene.batch, worker=kid, workers=workers)))
@@ -276,7 +276,7 @@ def test_the_estimate_is_within_one_and_a_half_of_the_measured_peak_and_kernel_c
     out = subprocess.run([sys.executable, "-c", _MEASURE, kind], capture_output=True, text=True, timeout=300)
     assert out.returncode == 0, out.stderr[-2000:]
     got = json.loads(out.stdout.strip().splitlines()[-1])
-    # with forked workers the tree's peak lies between the largest process's and the sum of the process's and each
+    # with worker processes the tree's peak lies between the largest process's and the sum of the process's and each
     # worker's (each counts the pages it shares with the others)
     low = max(got["peak"], got["worker"] if got["workers"] else 0)
     high = got["peak"] + got["workers"] * got["worker"]

@@ -81,7 +81,7 @@ def _pss(pid):
             return sum(int(l.split()[1]) for l in f if l.startswith("Pss:"))
     except OSError:
         return 0
-def _sample(stop):  # the process and its forked workers: proportional set sizes, summed, every 500 ms
+def _sample(stop):  # the process and its worker processes: proportional set sizes, summed, every 500 ms
     me = os.getpid()
     while not stop.wait(0.5):
         kids = []
@@ -115,7 +115,7 @@ picks = {picks!r}
 hwm = [int(l.split()[1]) for l in open("/proc/self/status") if l.startswith("VmHWM:")][0]
 import resource, os
 use = resource.getrusage(resource.RUSAGE_SELF)
-kids = resource.getrusage(resource.RUSAGE_CHILDREN)  # the forked workers of a closed form's chunks (if any)
+kids = resource.getrusage(resource.RUSAGE_CHILDREN)  # the worker processes of a closed form's chunks (if any)
 workers = cost.processes(r.plan) if r.plan.batch > 1 and not store else 1
 workers = workers if kids.ru_maxrss else 0
 if r.summary:
@@ -143,7 +143,7 @@ def bench_map(tilts: int = 1000, spins: int = 1000, *, t_end: float = 3.0, point
               samples: int = 5, memory: str = "1 GiB", want=("summary",), store: str | None = None) -> dict:
     """The sleeping-top map of ``tilts × spins`` members in a fresh process — summaries, or trajectories kept in
     memory (``want = ("omega",)``), or streamed to the Zarr store ``store`` — its time, CPU (the process and its
-    forked workers), peak memory (VmHWM of the process plus, where its chunks ran on forked workers, their number
+    worker processes), peak memory (VmHWM of the process plus, where its chunks ran on worker processes, their number
     times the largest worker's peak resident set: an upper bound, since each counts the pages it shares), and sampled
     members against single runs."""
     from eulersym.scene import Scene, simulate
@@ -347,13 +347,13 @@ def bench_dask(members: int = 100_000, *, accuracy: float = 1e-6) -> dict:
 
 
 def _cpu(fn):
-    """CPU seconds of ``fn()`` in this process and in the worker processes it forked and reaped (a closed form's
-    chunks, :func:`eulersym.sweeps.chunks.forked`), and its result."""
+    """CPU seconds of ``fn()`` in this process and in the worker processes it started and waited for (a closed form's
+    chunks, :func:`eulersym.sweeps.chunks.pooled`), and its result."""
     start, kids = time.process_time(), os.times()
     out = fn()
     done = os.times()
-    forked = done.children_user - kids.children_user + done.children_system - kids.children_system
-    return time.process_time() - start + forked, out
+    workers = done.children_user - kids.children_user + done.children_system - kids.children_system
+    return time.process_time() - start + workers, out
 
 
 def bench_closed_form(members: int = 100_000, *, points: int = 31, repeats: int = 3) -> dict:
@@ -491,7 +491,7 @@ def main(argv) -> int:
     def whose(r) -> str:
         if not r["workers"]:
             return "the whole process"
-        return (f"the process {r['parent_bytes'] / 1e6:.0f} MB + {r['workers']} forked workers × "
+        return (f"the process {r['parent_bytes'] / 1e6:.0f} MB + {r['workers']} worker processes × "
                 f"{r['worker_bytes'] / 1e6:.0f} MB, each counting the pages it shares; their proportional set sizes "
                 f"summed, sampled every 500 ms: {r['pss_bytes'] / 1e6:.0f} MB, what the floor reads")
 
