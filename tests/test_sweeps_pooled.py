@@ -29,6 +29,25 @@ def _task(piece, *, power):
     return {"y": np.sin(values) ** p, "n": np.full(len(values), lo, dtype=np.int64), "ok": values > 1.0}
 
 
+class _Odd(Exception):
+    """An exception whose ``__init__`` does not take its ``args``: pickles, but does not unpickle."""
+
+    def __init__(self, code, words):
+        super().__init__(f"{code}: {words}")
+
+
+def _awkward(piece, *, how):
+    lo, values = piece
+    if how == "odd" and lo >= 12:
+        raise _Odd(7, "an odd failure in a worker")
+    if how == "fd1":  # C code, a subprocess or os.write(1, ...) writing to the standard output
+        os.write(1, b"noise on fd 1\n")
+    out = {"y": np.cos(values)}
+    if how == "object":
+        out["o"] = np.array([f"{v:.3f}" for v in values], dtype=object)
+    return out
+
+
 def _piece(lo, hi):
     return lo, X[lo:hi]
 
@@ -97,3 +116,24 @@ def test_a_closed_form_sweep_on_worker_processes_is_the_in_process_sweep_bit_for
     one = simulate(scene)
     assert np.array_equal(two.omega, one.omega) and np.array_equal(two.gamma, one.gamma)
     assert two.notes == one.notes
+
+
+def test_an_exception_that_does_not_unpickle_comes_back_with_its_type_and_words(started):
+    with pytest.raises(RuntimeError, match="_Odd: 7: an odd failure in a worker"):
+        chunks.run(_awkward, _piece, members=len(X), chunk=4, static={"how": "odd"}, processes=2)
+
+
+@pytest.mark.parametrize("how", ["fd1", "object"])
+def test_writes_to_fd_1_and_object_arrays_give_the_in_process_results(how, started, capfd):
+    got = chunks.run(_awkward, _piece, members=len(X), chunk=4, static={"how": how}, processes=2)
+    want = chunks.run(_awkward, _piece, members=len(X), chunk=4, static={"how": how})
+    assert set(got) == set(want) and all(np.array_equal(got[k], want[k]) for k in want)
+
+
+def test_a_path_entry_that_is_not_a_string_does_not_stop_the_workers(monkeypatch, started):
+    import pathlib
+    import sys
+
+    monkeypatch.setattr(sys, "path", [*sys.path, pathlib.Path("/tmp")])
+    got = chunks.run(_task, _piece, members=len(X), chunk=4, static={"power": 3}, processes=2)
+    assert np.array_equal(got["y"], np.sin(X) ** 3) and started

@@ -10,6 +10,7 @@ BLAS and numba pinned to one thread; what it would print goes to its standard er
 
 from __future__ import annotations
 
+import os
 import pickle
 import struct
 import sys
@@ -64,9 +65,17 @@ def read_into(stream, target: np.ndarray) -> None:
 
 
 def main() -> int:
-    inp, out = sys.stdin.buffer, sys.stdout.buffer
-    sys.stdout = sys.stderr  # the protocol owns the standard output
-    first = read(inp)
+    inp = sys.stdin.buffer
+    # the protocol owns file descriptor 1: a copy of it for the replies, and fd 1 itself (what C code, a subprocess or
+    # os.write(1, ...) would write to) pointed at the standard error
+    out = open(os.dup(1), "wb")
+    os.dup2(2, 1)
+    sys.stdout = sys.stderr
+    try:
+        first = read(inp)
+    except BaseException as exc:  # noqa: BLE001 — the task or its settings do not unpickle here (a __main__ function)
+        _reply_error(out, None, None, exc)
+        return 1
     if first is None:
         return 0
     task, static = first
@@ -74,13 +83,12 @@ def main() -> int:
         lo, hi, piece = item
         try:
             part = {name: np.ascontiguousarray(v) for name, v in task(piece, **static).items()}
+            for name, v in part.items():
+                if v.dtype.hasobject:  # its bytes would be this process's pointers
+                    raise TypeError(f"the chunk result {name!r} has dtype {v.dtype}: worker processes send numeric "
+                                    "arrays only")
         except BaseException as exc:  # noqa: BLE001 — back to the caller, which raises it
-            try:
-                payload = message(("error", lo, hi, exc))
-            except Exception:  # an exception that does not pickle: its words
-                payload = message(("error", lo, hi, RuntimeError(f"{type(exc).__name__}: {exc}")))
-            out.write(payload)
-            out.flush()
+            _reply_error(out, lo, hi, exc)
             return 1
         out.write(message(("ok", lo, hi, [(name, v.dtype.str, v.shape) for name, v in part.items()])))
         for v in part.values():
@@ -88,6 +96,18 @@ def main() -> int:
         out.flush()
         del part
     return 0
+
+
+def _reply_error(out, lo, hi, exc: BaseException) -> None:
+    """Send ``exc`` to the caller — as itself where it survives a pickle round trip, else as a RuntimeError with its
+    type and words (an exception whose ``__init__`` does not take its ``args`` would not unpickle there)."""
+    try:
+        payload = message(("error", lo, hi, exc))
+        pickle.loads(payload[_LENGTH.size:])
+    except BaseException:  # noqa: BLE001
+        payload = message(("error", lo, hi, RuntimeError(f"{type(exc).__name__}: {exc}")))
+    out.write(payload)
+    out.flush()
 
 
 if __name__ == "__main__":
