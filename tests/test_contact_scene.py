@@ -215,12 +215,8 @@ def test_simulate_list_names_every_contact_scene_and_each_name_runs(capsys):
     assert "tippe-top" in capsys.readouterr().out
 
 
-def test_an_accuracy_past_the_rtol_floor_is_not_reached_and_the_calls_are_counted_once(tmp_path, capsys,
-                                                                                        monkeypatch):
-    """The rattleback at accuracy 1e-13: the tight run is at rtol 1e-14, the floor, so a "refinement" would repeat it
-    bit for bit and estimate 0. The run keeps the last honest pair's estimate, warns, exits 3, and its kernel calls
-    are the sum of the runs it made (no run counted twice)."""
-    from eulersym.errors import AccuracyNotReached
+def _count_attempts(monkeypatch) -> list:
+    """The kernel calls of each run the contact control makes, in order (its ``_attempt`` wrapped)."""
     from eulersym.numerics.methods._contact import ContactDOP853
 
     made = []
@@ -232,6 +228,17 @@ def test_an_accuracy_past_the_rtol_floor_is_not_reached_and_the_calls_are_counte
         return run
 
     monkeypatch.setattr(ContactDOP853, "_attempt", counted)
+    return made
+
+
+def test_an_accuracy_past_the_rtol_floor_is_not_reached_and_the_calls_are_counted_once(tmp_path, capsys,
+                                                                                        monkeypatch):
+    """The rattleback at accuracy 1e-13: the tight run is at rtol 1e-14, the floor, so a "refinement" would repeat it
+    bit for bit and estimate 0. The run keeps the last honest pair's estimate, warns, exits 3, and its kernel calls
+    are the sum of the runs it made (no run counted twice)."""
+    from eulersym.errors import AccuracyNotReached
+
+    made = _count_attempts(monkeypatch)
     text = (open(contact_scene.bundled()["rattleback"]).read().replace("end = 10.0", "end = 2.0")
             .replace("points = 201", "points = 11").replace("accuracy = 1e-9", "accuracy = 1e-13"))
     path = _write(tmp_path, text)
@@ -249,17 +256,7 @@ def test_an_accuracy_past_the_rtol_floor_is_not_reached_and_the_calls_are_counte
 
 def test_a_refined_contact_run_counts_each_run_once(tmp_path, monkeypatch):
     """At accuracy 1e-12 the rattleback is refined once (three runs): its kernel calls are their sum."""
-    from eulersym.numerics.methods._contact import ContactDOP853
-
-    made = []
-    attempt = ContactDOP853._attempt
-
-    def counted(self, *args, **kwargs):
-        run = attempt(self, *args, **kwargs)
-        made.append(run.n_rhs_calls)
-        return run
-
-    monkeypatch.setattr(ContactDOP853, "_attempt", counted)
+    made = _count_attempts(monkeypatch)
     text = (open(contact_scene.bundled()["rattleback"]).read().replace("end = 10.0", "end = 2.0")
             .replace("points = 201", "points = 11").replace("accuracy = 1e-9", "accuracy = 1e-11"))
     import warnings

@@ -290,10 +290,10 @@ POOLED_MEMBERS = 32768
 
 
 def processes(plan) -> int:
-    """Worker processes a sweep's chunks run on (:func:`eulersym.sweeps.chunks.pooled`): one per core for the heavy
-    top's closed form — its chunk is hundreds of small NumPy operations, between which two threads wait on the GIL
-    (two threads ran its 10⁶-member map no faster than one, with 40 % more CPU; two processes 1.3–1.5× faster, the
-    results sent back) — where
+    """Worker processes a sweep's chunks run on (:func:`eulersym.sweeps.chunks.pooled`): one per core for a method
+    that asks for them (``Method.pooled``: the heavy top's closed form — its chunk is hundreds of small NumPy
+    operations, between which two threads wait on the GIL; two threads ran its 10⁶-member map no faster than one,
+    with 40 % more CPU; two processes 1.3–1.5× faster, the results sent back) — where
     :func:`eulersym.sweeps.chunks.can_pool` and the sweep has at least :data:`POOLED_MEMBERS` members (a worker
     starts in ~0.25 s: the interpreter, NumPy, eulersym); else 1 (in this process, :func:`threads`).
 
@@ -306,7 +306,7 @@ def processes(plan) -> int:
     """
     from eulersym.sweeps.chunks import can_pool
 
-    if plan.options.get("engine") != "heavy_top_exact" or plan.batch < POOLED_MEMBERS or not can_pool():
+    if plan.batch < POOLED_MEMBERS or not methods.get(plan.options["engine"]).pooled or not can_pool():
         return 1
     return max(1, min(os.cpu_count() or 1, 8))
 

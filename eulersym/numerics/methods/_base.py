@@ -321,6 +321,9 @@ class Method:
     fallback : str or None
         The method that takes the members this one refuses one by one
         (:class:`~eulersym.errors.SingularConfiguration`).
+    pooled : bool
+        A large sweep's chunks run on worker processes (:func:`eulersym.sweeps.chunks.pooled`), not threads: its
+        chunk is many small NumPy operations, between which threads wait on the GIL.
     """
 
     name: ClassVar[str] = ""
@@ -329,6 +332,7 @@ class Method:
     announce: ClassVar[bool] = False
     regimes: ClassVar[tuple] = ()
     fallback: ClassVar[str | None] = None
+    pooled: ClassVar[bool] = False
 
     def applies(self, problem: Problem) -> str | None:
         """None when the method applies to ``problem``; else why not (one line, for the plan)."""
