@@ -64,17 +64,22 @@ class System:
             out[:, k] = p
         return out
 
-    def trajectory(self, t: np.ndarray, Y: np.ndarray, n_calls: int, method: str = "") -> Trajectory:
+    def trajectory(self, t: np.ndarray, Y: np.ndarray, n_calls: int, method: str = "", message: str = "") -> Trajectory:
         """A batch-first :class:`Trajectory` at times ``t`` from the integrated states ``Y`` (n_times, n_state,
         batch)."""
-        Y = np.moveaxis(Y, (0, 1, 2), (1, 2, 0))  # (batch, n, state)
+        return self.members_trajectory(t, np.moveaxis(Y, (0, 1, 2), (1, 2, 0)), n_calls, method, message)
+
+    def members_trajectory(self, t: np.ndarray, Y: np.ndarray, n_calls: int, method: str = "",
+                           message: str = "") -> Trajectory:
+        """The same from the states batch-first, ``Y`` (batch, n_times, n_state)."""
         if self.layout == "omega":
-            return Trajectory(t=t, omega=Y, n_rhs_calls=n_calls, method=method)
+            return Trajectory(t=t, omega=Y, n_rhs_calls=n_calls, method=method, message=message)
         if self.layout == "omega+q":
             q = _quaternion.normalize(Y[..., 3:7]) if self.normalize_q else Y[..., 3:7]
-            return Trajectory(t=t, omega=Y[..., :3], q=q, n_rhs_calls=n_calls, method=method)
+            return Trajectory(t=t, omega=Y[..., :3], q=q, n_rhs_calls=n_calls, method=method, message=message)
         q = _quaternion.normalize(Y[..., 6:10]) if self.normalize_q else Y[..., 6:10]
-        return Trajectory(t=t, omega=Y[..., :3], q=q, gamma=Y[..., 3:6], n_rhs_calls=n_calls, method=method)
+        return Trajectory(t=t, omega=Y[..., :3], q=q, gamma=Y[..., 3:6], n_rhs_calls=n_calls, method=method,
+                          message=message)
 
 
 def _kernel(name: str):
