@@ -35,10 +35,10 @@ member's estimate no longer falls near round-off (its error is round-off amplifi
 reached in double precision; an adaptive run far above round-off goes on — before its asymptotic regime its error
 may stray from proportionality), or after :data:`MAX_RUNS` runs; the result is the last run of each member with its estimate
 (:attr:`~eulersym.numerics.trajectory.Trajectory.error`), and the scene says when it exceeds the accuracy asked
-(:class:`eulersym.errors.AccuracyNotReached`). A one-member problem of a method that runs a batch's members on every
-core (:attr:`Integrator.side_by_side`: eulersym's compiled DOP853) runs the two runs of a pair — the pilot's, a new
-run and its partner — side by side, as two members of one attempt: the control's wall time is then about the pilot's
-tighter run plus the last run.
+(:class:`eulersym.errors.AccuracyNotReached`). A one-member problem of a method whose runs release the GIL
+(:attr:`Integrator.side_by_side`: eulersym's compiled DOP853) runs the two runs of a pair — the pilot's, a new
+run and its partner — side by side on two threads: the control's wall time is then about the pilot's tighter run
+plus the last run.
 
 **What it costs** (``eulersym bench accuracy``, the bench's 14 rows with a comparison; session 31): kernel
 evaluations 1.8–2.9 × those of a single run at the tolerance that happens to deliver the same error (median 2.2;
@@ -64,6 +64,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 from typing import ClassVar
 
 import numpy as np
@@ -72,8 +73,8 @@ from eulersym.numerics.methods._base import Method, Problem
 from eulersym.numerics.trajectory import Trajectory
 
 __all__ = ["Integrator", "deliver", "richardson", "deviation", "estimate", "worst", "QUANTITIES", "SAFETY",
-           "ROUNDOFF_RTOL", "MAX_RUNS", "PAIR_SPAN", "PILOT_LOOSE", "AMPLIFICATION_RTOL", "AMPLIFICATION_TIMES", "select",
-           "splice"]
+           "ROUNDOFF_RTOL", "MAX_RUNS", "PAIR_SPAN", "PILOT_LOOSE", "PILOT_LOOSEST", "AMPLIFICATION_RTOL",
+           "AMPLIFICATION_TIMES", "select", "splice"]
 
 #: The integrated quantities an estimate covers (those a trajectory has).
 QUANTITIES = ("omega", "attitude", "gamma")
@@ -102,6 +103,9 @@ ROUNDOFF_SPAN = 30.0
 #: pair only steers the next run — never the last pair — whose tolerance near round-off the motion decides (the
 #: bench's 1e-12 rows: 1e-14 … 4e-16).
 PILOT_LOOSE = 1e-10
+#: The pilot's looser run is at most this loose where the accuracy is finer (a looser DOP853 run may leave the finite
+#: numbers: rtol 1 did on a free body at accuracy 0.1; coarser accuracies keep their own, as before session 31).
+PILOT_LOOSEST = 1e-3
 #: Near round-off the error cannot fall below about ``FLOOR · ε · A``, A the largest growth of a change of the start
 #: over the span (the variational equations): the start's own rounding (into the principal frame, the quaternion's
 #: norm) and the steps' grow with the motion. Measured on the bench's motions at rtol 1e-15 … 1e-16: 0.2–9.6 ε A.
@@ -283,8 +287,8 @@ class Integrator(Method):
     compiled : bool
         The method runs on numba: the control's deviations are compiled too (:func:`deviation`).
     side_by_side : bool
-        The method runs a batch's members on every core at once: the control runs the two runs of a pair of a
-        one-member problem as one attempt of two members (:func:`_two`).
+        The method's runs release the GIL (compiled without it): the control runs the two runs of a pair of a
+        one-member problem side by side, on two threads (:func:`_two`).
     """
 
     adaptive: ClassVar[bool] = True
@@ -338,32 +342,62 @@ def _ratio(method, loose, tight):
 
 def _pilot(method, first):
     """The pilot pair's settings (loose, tight) per member from the method's first setting, and which pairs only
-    steer: an adaptive method's ``(accuracy, accuracy / 10)``, except that where the accuracy is below
-    ``100 ROUNDOFF_RTOL`` the looser is at :data:`PILOT_LOOSE` (the pair only steers); a fixed-step method's step
-    and half of it."""
+    steer: an adaptive method's ``(10 accuracy, accuracy / 10)`` — the looser never above :data:`PILOT_LOOSEST`
+    nor below the accuracy, so ``(accuracy, accuracy / 10)`` from accuracy 1e-3 up — except that where the accuracy
+    is below ``100 ROUNDOFF_RTOL`` the looser is at :data:`PILOT_LOOSE` (the pair only steers); a fixed-step method's
+    step and half of it.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> pairs = _pilot(NS(adaptive=True, min_rtol=1e-16), np.array([1e-6, 1e-2, 1e-12]))
+    >>> [f"{x:.0e}" for x in pairs[0]], [f"{x:.0e}" for x in pairs[1]], pairs[2].tolist()
+    (['1e-05', '1e-02', '1e-10'], ['1e-07', '1e-03', '1e-13'], [False, False, True])
+    """
     if not method.adaptive:
         return first, first * 2.0, np.zeros(first.shape, bool)
     steer = first / 100.0 < ROUNDOFF_RTOL
     tight = np.maximum(first / 10.0, method.min_rtol)
-    loose = np.where(steer, np.maximum(10.0 * tight, np.minimum(100.0 * first, PILOT_LOOSE)), 100.0 * tight)
+    loose = np.where(steer, np.maximum(10.0 * tight, np.minimum(100.0 * first, PILOT_LOOSE)),
+                     np.maximum(np.minimum(100.0 * tight, PILOT_LOOSEST), first))
     return loose, tight, steer
 
 
 def _two(method, problem: Problem, first, second) -> tuple:
     """Runs of every member of ``problem`` at ``first`` and at ``second`` (settings per member): ``(the run at first,
-    the run at second, the kernel calls of both)``. One member of a method that runs a batch's members on every core
-    at once (:attr:`Integrator.side_by_side`) runs as the two members of one attempt — side by side, in the wall time
-    of the slower run, with the same bits as two attempts (a member's numbers depend on its own start and setting
-    only); otherwise one run after the other."""
+    the run at second, the kernel calls of both)``. One member of a method whose runs release the GIL
+    (:attr:`Integrator.side_by_side`) runs its two runs side by side, the first on a worker thread — in the wall time
+    of the slower, with the bits of one run after the other (each run is the same call either way); otherwise, and for
+    many members (which fill the cores themselves), one after the other. A run that fails raises as it would alone,
+    the first run's failure first."""
     if problem.batch == 1 and method.side_by_side:
-        last, doubled = getattr(method, "_doubled", (None, None))  # one tuple, read at once (as OwnDOP853's inputs)
-        if last is not problem:
-            doubled = problem.select([0, 0])
-            method._doubled = (problem, doubled)
-        both = method.attempt(doubled, np.concatenate([first, second]))
-        return select(both, [0]), select(both, [1]), int(both.n_rhs_calls)
-    a, b = method.attempt(problem, first), method.attempt(problem, second)
+        pending = _worker().submit(method.attempt, problem, first)
+        try:
+            b = method.attempt(problem, second)
+        except BaseException:
+            pending.exception()  # the first run's failure, if any, is the one raised
+            a = pending.result()
+            raise
+        a = pending.result()
+    else:
+        a, b = method.attempt(problem, first), method.attempt(problem, second)
     return a, b, int(a.n_rhs_calls) + int(b.n_rhs_calls)
+
+
+_POOL = (None, None)  # (the process it was made in, a one-thread executor): a fork's child makes its own
+
+
+def _worker():
+    """The thread that runs the first run of a pair side by side (made on first use, and again in a forked child,
+    which inherits the executor but not its thread)."""
+    global _POOL
+    pid, pool = _POOL
+    if pid != os.getpid():
+        from concurrent.futures import ThreadPoolExecutor
+
+        pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="eulersym-pair")
+        _POOL = (os.getpid(), pool)
+    return pool
 
 
 def deliver(method: Integrator, problem: Problem) -> Trajectory:

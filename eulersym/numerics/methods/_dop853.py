@@ -44,6 +44,7 @@ from __future__ import annotations
 import hashlib
 import marshal
 import math
+import operator
 import os
 import types
 from dataclasses import dataclass
@@ -53,6 +54,7 @@ from pathlib import Path
 import numba
 import numpy as np
 from numba import types as nt
+from numba.core import sigutils
 from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from eulersym.numerics.methods import _dop853_tableau as _T
@@ -93,6 +95,7 @@ EXPONENT = -1.0 / (_T.ERROR_ESTIMATOR_ORDER + 1)
 
 #: The right-hand side as the stepping loop calls it: ``f(t, y*, p*, out*)``, pointers to float64.
 SIGNATURE = nt.void(nt.float64, nt.CPointer(nt.float64), nt.CPointer(nt.float64), nt.CPointer(nt.float64))
+_SIGNATURE = sigutils.normalize_signature(SIGNATURE)  # (arguments, return type), as a cfunc's signature has them
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -305,16 +308,16 @@ _ARGS = (nt.FunctionType(SIGNATURE), nt.float64[:, ::1], nt.float64[:, ::1], nt.
 
 @lru_cache(maxsize=2)
 def _driver(parallel: bool):
-    """The member loop, serial or over the cores (``prange``), as the compiled entry point of its one signature
-    (:data:`_ARGS`; compiled once, cached on disk): called directly, without the dispatcher's typing of the
-    arguments on every call (17 µs → 5 µs a call; the accuracy control makes four or five calls on runs of a
-    fraction of a millisecond)."""
+    """The member loop, serial (without the GIL: the accuracy control runs a pair's two runs on two threads) or over
+    the cores (``prange``), as the compiled entry point of its one signature (:data:`_ARGS`; compiled once, cached
+    on disk): called directly, without the dispatcher's typing of the arguments on every call (17 µs → 5 µs a call;
+    the control makes three to five calls on runs of a fraction of a millisecond)."""
     glob = dict(_members.__globals__)
     glob["_range"] = numba.prange if parallel else range
     name = "_members_parallel" if parallel else "_members_serial"
     fn = types.FunctionType(_members.__code__, glob, name)
     fn.__qualname__ = name  # a cache entry of its own for each variant
-    return numba.njit(cache=True, parallel=parallel, error_model="numpy")(fn).compile(_ARGS)
+    return numba.njit(cache=True, parallel=parallel, nogil=not parallel, error_model="numpy")(fn).compile(_ARGS)
 
 
 def _owned(a, ndim: int) -> np.ndarray:
@@ -407,12 +410,11 @@ def _compiled(template, module, kind: str, extra: dict):
         return numba.cfunc(SIGNATURE, cache=path is not None, error_model="numpy")(fn)
     # A kernel in a private folder (a model's entry in eulersym's cache): numba's own disk cache would add a
     # __pycache__ there with the process's umask, so the adapter goes to eulersym's checked, private numba cache.
-    from numba.core import sigutils
     from numba.core.ccallback import CFunc
 
     from eulersym.numerics._numba_cache import CheckedCache
 
-    compiled = CFunc(fn, sigutils.normalize_signature(SIGNATURE), locals={}, options={"error_model": "numpy"})
+    compiled = CFunc(fn, _SIGNATURE, locals={}, options={"error_model": "numpy"})
     compiled._cache = CheckedCache(fn)  # what CFunc.enable_caching does, with eulersym's cache
     compiled.compile()
     return compiled
@@ -526,6 +528,11 @@ def integrate(module, y0, t, params, *, rtol, atol, max_steps: int = 10**8, para
     >>> round(float(r.y[0, -1, 2]), 12)  # spun up about e3 by N3: ω3 = 1 + N3 t / I3
     1.166666666667
     """
+    sig = getattr(function, "_sig", None)
+    if function is not None and (getattr(sig, "args", None), getattr(sig, "return_type", None)) != _SIGNATURE:
+        raise TypeError(f"function must be a numba cfunc of signature {SIGNATURE} (rhs_function, "
+                        f"variational_function), not {function!r}")
+    max_steps = operator.index(max_steps)
     y0 = _owned(np.atleast_2d(np.asarray(y0, dtype=np.float64)), 2)
     P = _owned(np.asarray(params, dtype=np.float64).reshape(len(y0), -1), 2)
     t = _owned(t, 1)

@@ -140,9 +140,7 @@ class OwnDOP853(Integrator):
         return Explanation(engine=f"integrate: DOP853 on {system}",
                            steps=(("integrate", what, why),), kernels=kernels, runner="dop853")
 
-    # ((a problem, its system's arrays), the one before): the control's runs share its problem and, for the runs of a
-    # pair side by side, that problem's member twice over
-    _inputs = ((None, None), (None, None))
+    _inputs = (None, None)  # (the problem, its system's arrays): the control's runs share one problem
 
     def attempt(self, problem: Problem, setting) -> object:
         from eulersym.numerics.methods import _dop853
@@ -160,13 +158,11 @@ class OwnDOP853(Integrator):
         """(system, y0 (batch, n), parameters (batch, k)) of ``problem``, made once for the control's runs of it."""
         from eulersym.numerics.methods._systems import system
 
-        newer, older = self._inputs  # one tuple, read at once: another thread's problem is never taken for this one
-        for last, inputs in (newer, older):
-            if last is problem:
-                return inputs
-        s = system(problem)
-        inputs = (s, np.ascontiguousarray(s.y0.T), s.flat_params())
-        self._inputs = ((problem, inputs), newer)
+        last, inputs = self._inputs  # one tuple, read at once: another thread's problem is never taken for this one
+        if last is not problem:
+            s = system(problem)
+            inputs = (s, np.ascontiguousarray(s.y0.T), s.flat_params())
+            self._inputs = (problem, inputs)
         return inputs
 
 
