@@ -241,37 +241,63 @@ def test_sweep_members_whose_error_stalls_between_two_tolerances_still_get_their
     assert np.all(true <= 1e-6), np.flatnonzero(true > 1e-6)
 
 
-def test_a_pair_side_by_side_has_the_bits_of_two_runs_one_after_the_other():
-    """A one-member scene of eulersym's DOP853 runs each pair of the control side by side (two threads): the result,
-    its estimate and its kernel calls are those of the runs one after the other."""
+@pytest.mark.parametrize("accuracy", [1e-6, 1e-9, 1e-12])
+def test_a_pair_side_by_side_has_the_bits_of_two_runs_one_after_the_other(accuracy, monkeypatch):
+    """A one-member scene of eulersym's DOP853 runs a new run and its partner side by side (two threads; here whatever
+    the runs' length): the result, its estimate and its kernel calls are those of the runs one after the other."""
     import threading
 
     from eulersym.bench.accuracy import _prepared  # (method, problem, plan) as simulate() prepares them
+    from eulersym.numerics.methods import _accuracy
 
-    # the pilot, then a partner and the new run as a pair; the pilot, then one run; a steering pilot, then one run
-    for name, accuracy in (("fast-sensitive", 1e-6), ("kovalevskaya", 1e-9), ("satellite", 1e-12)):
-        side, problem, plan = _prepared(_scene(name, accuracy))
-        assert type(side).__name__ == "OwnDOP853" and side.side_by_side
-        real = type(side).attempt
-        threads = {True: [], False: []}
+    monkeypatch.setattr(_accuracy, "SIDE_BY_SIDE_SECONDS", 0.0)
+    side, problem, plan = _prepared(_scene("fast-sensitive", accuracy))  # its control pairs a partner and a new run
+    assert type(side).__name__ == "OwnDOP853" and side.side_by_side
+    real = type(side).attempt
+    threads = {True: [], False: []}
 
-        class Recorded(type(side)):
-            def attempt(self, problem, setting):
-                threads[self.side_by_side].append(threading.current_thread().name)
-                return real(self, problem, setting)
+    class Recorded(type(side)):
+        def attempt(self, problem, setting):
+            threads[self.side_by_side].append(threading.current_thread().name)
+            return real(self, problem, setting)
 
-        class OneAfterTheOther(Recorded):
-            side_by_side = False
+    class OneAfterTheOther(Recorded):
+        side_by_side = False
 
-        a, b = Recorded().run(problem), OneAfterTheOther().run(problem)
-        assert len(threads[False]) >= 3 and set(threads[False]) == {threading.current_thread().name}
-        assert len(threads[True]) == len(threads[False])  # the same runs, the first of each pair on the pair's thread
-        assert 1 <= sum(n.startswith("eulersym-pair") for n in threads[True]) <= len(threads[True]) // 2
-        for field in ("omega", "q", "gamma"):
-            x, y = getattr(a, field), getattr(b, field)
-            assert (x is None and y is None) or np.array_equal(x, y)
-        assert a.error.keys() == b.error.keys() and all(np.array_equal(a.error[k], b.error[k]) for k in a.error)
-        assert a.n_rhs_calls == b.n_rhs_calls and a.message == b.message
+    a, b = Recorded().run(problem), OneAfterTheOther().run(problem)
+    assert len(threads[False]) >= 4 and set(threads[False]) == {threading.current_thread().name}
+    assert len(threads[True]) == len(threads[False])
+    assert sum(n.startswith("eulersym-pair") for n in threads[True]) == 1
+    for field in ("omega", "q", "gamma"):
+        x, y = getattr(a, field), getattr(b, field)
+        assert (x is None and y is None) or np.array_equal(x, y)
+    assert a.error.keys() == b.error.keys() and all(np.array_equal(a.error[k], b.error[k]) for k in a.error)
+    assert a.n_rhs_calls == b.n_rhs_calls and a.message == b.message
+
+
+def test_a_run_of_a_pair_side_by_side_fails_as_it_would_alone():
+    """The first run's failure first (it runs on the pair's thread), else the second's; both runs end before."""
+    from types import SimpleNamespace as NS
+
+    from eulersym.numerics.methods._accuracy import _two
+
+    ended = []
+
+    class Failing:
+        side_by_side = True
+
+        def attempt(self, problem, setting):
+            ended.append(float(setting[0]))
+            if float(setting[0]) in problem.fails:
+                raise IntegrationFailed("dop853", f"setting {float(setting[0]):g}", "none")
+            return NS(n_rhs_calls=1)
+
+    for fails, words in (({1.0}, "setting 1"), ({2.0}, "setting 2"), ({1.0, 2.0}, "setting 1")):
+        ended.clear()
+        with pytest.raises(IntegrationFailed, match=words):
+            _two(Failing(), NS(batch=1, fails=fails), np.array([1.0]), np.array([2.0]), side_by_side=True)
+        assert sorted(ended) == [1.0, 2.0]
+    assert _two(Failing(), NS(batch=1, fails=set()), np.array([1.0]), np.array([2.0]), side_by_side=True)[2] == 2
 
 
 def test_the_compiled_loop_takes_any_layout_of_its_inputs():
@@ -328,11 +354,14 @@ def test_a_forked_child_runs_its_pairs_side_by_side_too():
 
     script = textwrap.dedent("""
         import multiprocessing as mp
-        from eulersym.scene import Scene, simulate
-        def job(i):
-            r = simulate(Scene(moments=(1, 2, 3), omega=(0.1, 1 + 0.01 * i, 0.2), t_end=50, points=11, accuracy=1e-9,
-                               method="DOP853"))
-            return float(r.omega[-1][0])
+        import numpy as np
+        from eulersym.bench.accuracy import _prepared
+        from eulersym.numerics.methods._accuracy import _two
+        from eulersym.scene import Scene
+        def job(i):  # a pair side by side, as the control runs one
+            scene = Scene(moments=(1, 2, 3), omega=(0.1, 1 + 0.01 * i, 0.2), t_end=50, points=11, method="DOP853")
+            method, problem, plan = _prepared(scene)
+            return _two(method, problem, np.array([1e-8]), np.array([1e-9]), side_by_side=True)[2]
         if __name__ == "__main__":
             job(0)
             with mp.get_context("fork").Pool(2) as pool:

@@ -36,9 +36,8 @@ reached in double precision; an adaptive run far above round-off goes on — bef
 may stray from proportionality), or after :data:`MAX_RUNS` runs; the result is the last run of each member with its estimate
 (:attr:`~eulersym.numerics.trajectory.Trajectory.error`), and the scene says when it exceeds the accuracy asked
 (:class:`eulersym.errors.AccuracyNotReached`). A one-member problem of a method whose runs release the GIL
-(:attr:`Integrator.side_by_side`: eulersym's compiled DOP853) runs the two runs of a pair — the pilot's, a new
-run and its partner — side by side on two threads: the control's wall time is then about the pilot's tighter run
-plus the last run.
+(:attr:`Integrator.side_by_side`: eulersym's compiled DOP853) runs a new run and its partner side by side on two
+threads when the run before took at least :data:`SIDE_BY_SIDE_SECONDS`: their wall time is then the new run's.
 
 **What it costs** (``eulersym bench accuracy``, the bench's 14 rows with a comparison; session 31): kernel
 evaluations 1.8–2.9 × those of a single run at the tolerance that happens to deliver the same error (median 2.2;
@@ -65,6 +64,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+import time
 from typing import ClassVar
 
 import numpy as np
@@ -74,7 +74,7 @@ from eulersym.numerics.trajectory import Trajectory
 
 __all__ = ["Integrator", "deliver", "richardson", "deviation", "estimate", "worst", "QUANTITIES", "SAFETY",
            "ROUNDOFF_RTOL", "MAX_RUNS", "PAIR_SPAN", "PILOT_LOOSE", "PILOT_LOOSEST", "AMPLIFICATION_RTOL",
-           "AMPLIFICATION_TIMES", "select", "splice"]
+           "AMPLIFICATION_TIMES", "SIDE_BY_SIDE_SECONDS", "select", "splice"]
 
 #: The integrated quantities an estimate covers (those a trajectory has).
 QUANTITIES = ("omega", "attitude", "gamma")
@@ -103,6 +103,13 @@ ROUNDOFF_SPAN = 30.0
 #: pair only steers the next run — never the last pair — whose tolerance near round-off the motion decides (the
 #: bench's 1e-12 rows: 1e-14 … 4e-16).
 PILOT_LOOSE = 1e-10
+#: A pair of one member runs side by side (:attr:`Integrator.side_by_side`) when the run before it took this long (s):
+#: its runs are longer still. Measured here (2 cores): the pilot pair of an asymmetric top at 1e-6 (runs of 0.13 and
+#: 0.16 ms) took 0.69–0.77 ms side by side against 0.67 one after the other (a thread's hand-off and two busy cores
+#: cost more than the shorter run), a gyrostat's partner and last run (0.4 and 0.55 ms) 1.46 against 1.64 ms, a
+#: Goryachev–Chaplygin top's at 1e-12 (~3 and 4 ms) 7.5 against 11.2 ms. The pilot's pair, with no run before it,
+#: runs one after the other.
+SIDE_BY_SIDE_SECONDS = 2e-4
 #: The pilot's looser run is at most this loose where the accuracy is finer (a looser DOP853 run may leave the finite
 #: numbers: rtol 1 did on a free body at accuracy 0.1; coarser accuracies keep their own, as before session 31).
 PILOT_LOOSEST = 1e-3
@@ -195,10 +202,15 @@ def deviation(a: Trajectory, b: Trajectory, *, vertical: bool = False, compiled:
 
 
 def _compiled_deviation(a: Trajectory, b: Trajectory, vertical: bool) -> dict:
-    from eulersym.numerics.methods._deviation import farthest
+    from eulersym.numerics.methods._deviation import entry
 
-    def rows(x, k):  # one layout for the compiled function: C-contiguous float64 (batch, m, k); none: no members
-        return np.empty((0, 0, k)) if x is None else np.ascontiguousarray(x, dtype=float)
+    farthest = entry()
+
+    def rows(x, k):  # the compiled function's one type: float64 (batch, m, k), writable, any strides; none: empty
+        if x is None:
+            return np.empty((0, 0, k))
+        x = np.asarray(x)
+        return x if x.dtype == np.float64 and x.ndim == 3 and x.flags.writeable else np.array(x, dtype=np.float64)
 
     has_q = a.q is not None and b.q is not None
     has_g = a.gamma is not None and b.gamma is not None
@@ -328,10 +340,10 @@ class Integrator(Method):
 def _refine(method, setting, error, accuracy):
     """The next setting of members whose ``error`` exceeds ``accuracy`` (proportionality, aiming below it)."""
     want = accuracy / (AIM * np.maximum(error, 1e-300))
-    if method.adaptive:
-        factor = np.clip(want, 1e-4, 0.5)
+    if method.adaptive:  # (np.clip's bits, without its overhead: one-member controls run in a fraction of a ms)
+        factor = np.minimum(np.maximum(want, 1e-4), 0.5)
         return np.maximum(setting * factor, method.min_rtol)
-    factor = np.clip(want ** (-1.0 / method.order), 1.5, 16.0)  # steps per interval grow by this
+    factor = np.minimum(np.maximum(want ** (-1.0 / method.order), 1.5), 16.0)  # steps per interval grow by this
     return np.ceil(setting * factor)
 
 
@@ -358,30 +370,36 @@ def _pilot(method, first):
         return first, first * 2.0, np.zeros(first.shape, bool)
     steer = first / 100.0 < ROUNDOFF_RTOL
     tight = np.maximum(first / 10.0, method.min_rtol)
-    loose = np.where(steer, np.maximum(10.0 * tight, np.minimum(100.0 * first, PILOT_LOOSE)),
-                     np.maximum(np.minimum(100.0 * tight, PILOT_LOOSEST), first))
+    loose = np.maximum(np.minimum(100.0 * tight, PILOT_LOOSEST), first)
+    if steer.any():
+        loose = np.where(steer, np.maximum(10.0 * tight, np.minimum(100.0 * first, PILOT_LOOSE)), loose)
     return loose, tight, steer
 
 
-def _two(method, problem: Problem, first, second) -> tuple:
+def _two(method, problem: Problem, first, second, *, side_by_side: bool = False) -> tuple:
     """Runs of every member of ``problem`` at ``first`` and at ``second`` (settings per member): ``(the run at first,
-    the run at second, the kernel calls of both)``. One member of a method whose runs release the GIL
-    (:attr:`Integrator.side_by_side`) runs its two runs side by side, the first on a worker thread — in the wall time
-    of the slower, with the bits of one run after the other (each run is the same call either way); otherwise, and for
-    many members (which fill the cores themselves), one after the other. A run that fails raises as it would alone,
-    the first run's failure first."""
-    if problem.batch == 1 and method.side_by_side:
+    the run at second, the kernel calls of both, the wall time of the second)``. With ``side_by_side``, one member of
+    a method whose runs release the GIL (:attr:`Integrator.side_by_side`) runs its two runs side by side, the first on
+    a worker thread — in the wall time of the slower, with the bits of one run after the other (each run is the same
+    call either way); otherwise, and for many members (which fill the cores themselves), one after the other. A run
+    that fails raises as it would alone, the first run's failure first."""
+    if side_by_side and problem.batch == 1 and method.side_by_side:
         pending = _worker().submit(method.attempt, problem, first)
+        start = time.perf_counter()
         try:
             b = method.attempt(problem, second)
         except BaseException:
             pending.exception()  # the first run's failure, if any, is the one raised
             a = pending.result()
             raise
+        seconds = time.perf_counter() - start
         a = pending.result()
     else:
-        a, b = method.attempt(problem, first), method.attempt(problem, second)
-    return a, b, int(a.n_rhs_calls) + int(b.n_rhs_calls)
+        a = method.attempt(problem, first)
+        start = time.perf_counter()
+        b = method.attempt(problem, second)
+        seconds = time.perf_counter() - start
+    return a, b, int(a.n_rhs_calls) + int(b.n_rhs_calls), seconds
 
 
 _POOL = (None, None)  # (the process it was made in, a one-thread executor): a fork's child makes its own
@@ -408,70 +426,87 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
     vertical = problem.regime == "model"
     compiled = method.compiled
     members = np.arange(problem.batch)
-    first = np.broadcast_to(np.asarray(method.first(problem), dtype=float), (problem.batch,)).copy()
+    first = np.empty(problem.batch)
+    first[:] = method.first(problem)
     s_loose, s_tight, steer = _pilot(method, first)
     # ``best``: each member's last run; its estimate in ``err``, the kernel calls of every run in ``calls``
-    loose, best, calls = _two(method, problem, s_loose, s_tight)
+    loose, best, calls, seconds = _two(method, problem, s_loose, s_tight)  # (the pilot's runs may take microseconds)
     err = estimate(deviation(loose, best, vertical=vertical, compiled=compiled), _ratio(method, s_loose, s_tight),
                    tight=_near(method, s_tight))
     setting = np.array(s_tight, dtype=float)
     runs = np.full(problem.batch, 2)
+    w = worst(err)
     # a steering pilot (near round-off) only chooses the next run: it never ends the control
-    active = (worst(err) > accuracy) | steer
+    active = (w > accuracy) | steer
     while active.any():
-        idx = members[active]
-        whole = len(idx) == problem.batch  # every member (one alone): no copies of the trajectory or the problem
-        previous = worst(err)[idx]
+        whole = bool(active.all())  # every member (one alone): no copies of the trajectory, the problem, the arrays
+        idx = members if whole else members[active]
+        previous = w if whole else w[idx]
         current = best if whole else select(best, idx)
         sub = problem if whole else problem.select(idx)
-        s_old = setting[idx]
+        s_old = setting if whole else setting[idx]
         s_new = _refine(method, s_old, previous, accuracy)
         partner, s_partner, fresh = current, s_old, None
+        near = _near(method, s_new)  # (a fixed step: never; a tighter tolerance stays near)
         if method.adaptive:
-            near = _near(method, s_new)
-            # near round-off a pair is at least 10 apart: closer, its difference is mostly the two runs' own
-            # round-off, which σ |Δ| / (ρ − 1) would take for truncation and inflate (a satellite at ρ = 2: 3 |Δ|)
-            s_new = np.where(near, np.maximum(np.minimum(s_new, s_old / 10.0), method.min_rtol), s_new)
-            far = s_old / s_new > np.where(near, ROUNDOFF_SPAN, PAIR_SPAN)
+            span = PAIR_SPAN
+            if near.any():
+                # near round-off a pair is at least 10 apart: closer, its difference is mostly the two runs' own
+                # round-off, which σ |Δ| / (ρ − 1) would take for truncation and inflate (a satellite at ρ = 2: 3 |Δ|)
+                s_new = np.where(near, np.maximum(np.minimum(s_new, s_old / 10.0), method.min_rtol), s_new)
+                span = np.where(near, ROUNDOFF_SPAN, PAIR_SPAN)
+            far = s_old / s_new > span
             if far.any():  # the previous run is too far to pair with: one more run, as far from the new as may be
                 s_partner = np.where(far, 10.0 * s_new, s_old)
                 where = np.flatnonzero(far)
                 if len(where) == len(idx):  # every member: the partner and the new run as a pair
-                    partner, fresh, both = _two(method, sub, s_partner, s_new)
+                    partner, fresh, both, seconds = _two(method, sub, s_partner, s_new,
+                                                         side_by_side=seconds >= SIDE_BY_SIDE_SECONDS)
                     calls += both
                 else:
                     extra_run = method.attempt(sub.select(where), s_partner[where])
                     partner = splice(current, where, extra_run)
                     calls += int(extra_run.n_rhs_calls)
         if fresh is None:
+            start = time.perf_counter()
             fresh = method.attempt(sub, s_new)
+            seconds = time.perf_counter() - start
             calls += int(fresh.n_rhs_calls)
         runs[idx] += 1
+        r_new = runs if whole else runs[idx]
         e_new = estimate(deviation(partner, fresh, vertical=vertical, compiled=compiled), _ratio(method, s_partner, s_new),
-                         tight=_near(method, s_new))
+                         tight=near)
+        w_new = worst(e_new)
         if whole:
-            best, err = fresh, e_new
+            best, err, w = fresh, e_new, w_new
         else:
             best = splice(best, idx, fresh)
             err = {k: np.array(v, dtype=float, copy=True) for k, v in err.items()}
             for k, v in err.items():
                 v[idx] = e_new[k]
-        setting[idx] = s_new
-        w_new = worst(e_new)
+            w = w.copy()
+            w[idx] = w_new
+        if whole:
+            setting = s_new
+        else:
+            setting[idx] = s_new
         # stalled: the estimate no longer falls where round-off can explain it (a fixed step; an adaptive method near
         # round-off — above it an adaptive run's error strays from proportionality before its asymptotic regime: a
         # fast sensitive top's error at rtol 1e-7 was that at 1e-8, so the control goes on), or the runs are spent
         flat = w_new > 0.7 * previous
-        stalled = runs[idx] >= MAX_RUNS
+        stalled = r_new >= MAX_RUNS
         if method.adaptive:
-            stalled |= (s_new <= method.min_rtol * (1 + 1e-9)) | (flat & (s_new < ROUNDOFF_RTOL))
+            stalled |= (s_new <= method.min_rtol * (1 + 1e-9)) | (flat & near)
         else:
             stalled |= flat
         still = w_new > accuracy
-        active[:] = False
-        active[idx[still & ~stalled]] = True
+        if whole:
+            active = still & ~stalled
+        else:
+            active[:] = False
+            active[idx[still & ~stalled]] = True
     floor = ""
-    missed = worst(err) > accuracy
+    missed = w > accuracy
     if missed.any():  # why the control stopped short, for the refusal's words
         spent = missed & (runs >= MAX_RUNS)
         floor = (f"; not reached: {int(np.sum(missed & ~spent))} member(s) whose estimate stopped falling (round-off, "
