@@ -17,9 +17,9 @@ Three parts, each beside its floors (issue 21), measured in the same run:
    error is within it ("the tolerance that happens to deliver the same error", which a user could find only by trial,
    against a reference) is timed beside the controlled run (alternating, the best of ``--repeats`` runs each, and of
    up to 40 when a run takes milliseconds), in wall time (the floor: ≤ 3×) and in CPU time (every thread's: a
-   one-member scene runs the two runs of a pair side by side on two cores), and their kernel evaluations are compared
-   (the work, free of the load, of the cores and of Python's overhead per run: ~0.1 ms for the control's
-   bookkeeping).
+   one-member scene runs a new run and its partner side by side on two threads), and their kernel evaluations are
+   compared (the work, free of the load, of the cores and of Python's overhead per run: ~0.1 ms for the control's
+   bookkeeping). CPU times are approximate: the two threads slow each other on this machine (+10–40 % CPU).
 3. **A sweep.** The asymmetric heavy top of ``eulersym bench sweeps`` (T = 2, 11 output times), ``--members``
    members (default 10⁴, sized for two shared cores; the issue's 10⁵ with ``--members 100000``) at accuracy 1e-6 by
    the plan's default and by ``method = "DOP853"``, every member against the same sweep at accuracy 1e-12. Floors:
@@ -167,7 +167,7 @@ def promise(case, accuracies, *, repeats=3, log=print) -> list:
             seconds = single = cpu = single_cpu = math.inf  # until 0.3 s of each is spent (at most 40 times)
             spent, k = 0.0, 0
             while k < max(1, repeats) or (spent < 0.3 and k < 40):
-                c0 = time.process_time()  # the process's CPU, every thread's: a pair run side by side counts twice
+                c0 = time.process_time()  # the process's CPU, every thread's: a pair side by side counts both runs
                 a = _best_time(lambda: method.run(problem), 1)[0]
                 c1 = time.process_time()
                 b = _best_time(lambda: method.attempt(problem, np.array([single_rtol])), 1)[0]
@@ -354,8 +354,9 @@ def main(argv=None) -> int:
                      f"≤ {FLOORS['cost']:g}×", ok_cost))
     cpus = [r["cpu"] / r["single_cpu"] for r in rows if r["single_cpu"] == r["single_cpu"] and r["single_cpu"] > 0]
     if cpus:
-        print(f"  the same in CPU time (a one-member scene runs the two runs of a pair side by side on two cores: "
-              f"their CPU counts twice): {min(cpus):.2f} … {max(cpus):.2f}× (median {np.median(cpus):.2f})")
+        print(f"  the same in CPU time (a one-member scene runs a new run and its partner side by side on two threads "
+              f"where runs take ≥ 0.2 ms: both count): {min(cpus):.2f} … {max(cpus):.2f}× (median "
+              f"{np.median(cpus):.2f})")
     work = [r["work"] for r in rows if r["work"] == r["work"]]
     if work:
         print(f"  the same in kernel evaluations (the work, free of the load and of Python's per-run overhead): "

@@ -24,10 +24,10 @@ apart gave 8.6× its error and a refusal) and the estimate is at least ``|Δ| / 
 round-off when both are made of it. A member refused near round-off has its estimate raised to :data:`FLOOR` ε A.
 
 **How it is controlled** (:func:`deliver`). A pilot pair at ``(10 accuracy, accuracy / 10)`` — :data:`PAIR_SPAN`
-apart, the widest pair whose estimate stays within bounds, so that its looser run is cheap — (a fixed-step method:
-a step from its rule and half of it; for accuracies below 1e-11 the looser at :data:`PILOT_LOOSE`, a pair that only
-steers); if its
-estimate exceeds the accuracy, the next run's tolerance follows from proportionality (``rtol · accuracy / (2 ·
+apart, the widest pair whose estimate stays within bounds, so that its looser run is cheap; the looser at most
+:data:`PILOT_LOOSEST` — (a fixed-step method: a step from its rule and half of it; for accuracies below 1e-11 the
+looser at :data:`PILOT_LOOSE`, a pair that only steers); if its estimate exceeds the accuracy, the next run's
+tolerance follows from proportionality (``rtol · accuracy / (2 ·
 estimate)``, near round-off at least 10 below; a step by ``(…)^(1/p)``) and pairs with the run before it, or with
 one more run 10× looser when the run before is more than :data:`PAIR_SPAN` away — per member: in a sweep only the
 members still beyond the accuracy run again. It stops when every member meets the accuracy, or a
@@ -39,10 +39,13 @@ may stray from proportionality), or after :data:`MAX_RUNS` runs; the result is t
 (:attr:`Integrator.side_by_side`: eulersym's compiled DOP853) runs a new run and its partner side by side on two
 threads when the run before took at least :data:`SIDE_BY_SIDE_SECONDS`: their wall time is then the new run's.
 
-**What it costs** (``eulersym bench accuracy``, the bench's 14 rows with a comparison; session 31): kernel
-evaluations 1.8–2.9 × those of a single run at the tolerance that happens to deliver the same error (median 2.2;
-the pilot at ``(accuracy, accuracy / 10)`` until session 31: 2.05–2.9, median 2.4), wall time on two cores
-1.4–2.0 ×. Every variant of the pilot that could end the control at a tighter pair was measured less honest on the
+**What it costs** (``eulersym bench accuracy --members 0 --repeats 5``, session 31, 2 cores, load 0.2–0.4; the 14
+rows with a comparison): wall time 1.56–2.67 × that of a single DOP853 run at the tolerance that happens to deliver the
+same error (median 2.15–2.39; 2.26–3.79, median 2.70–2.75, before session 31 in the same hour), CPU time 1.96–3.56 ×
+(the two threads of a pair slow each other here), kernel evaluations 1.80–2.91 × (median 2.22; 2.05–2.91, median 2.42
+before). What changed: the pilot's looser run 100× looser than its tighter (was 10×); a new run and its partner side
+by side; the compiled loop called without numba's dispatch, the bookkeeping leaner (~0.1 ms a control beside its
+runs). Every variant of the pilot that could end the control at a tighter pair was measured less honest on the
 10⁴-member sweep of that bench (13–14 members beyond 1e-6: their error at rtol 1e-7 equals that at 1e-8, and a pair
 there sees no difference); this one keeps all 10⁴ within 1e-6 with 3 % fewer kernel evaluations than before.
 
@@ -201,6 +204,9 @@ def deviation(a: Trajectory, b: Trajectory, *, vertical: bool = False, compiled:
     return out
 
 
+_NONE = {3: np.empty((0, 0, 3)), 4: np.empty((0, 0, 4))}  # no such quantity (never written: no members)
+
+
 def _compiled_deviation(a: Trajectory, b: Trajectory, vertical: bool) -> dict:
     from eulersym.numerics.methods._deviation import entry
 
@@ -208,7 +214,7 @@ def _compiled_deviation(a: Trajectory, b: Trajectory, vertical: bool) -> dict:
 
     def rows(x, k):  # the compiled function's one type: float64 (batch, m, k), writable, any strides; none: empty
         if x is None:
-            return np.empty((0, 0, k))
+            return _NONE[k]
         x = np.asarray(x)
         return x if x.dtype == np.float64 and x.ndim == 3 and x.flags.writeable else np.array(x, dtype=np.float64)
 
@@ -230,7 +236,7 @@ def estimate(dev: dict, rho, *, tight) -> dict:
     (per member or one) and whether the tighter run is near round-off (``tight``, per member or one)."""
     factor = SAFETY / np.maximum(np.asarray(rho, dtype=float) - 1.0, 1e-300)
     tight = np.asarray(tight, dtype=bool)
-    if not tight.any():
+    if not _any(tight):
         return {name: d * factor for name, d in dev.items()}
     return {name: np.where(tight, np.maximum(d * factor, d / math.sqrt(2.0)), d * factor) for name, d in dev.items()}
 
@@ -371,7 +377,7 @@ def _pilot(method, first):
     steer = first / 100.0 < ROUNDOFF_RTOL
     tight = np.maximum(first / 10.0, method.min_rtol)
     loose = np.maximum(np.minimum(100.0 * tight, PILOT_LOOSEST), first)
-    if steer.any():
+    if _any(steer):
         loose = np.where(steer, np.maximum(10.0 * tight, np.minimum(100.0 * first, PILOT_LOOSE)), loose)
     return loose, tight, steer
 
@@ -434,11 +440,12 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
     err = estimate(deviation(loose, best, vertical=vertical, compiled=compiled), _ratio(method, s_loose, s_tight),
                    tight=_near(method, s_tight))
     setting = np.array(s_tight, dtype=float)
-    runs = np.full(problem.batch, 2)
+    runs = np.empty(problem.batch, dtype=np.int64)
+    runs[:] = 2
     w = worst(err)
     # a steering pilot (near round-off) only chooses the next run: it never ends the control
     active = (w > accuracy) | steer
-    while active.any():
+    while _any(active):
         whole = bool(active.all())  # every member (one alone): no copies of the trajectory, the problem, the arrays
         idx = members if whole else members[active]
         previous = w if whole else w[idx]
@@ -450,13 +457,13 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
         near = _near(method, s_new)  # (a fixed step: never; a tighter tolerance stays near)
         if method.adaptive:
             span = PAIR_SPAN
-            if near.any():
+            if _any(near):
                 # near round-off a pair is at least 10 apart: closer, its difference is mostly the two runs' own
                 # round-off, which σ |Δ| / (ρ − 1) would take for truncation and inflate (a satellite at ρ = 2: 3 |Δ|)
                 s_new = np.where(near, np.maximum(np.minimum(s_new, s_old / 10.0), method.min_rtol), s_new)
                 span = np.where(near, ROUNDOFF_SPAN, PAIR_SPAN)
             far = s_old / s_new > span
-            if far.any():  # the previous run is too far to pair with: one more run, as far from the new as may be
+            if _any(far):  # the previous run is too far to pair with: one more run, as far from the new as may be
                 s_partner = np.where(far, 10.0 * s_new, s_old)
                 where = np.flatnonzero(far)
                 if len(where) == len(idx):  # every member: the partner and the new run as a pair
@@ -505,16 +512,24 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
         else:
             active[:] = False
             active[idx[still & ~stalled]] = True
+    return finish(method, problem, best, err, w, setting, runs, calls)
+
+
+def finish(method, problem: Problem, best: Trajectory, err: dict, w, setting, runs, calls: int) -> Trajectory:
+    """The control's result: each member's last run ``best`` with its estimate ``err`` (worst quantity ``w``), its
+    last setting and its number of runs, every run's kernel calls; members refused near round-off charged the
+    round-off floor (:data:`FLOOR` ε A), the message saying the setting and why the control stopped short."""
+    accuracy = float(problem.accuracy)
     floor = ""
     missed = w > accuracy
-    if missed.any():  # why the control stopped short, for the refusal's words
+    if _any(missed):  # why the control stopped short, for the refusal's words
         spent = missed & (runs >= MAX_RUNS)
         floor = (f"; not reached: {int(np.sum(missed & ~spent))} member(s) whose estimate stopped falling (round-off, "
                  f"or the method's order), {int(np.sum(spent))} after {MAX_RUNS} runs")
     beyond = _near(method, setting) & missed
-    if beyond.any():  # refused near round-off: the error cannot fall below FLOOR ε A, however tight the tolerance
-        idx = members[beyond]  # (a member that meets the accuracy is not charged: its pair, 10 apart near round-off,
-        amplification = method.amplification(problem.select(idx))  # sees the runs' own round-off)
+    if _any(beyond):  # refused near round-off: the error cannot fall below FLOOR ε A, however tight the tolerance
+        idx = np.flatnonzero(beyond)  # (a member that meets the accuracy is not charged: its pair, 10 apart near
+        amplification = method.amplification(problem.select(idx))  # round-off, sees the runs' own round-off)
         bound = FLOOR * np.finfo(float).eps * amplification
         err = {k: np.array(v, dtype=float, copy=True) for k, v in err.items()}
         for v in err.values():
@@ -565,6 +580,11 @@ def richardson(run, first: int, accuracy: float, order: int) -> Trajectory:
                                message=(best.message + "; " if best.message else "")
                                + f"{int(n_tight)} steps per output interval for accuracy {accuracy:g} (Richardson's "
                                "estimate from a run at twice the step)")
+
+
+def _any(flags) -> bool:
+    """Any of the flags (one member's without a NumPy reduction: a control of one member makes a dozen tests)."""
+    return bool(flags[0]) if flags.shape == (1,) else bool(flags.any())
 
 
 def _near(method, setting) -> np.ndarray:
