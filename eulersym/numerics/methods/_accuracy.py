@@ -512,10 +512,10 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
         else:
             active[:] = False
             active[idx[still & ~stalled]] = True
-    return finish(method, problem, best, err, w, setting, runs, calls)
+    return _finish(method, problem, best, err, w, setting, runs, calls)
 
 
-def finish(method, problem: Problem, best: Trajectory, err: dict, w, setting, runs, calls: int) -> Trajectory:
+def _finish(method, problem: Problem, best: Trajectory, err: dict, w, setting, runs, calls: int) -> Trajectory:
     """The control's result: each member's last run ``best`` with its estimate ``err`` (worst quantity ``w``), its
     last setting and its number of runs, every run's kernel calls; members refused near round-off charged the
     round-off floor (:data:`FLOOR` ε A), the message saying the setting and why the control stopped short."""
