@@ -149,7 +149,7 @@ class OwnDOP853(Integrator):
         rtol = np.asarray(setting, dtype=float)
         run = _dop853.integrate(s.module, y0, problem.t, params, rtol=rtol, atol=rtol * ATOL_RATIO,
                                 max_steps=MAX_STEPS)
-        if run.status[0] if problem.batch == 1 else run.status.any():
+        if run.status.any():
             _failed(self.name, problem, run, _state_names(problem, s.layout))
         return s.members_trajectory(problem.t, run.y, int(run.calls.sum()), self.name,
                                     "DOP853 (eulersym's, compiled)")

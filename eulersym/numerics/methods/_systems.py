@@ -64,11 +64,10 @@ class System:
             out[:, k] = p
         return out
 
-    def trajectory(self, t: np.ndarray, Y: np.ndarray, n_calls: int, method: str = "",
-                   message: str = "") -> Trajectory:
+    def trajectory(self, t: np.ndarray, Y: np.ndarray, n_calls: int, method: str = "") -> Trajectory:
         """A batch-first :class:`Trajectory` at times ``t`` from the integrated states ``Y`` (n_times, n_state,
         batch)."""
-        return self.members_trajectory(t, np.moveaxis(Y, (0, 1, 2), (1, 2, 0)), n_calls, method, message)
+        return self.members_trajectory(t, np.moveaxis(Y, (0, 1, 2), (1, 2, 0)), n_calls, method)
 
     def members_trajectory(self, t: np.ndarray, Y: np.ndarray, n_calls: int, method: str = "",
                            message: str = "") -> Trajectory:
