@@ -365,3 +365,16 @@ def test_a_model_file_with_contact_finds_its_steady_motions_through_Model():
     assert [f.name for f in families] == [f.name for f in direct]
     line = families.named("rolling in a straight line")
     assert line.stability().classify({"s": 20.0}) == "spectrally stable"
+
+
+def test_the_steady_motions_do_not_depend_on_sympys_random_state():
+    """Multivariate factorization draws its evaluation points from SymPy's random generator, which every process
+    seeds anew: with it seeded at 2 or 5 (2 of 12 seeds tried), Chaplygin's ball was not decided within 25 s (within
+    300 s in CI), 5 s otherwise. The solver runs on its own seed and gives the caller's state back."""
+    import sympy.core.random as sympy_random
+
+    sympy_random.seed(2)
+    before = sympy_random.rng.getstate()
+    families = steady_motions(examples()["chaplygin-ball"], budget=25.0)
+    assert sympy_random.rng.getstate() == before
+    assert [f.name for f in families] == [f.name for f in _families("chaplygin-ball")]
