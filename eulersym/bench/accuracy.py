@@ -18,7 +18,7 @@ Three parts, each beside its floors (issue 21), measured in the same run:
    against a reference) is timed beside the controlled run (alternating, the best of ``--repeats`` runs each, and of
    up to 40 when a run takes milliseconds), in wall time (the floor: ≤ 3×) and in CPU time (every thread's: a
    one-member scene runs a new run and its partner side by side on two threads), and their kernel evaluations are
-   compared (the work, free of the load, of the cores and of Python's overhead per run: ~0.1 ms for the control's
+   compared (the work, free of the load, of the cores and of Python's overhead per run: ~0.15 ms for the control's
    bookkeeping). CPU times are approximate: the two threads slow each other on this machine (+10–40 % CPU).
 3. **A sweep.** The asymmetric heavy top of ``eulersym bench sweeps`` (T = 2, 11 output times), ``--members``
    members (default 10⁴, sized for two shared cores; the issue's 10⁵ with ``--members 100000``) at accuracy 1e-6 by

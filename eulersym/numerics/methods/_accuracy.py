@@ -23,31 +23,31 @@ mostly their own round-off, which ``σ |Δ| / (ρ − 1)`` would take for trunca
 apart gave 8.6× its error and a refusal) and the estimate is at least ``|Δ| / √2`` — the size of either run's
 round-off when both are made of it. A member refused near round-off has its estimate raised to :data:`FLOOR` ε A.
 
-**How it is controlled** (:func:`deliver`). A pilot pair at ``(10 accuracy, accuracy / 10)`` — :data:`PAIR_SPAN`
-apart, the widest pair whose estimate stays within bounds, so that its looser run is cheap; the looser at most
-:data:`PILOT_LOOSEST` — (a fixed-step method: a step from its rule and half of it; for accuracies below 1e-11 the
-looser at :data:`PILOT_LOOSE`, a pair that only steers); if its estimate exceeds the accuracy, the next run's
-tolerance follows from proportionality (``rtol · accuracy / (2 ·
-estimate)``, near round-off at least 10 below; a step by ``(…)^(1/p)``) and pairs with the run before it, or with
-one more run 10× looser when the run before is more than :data:`PAIR_SPAN` away — per member: in a sweep only the
-members still beyond the accuracy run again. It stops when every member meets the accuracy, or a
-member's estimate no longer falls near round-off (its error is round-off amplified by the motion: it cannot be
-reached in double precision; an adaptive run far above round-off goes on — before its asymptotic regime its error
-may stray from proportionality), or after :data:`MAX_RUNS` runs; the result is the last run of each member with its estimate
+**How it is controlled** (:func:`deliver`). A pilot pair at ``(accuracy, accuracy / 10)`` (a fixed-step method: a
+step from its rule and half of it; for accuracies below 1e-11 the looser at :data:`PILOT_LOOSE`, a pair that only
+steers); if its estimate exceeds the accuracy, the next run's tolerance follows from proportionality (``rtol ·
+accuracy / (2 · estimate)``, near round-off at least 10 below; a step by ``(…)^(1/p)``) and pairs with the run before
+it, or with one more run 10× looser when the run before is more than :data:`PAIR_SPAN` away — per member: in a sweep
+only the members still beyond the accuracy run again. It stops when every member meets the accuracy, or a member's
+estimate no longer falls near round-off (its error is round-off amplified by the motion: it cannot be reached in
+double precision; an adaptive run far above round-off goes on — before its asymptotic regime its error may stray
+from proportionality), or after :data:`MAX_RUNS` runs; the result is the last run of each member with its estimate
 (:attr:`~eulersym.numerics.trajectory.Trajectory.error`), and the scene says when it exceeds the accuracy asked
 (:class:`eulersym.errors.AccuracyNotReached`). A one-member problem of a method whose runs release the GIL
 (:attr:`Integrator.side_by_side`: eulersym's compiled DOP853) runs a new run and its partner side by side on two
 threads when the run before took at least :data:`SIDE_BY_SIDE_SECONDS`: their wall time is then the new run's.
 
-**What it costs** (``eulersym bench accuracy --members 0 --repeats 5``, session 31, 2 cores, load 0.2–0.4; the 14
-rows with a comparison): wall time 1.56–2.67 × that of a single DOP853 run at the tolerance that happens to deliver the
-same error (median 2.15–2.39; 2.26–3.79, median 2.70–2.75, before session 31 in the same hour), CPU time 1.96–3.56 ×
-(the two threads of a pair slow each other here), kernel evaluations 1.80–2.91 × (median 2.22; 2.05–2.91, median 2.42
-before). What changed: the pilot's looser run 100× looser than its tighter (was 10×); a new run and its partner side
-by side; the compiled loop called without numba's dispatch, the bookkeeping leaner (~0.1 ms a control beside its
-runs). Every variant of the pilot that could end the control at a tighter pair was measured less honest on the
-10⁴-member sweep of that bench (13–14 members beyond 1e-6: their error at rtol 1e-7 equals that at 1e-8, and a pair
-there sees no difference); this one keeps all 10⁴ within 1e-6 with 3 % fewer kernel evaluations than before.
+**What it costs** (``eulersym bench accuracy --members 0 --repeats 5``; the 14 rows with a comparison): kernel
+evaluations 2.05–2.91 × (median 2.42) those of a single DOP853 run at the tolerance that happens to deliver the same
+error (a tolerance found only by trial against a reference). A new run and its partner run side by side, and the
+compiled loop is called without numba's dispatch (~0.15 ms of bookkeeping a control beside its runs).
+
+**Why the pilot is not wider.** A pilot at ``(10 accuracy, accuracy / 10)`` (session 31) took 8 % fewer kernel
+evaluations (median 2.22), but two decades apart a pair's error ratio spreads too far for one σ: on 2000 random starts
+of a free body (1, 2, 3) over 20 s (:mod:`~eulersym.bench.workprecision`'s mpmath reference), the estimate fell below
+half the true error on 39 at accuracy 1e-7 (lowest 0.19×) and 1 at 1e-9; this pilot, on 2 and 0 (lowest 0.39×).
+Pilots one decade tighter than the accuracy were less honest on the 10⁴-member sweep of that bench (13–14 members
+beyond 1e-6: their error at rtol 1e-7 equals that at 1e-8, and a pair there sees no difference).
 
 Examples
 --------
@@ -76,7 +76,7 @@ from eulersym.numerics.methods._base import Method, Problem
 from eulersym.numerics.trajectory import Trajectory
 
 __all__ = ["Integrator", "deliver", "richardson", "deviation", "estimate", "worst", "QUANTITIES", "SAFETY",
-           "ROUNDOFF_RTOL", "MAX_RUNS", "PAIR_SPAN", "PILOT_LOOSE", "PILOT_LOOSEST", "AMPLIFICATION_RTOL",
+           "ROUNDOFF_RTOL", "MAX_RUNS", "PAIR_SPAN", "PILOT_LOOSE", "AMPLIFICATION_RTOL",
            "AMPLIFICATION_TIMES", "SIDE_BY_SIDE_SECONDS", "select", "splice"]
 
 #: The integrated quantities an estimate covers (those a trajectory has).
@@ -113,9 +113,6 @@ PILOT_LOOSE = 1e-10
 #: Goryachev–Chaplygin top's at 1e-12 (~3 and 4 ms) 7.5 against 11.2 ms. The pilot's pair, with no run before it,
 #: runs one after the other.
 SIDE_BY_SIDE_SECONDS = 2e-4
-#: The pilot's looser run is at most this loose where the accuracy is finer (a looser DOP853 run may leave the finite
-#: numbers: rtol 1 did on a free body at accuracy 0.1; coarser accuracies keep their own, as before session 31).
-PILOT_LOOSEST = 1e-3
 #: Near round-off the error cannot fall below about ``FLOOR · ε · A``, A the largest growth of a change of the start
 #: over the span (the variational equations): the start's own rounding (into the principal frame, the quaternion's
 #: norm) and the steps' grow with the motion. Measured on the bench's motions at rtol 1e-15 … 1e-16: 0.2–9.6 ε A.
@@ -360,25 +357,24 @@ def _ratio(method, loose, tight):
 
 def _pilot(method, first):
     """The pilot pair's settings (loose, tight) per member from the method's first setting, and which pairs only
-    steer: an adaptive method's ``(10 accuracy, accuracy / 10)`` — the looser never above :data:`PILOT_LOOSEST`
-    nor below the accuracy, so ``(accuracy, accuracy / 10)`` from accuracy 1e-3 up — except that where the accuracy
-    is below ``100 ROUNDOFF_RTOL`` the looser is at :data:`PILOT_LOOSE` (the pair only steers); a fixed-step method's
-    step and half of it.
+    steer: an adaptive method's ``(accuracy, accuracy / 10)``, except that where the accuracy is below
+    ``100 ROUNDOFF_RTOL`` the looser is at :data:`PILOT_LOOSE` (the pair only steers); a fixed-step method's step and
+    half of it.
 
     Examples
     --------
     >>> from types import SimpleNamespace as NS
-    >>> pairs = _pilot(NS(adaptive=True, min_rtol=1e-16), np.array([1e-6, 1e-2, 1e-12]))
+    >>> pairs = _pilot(NS(adaptive=True, min_rtol=1e-16), np.array([1e-6, 1e-1, 1e-12]))
     >>> [f"{x:.0e}" for x in pairs[0]], [f"{x:.0e}" for x in pairs[1]], pairs[2].tolist()
-    (['1e-05', '1e-02', '1e-10'], ['1e-07', '1e-03', '1e-13'], [False, False, True])
+    (['1e-06', '1e-01', '1e-10'], ['1e-07', '1e-02', '1e-13'], [False, False, True])
     """
     if not method.adaptive:
         return first, first * 2.0, np.zeros(first.shape, bool)
     steer = first / 100.0 < ROUNDOFF_RTOL
     tight = np.maximum(first / 10.0, method.min_rtol)
-    loose = np.maximum(np.minimum(100.0 * tight, PILOT_LOOSEST), first)
+    loose = 10.0 * tight
     if _any(steer):
-        loose = np.where(steer, np.maximum(10.0 * tight, np.minimum(100.0 * first, PILOT_LOOSE)), loose)
+        loose = np.where(steer, np.maximum(loose, np.minimum(100.0 * first, PILOT_LOOSE)), loose)
     return loose, tight, steer
 
 

@@ -16,8 +16,8 @@ __all__ = ["OwnDOP853", "BatchedDOP853", "CompiledDOP853", "SolveIVP", "DOP853_C
            "numba_available", "ATOL_RATIO", "MAX_STEPS", "CONTROL"]
 
 #: The work of the accuracy control, in single runs at the delivered tolerance: the pilot pair (its looser run,
-#: 100× looser, costs 0.3–0.6 of the tighter) and one or two runs more (measured 1.8–2.9 on the bench's motions,
-#: median 2.2: ``eulersym bench accuracy``).
+#: 10× looser, costs ≈ 0.75 of the tighter) and, when the pilot misses, one or two runs more (measured 2.05–2.9 on
+#: the bench's motions, median 2.4: ``eulersym bench accuracy``).
 CONTROL = 2.3
 #: Dormand–Prince 8(5,3) with a step shared by groups of 4096 members (and ``solve_ivp``'s DOP853 for one member).
 DOP853_COST = Cost("dop853", order=8, stages=12, constant=0.12 * CONTROL, working=22, grain=4096,
