@@ -135,6 +135,47 @@ def test_a_member_stops_with_its_cause_never_nan_never_endless():
     assert int(many.status[0]) == _dop853.TOO_MANY_STEPS and many.steps[0] == 6
 
 
+def test_a_capped_step_is_never_exceeded_and_an_infinite_cap_changes_no_bit():
+    """``max_step``: a member's steps never longer than its cap (so at least span / cap of them), members capped each
+    their own; ``inf`` is the uncapped run bit for bit; a cap that is not positive is refused, naming it."""
+    from eulersym.generated import euler_principal as kernel
+    from eulersym.numerics.methods import _dop853
+
+    t = np.linspace(0.0, 10.0, 4)
+    y0, p = [[1.0, 0.5, 0.2]] * 2, [[1.0, 2.0, 3.0, 0.0, 0.0, 0.0]] * 2
+    free = _dop853.integrate(kernel, y0, t, p, rtol=1e-8, atol=1e-11)
+    same = _dop853.integrate(kernel, y0, t, p, rtol=1e-8, atol=1e-11, max_step=np.inf)
+    assert np.array_equal(free.y, same.y) and np.array_equal(free.calls, same.calls)
+    capped = _dop853.integrate(kernel, y0, t, p, rtol=1e-8, atol=1e-11, max_step=[np.inf, 0.01])
+    assert np.array_equal(capped.y[0], free.y[0]) and capped.steps[0] == free.steps[0]
+    assert capped.steps[1] >= 10.0 / 0.01 > 10 * free.steps[1]
+    assert np.max(np.abs(capped.y[1] - free.y[1])) < 1e-6
+    for bad in (0.0, -1.0, np.nan):
+        with pytest.raises(ValueError, match="max_step"):
+            _dop853.integrate(kernel, y0, t, p, rtol=1e-8, atol=1e-11, max_step=bad)
+
+
+def test_kovalevskaya_s_top_gets_1e_12_by_capped_steps():
+    """The bench's Kovalevskaya top over T = 1000 (a change of its start grows 2.5e3×): every tolerance down to
+    rtol 1e-16 leaves ~2e-12 (the round-off of its 50 000 steps; refused until session 32). Steps capped 4× and
+    16× shorter than that run's (a step's round-off ∝ its length: over N steps ∝ 1/√N) deliver it: against the stored
+    38-digit reference, ≤ 1e-12 with an estimate within [½, 10] × the truth, without a warning; on a chaotic top
+    (ε A ≫ the accuracy) no step is capped and the refusal stands (test_an_accuracy_double_precision_cannot_...)."""
+    from eulersym.bench._accuracy_references import STATES, STRIDE
+    from eulersym.bench._cases import case
+    from eulersym.bench.accuracy import true_error
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AccuracyNotReached)
+        result = simulate(case("kovalevskaya").scene(1e-12))
+    k = slice(None, None, STRIDE)
+    true = true_error(result.omega[k], result.attitude[k], result.gamma[k], np.array(STATES["kovalevskaya"]))
+    est = {name: float(v) for name, v in result.error.items()}
+    assert max(true.values()) <= 1e-12, (true, est)
+    assert all(est[name] >= v / 2 for name, v in true.items()) and max(est.values()) <= 10 * max(true.values())
+    assert result.n_rhs_calls > 4 * 618_000  # the capped runs: a run at rtol 1e-16 alone makes 0.62 M calls
+
+
 # ---- the promise, against the 30-digit references ------------------------------------------------------------------
 def test_the_references_are_what_their_code_computes_and_agree_with_the_bench_s():
     """The stored data: recomputed live over the first output interval, and against the bench's fixed-point Taylor

@@ -120,7 +120,8 @@ def _traj_error(problem, plan, traj, reference, stride):
 
 def ladder(method, problem, plan, reference, stride, log=print) -> list:
     """Single runs of ``method`` at each tolerance of :data:`RUNGS` (loosest first), until the error no longer falls
-    near round-off: ``[(rtol, worst true error, kernel evaluations), ...]``."""
+    near round-off: ``[(rtol, worst true error, kernel evaluations, longest step), ...]`` (the step uncapped:
+    ``inf``)."""
     rows = []
     for rtol in RUNGS:
         try:
@@ -128,9 +129,32 @@ def ladder(method, problem, plan, reference, stride, log=print) -> list:
         except Exception as exc:  # noqa: BLE001 - a failed rung is recorded, the ladder goes on
             log(f"    rtol {rtol:.3g}: failed ({type(exc).__name__})")
             continue
-        rows.append((rtol, max(_traj_error(problem, plan, traj, reference, stride).values()), int(traj.n_rhs_calls)))
+        rows.append((rtol, max(_traj_error(problem, plan, traj, reference, stride).values()), int(traj.n_rhs_calls),
+                     math.inf))
         if rtol < 1e-11 and len(rows) >= 6 and min(r[1] for r in rows[-4:]) >= 0.5 * min(r[1] for r in rows[:-4]):
             break  # round-off: four rungs without progress
+    return rows
+
+
+#: Below the ladder's round-off, single runs at the tightest tolerance with the step capped, 2^k times shorter than
+#: that run's mean step (what the control does there: ``_accuracy.CAP_FACTOR``).
+CAPPED_RUNGS = (2, 4, 8, 16, 32)
+
+
+def capped_ladder(method, problem, plan, reference, stride) -> list:
+    """The same rows for runs at the method's tightest tolerance with the step capped (:data:`CAPPED_RUNGS`): the
+    single runs that deliver what a tolerance alone cannot (a method without a step cap: none)."""
+    if not getattr(method, "step_cap", False):
+        return []
+    rtol = np.array([method.min_rtol])
+    span = float(abs(problem.t[-1] - problem.t[0]))
+    steps = method.attempt(problem, rtol).n_rhs_calls / 12.0
+    rows = []
+    for k in CAPPED_RUNGS:
+        cap = span / (k * steps)
+        traj = method.attempt(problem, rtol, max_step=cap)
+        rows.append((float(rtol[0]), max(_traj_error(problem, plan, traj, reference, stride).values()),
+                     int(traj.n_rhs_calls), cap))
     return rows
 
 
@@ -158,8 +182,10 @@ def promise(case, accuracies, *, repeats=3, log=print) -> list:
         if ladder_rows is None:
             ladder_rows = ladder(method, problem, plan, reference, STRIDE, log=log)
         delivered = max(true.values())
-        fits = [(r, calls) for r, e, calls in ladder_rows if e <= delivered]
-        single_rtol, single_calls = max(fits) if fits else (None, 0)
+        if not any(e <= delivered for _, e, _, _ in ladder_rows) and not refused and ladder_rows[-1][3] == math.inf:
+            ladder_rows = ladder_rows + capped_ladder(method, problem, plan, reference, STRIDE)
+        fits = [(calls, r, cap) for r, e, calls, cap in ladder_rows if e <= delivered]  # the cheapest single run
+        single_calls, single_rtol, single_cap = min(fits) if fits else (0, None, math.inf)
         single = cpu = single_cpu = math.nan
         if single_rtol is None:
             seconds, _ = _best_time(lambda: method.run(problem), repeats)
@@ -170,7 +196,7 @@ def promise(case, accuracies, *, repeats=3, log=print) -> list:
                 c0 = time.process_time()  # the process's CPU, every thread's: a pair side by side counts both runs
                 a = _best_time(lambda: method.run(problem), 1)[0]
                 c1 = time.process_time()
-                b = _best_time(lambda: method.attempt(problem, np.array([single_rtol])), 1)[0]
+                b = _best_time(lambda: _single(method, problem, single_rtol, single_cap), 1)[0]
                 c2 = time.process_time()
                 seconds, single, spent, k = min(seconds, a), min(single, b), spent + a, k + 1
                 cpu, single_cpu = min(cpu, c1 - c0), min(single_cpu, c2 - c1)
@@ -178,12 +204,14 @@ def promise(case, accuracies, *, repeats=3, log=print) -> list:
         line = _error_line(result)
         rows.append({"case": case.name, "accuracy": accuracy, "true": true, "estimate": est,
                      "delivered": delivered, "estimated": max(est.values()) if est else math.nan,
-                     "seconds": seconds, "single_rtol": single_rtol, "single_seconds": single, "work": work,
+                     "seconds": seconds, "single_rtol": single_rtol, "single_cap": single_cap,
+                     "single_seconds": single, "work": work,
                      "cpu": cpu, "single_cpu": single_cpu,
                      "refused": str(refused[0]) if refused else "", "line": line, "engine": result.plan.engine})
         log(f"  {case.name:<20} asked {accuracy:<6g} delivered {delivered:.2g}  estimated {rows[-1]['estimated']:.2g}"
             f"  ({'×'.join(f'{est.get(n, math.nan) / v:.2g}' for n, v in true.items() if v > 0)} the true error)"
-            f"  {seconds:.3g} s vs single DOP853 rtol {single_rtol if single_rtol else math.nan:.3g} {single:.3g} s"
+            f"  {seconds:.3g} s vs single DOP853 rtol {single_rtol if single_rtol else math.nan:.3g}"
+            + (f" with steps ≤ {single_cap:.3g}" if single_cap < math.inf else "") + f" {single:.3g} s"
             f" — ratio {seconds / single if single == single and single > 0 else math.nan:.2f} (CPU"
             f" {cpu / single_cpu if single_cpu == single_cpu and single_cpu > 0 else math.nan:.2f}, kernel evaluations"
             f" {work:.2f})", flush=True)
@@ -191,6 +219,13 @@ def promise(case, accuracies, *, repeats=3, log=print) -> list:
         if refused:
             log(f"    refused: {refused[0]}")
     return rows
+
+
+def _single(method, problem, rtol, cap):
+    """One run at ``rtol``, its step capped at ``cap`` where it is finite."""
+    if cap < math.inf:
+        return method.attempt(problem, np.array([rtol]), max_step=cap)
+    return method.attempt(problem, np.array([rtol]))
 
 
 def _error_line(result) -> str:

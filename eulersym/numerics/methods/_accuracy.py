@@ -22,6 +22,23 @@ rival their truncation difference: the error ratio falls from 10 to 2 or 1 (Kova
 mostly their own round-off, which ``σ |Δ| / (ρ − 1)`` would take for truncation and inflate: a satellite's runs 2.08
 apart gave 8.6× its error and a refusal) and the estimate is at least ``|Δ| / √2`` — the size of either run's
 round-off when both are made of it. A member refused near round-off has its estimate raised to :data:`FLOOR` ε A.
+**Where this is weak** (measured in session 32 on Kovalevskaya's top over T = 500, 550, … 950 at 1e-12 and 2e-12
+against the stored reference): two runs near round-off can share part of their error — the doubles of DOP853's
+coefficients miss its order conditions by ~1e-16 (Σ b − 1 = 6.9e-17), a bias of every step in the same direction
+that no pair sees — and 5 of those 20 runs delivered beyond the accuracy (up to 5.1e-12 at 1e-12), estimates down to
+0.12× the truth. Hairer's 30-digit coefficients remove the bias (1 of 20 beyond, lowest 0.18×) but are not adopted
+yet: they moved other near-round-off estimates below half (a free body over 5000 s: 0.29×).
+
+**Shorter steps** (:func:`_capped`). A tolerance near round-off lowers the truncation, not the round-off: a step's
+round-off is ∝ its length (the stages' sums, the kernel's evaluation; the state's own rounding is compensated), so
+over N steps it falls as 1/√N, and only more steps lower it. A one-member motion still short of the accuracy at the
+tightest tolerance — where its amplification A leaves room, ε A below the accuracy — runs again with the step capped
+(:data:`CAP_FACTOR` shorter each run, at most :data:`CAPPED_RUNS`), each paired with the run before; their
+difference is their round-off (uncorrelated), and the estimate is that difference, at least ε A (the start's rounding,
+which every run shares). Kovalevskaya's top over T = 1000 (``eulersym bench accuracy``; A = 2.5e3), refused at
+1e-12 until session 32 (every tolerance left ~2e-12): two capped runs deliver 2.8e-13, estimated 9.1e-13, in 0.8 s,
+1.4× the kernel evaluations of the cheapest single run that delivers as much (one capped 16×). A method without a
+step cap (:attr:`Integrator.step_cap`), and a sweep, refuse as before.
 
 **How it is controlled** (:func:`deliver`). A pilot pair at ``(accuracy, accuracy / 10)`` (a fixed-step method: a
 step from its rule and half of it; for accuracies below 1e-11 the looser at :data:`PILOT_LOOSE`, a pair that only
@@ -29,9 +46,9 @@ steers); if its estimate exceeds the accuracy, the next run's tolerance follows 
 accuracy / (2 · estimate)``, near round-off at least 10 below; a step by ``(…)^(1/p)``) and pairs with the run before
 it, or with one more run 10× looser when the run before is more than :data:`PAIR_SPAN` away — per member: in a sweep
 only the members still beyond the accuracy run again. It stops when every member meets the accuracy, or a member's
-estimate no longer falls near round-off (its error is round-off amplified by the motion: it cannot be reached in
-double precision; an adaptive run far above round-off goes on — before its asymptotic regime its error may stray
-from proportionality), or after :data:`MAX_RUNS` runs; the result is the last run of each member with its estimate
+estimate no longer falls near round-off (its error is round-off amplified by the motion: shorter steps may still
+reach it — above — or it cannot be reached in double precision; an adaptive run far above round-off goes on —
+before its asymptotic regime its error may stray from proportionality), or after :data:`MAX_RUNS` runs; the result is the last run of each member with its estimate
 (:attr:`~eulersym.numerics.trajectory.Trajectory.error`), and the scene says when it exceeds the accuracy asked
 (:class:`eulersym.errors.AccuracyNotReached`). A one-member problem of a method whose runs release the GIL
 (:attr:`Integrator.side_by_side`: eulersym's compiled DOP853) runs a new run and its partner side by side on two
@@ -77,7 +94,7 @@ from eulersym.numerics.trajectory import Trajectory
 
 __all__ = ["Integrator", "deliver", "richardson", "deviation", "estimate", "worst", "QUANTITIES", "SAFETY",
            "ROUNDOFF_RTOL", "MAX_RUNS", "PAIR_SPAN", "PILOT_LOOSE", "AMPLIFICATION_RTOL",
-           "AMPLIFICATION_TIMES", "SIDE_BY_SIDE_SECONDS", "select", "splice"]
+           "AMPLIFICATION_TIMES", "SIDE_BY_SIDE_SECONDS", "CAP_FACTOR", "CAPPED_RUNS", "select", "splice"]
 
 #: The integrated quantities an estimate covers (those a trajectory has).
 QUANTITIES = ("omega", "attitude", "gamma")
@@ -129,6 +146,15 @@ FLOOR = 6.0
 #: 0.3–2.5×); a looser rtol is not cheaper by much and can be wrong (the free body's A at 1e-3: 24× too large).
 AMPLIFICATION_RTOL = 1e-4
 AMPLIFICATION_TIMES = 20
+#: Near round-off, where the tightest tolerance leaves a one-member motion short of the accuracy and its amplification
+#: leaves room (ε A below the accuracy), the step is capped: each run's longest step this many times shorter than the
+#: run before's mean step. A step's round-off is ∝ its length (the stages' sums and the kernel's evaluation; the
+#: state's own rounding is compensated), so over N steps the round-off falls as 1/√N: half for each ×4. Measured on
+#: Kovalevskaya's top over T = 1000 (A = 2.5e3, its 1e-12 refused until session 32): rtol 1e-16 alone 2.0e-12
+#: (0.62 M kernel calls, 36 ms); capped at ×2, ×4, ×8, ×16, ×32 its steps, 4.0, 7.7, 5.9, 2.8, 1.7e-13.
+CAP_FACTOR = 4.0
+#: At most this many runs with a capped step (the last up to CAP_FACTOR^3 = 64× the steps of the uncapped run).
+CAPPED_RUNS = 3
 
 
 def _norms(x, axis=-1):
@@ -304,11 +330,14 @@ class Integrator(Method):
     side_by_side : bool
         The method's runs release the GIL (compiled without it): the control runs the two runs of a pair of a
         one-member problem side by side, on two threads (:func:`_two`).
+    step_cap : bool
+        :meth:`attempt` takes ``max_step`` (the longest step): near round-off the control caps it (:func:`_capped`).
     """
 
     adaptive: ClassVar[bool] = True
     compiled: ClassVar[bool] = False
     side_by_side: ClassVar[bool] = False
+    step_cap: ClassVar[bool] = False
     order: ClassVar[int] = 8
     min_rtol: ClassVar[float] = 1e-16
 
@@ -508,13 +537,51 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
         else:
             active[:] = False
             active[idx[still & ~stalled]] = True
-    return _finish(method, problem, best, err, w, setting, runs, calls)
+    capped = None
+    if method.step_cap and problem.batch == 1 and bool(w[0] > accuracy) and bool(_near(method, setting)[0]):
+        best, err, w, calls, capped = _capped(method, problem, best, err, w, setting, calls)
+    return _finish(method, problem, best, err, w, setting, runs, calls, capped)
 
 
-def _finish(method, problem: Problem, best: Trajectory, err: dict, w, setting, runs, calls: int) -> Trajectory:
+def _capped(method, problem: Problem, best: Trajectory, err: dict, w, setting, calls: int) -> tuple:
+    """One member short of the accuracy at a tolerance near round-off: runs at that tolerance with the step capped
+    (:data:`CAP_FACTOR` shorter each), each paired with the run before — where the motion's amplification A leaves
+    room (ε A below the accuracy; the start's own rounding grows by A, whatever the steps). Their round-off, not
+    their truncation, is what differs (uncorrelated between runs of different steps, the coarser's about twice the
+    finer's), and the estimate is the difference itself: about 2.2× the finer run's round-off. Stops when the
+    accuracy is met, the estimate stops falling (from the second capped run: the first pairs with the uncapped run,
+    whose round-off dominates their difference), or after :data:`CAPPED_RUNS` runs. Returns ``(best, err, w, calls,
+    (the amplification, the capped runs, the last cap))``."""
+    accuracy = float(problem.accuracy)
+    amplification = method.amplification(problem)
+    if not bool(np.finfo(float).eps * amplification[0] < accuracy):
+        return best, err, w, calls, (amplification, 0, None)
+    t = np.asarray(problem.t, dtype=float)
+    span = float(abs(t[-1] - t[0]))
+    steps = max(int(best.n_rhs_calls) / 12.0, 1.0)  # the last run's (DOP853: 12 evaluations a step)
+    cap = span / (CAP_FACTOR * steps)
+    done = 0
+    while done < CAPPED_RUNS:
+        fresh = method.attempt(problem, setting, max_step=cap)
+        calls += int(fresh.n_rhs_calls)
+        done += 1
+        e_new = deviation(best, fresh, vertical=problem.regime == "model", compiled=method.compiled)
+        w_new = worst(e_new)
+        # (the first pair holds the uncapped run's round-off, about twice the capped one's: it may not fall at all)
+        falling = done == 1 or bool(w_new[0] <= 0.9 * w[0])
+        best, err, w = fresh, e_new, w_new
+        if bool(w[0] <= accuracy) or not falling:
+            break
+        cap /= CAP_FACTOR
+    return best, err, w, calls, (amplification, done, cap)
+
+
+def _finish(method, problem: Problem, best: Trajectory, err: dict, w, setting, runs, calls: int,
+            capped=None) -> Trajectory:
     """The control's result: each member's last run ``best`` with its estimate ``err`` (worst quantity ``w``), its
     last setting and its number of runs, every run's kernel calls; members refused near round-off charged the
-    round-off floor (:data:`FLOOR` ε A), the message saying the setting and why the control stopped short."""
+    round-off floor (:data:`FLOOR` ε A), the message saying the setting and why the control stopped short;
+    ``capped``: (the amplification, runs, the last cap) of :func:`_capped`."""
     accuracy = float(problem.accuracy)
     floor = ""
     missed = w > accuracy
@@ -523,9 +590,13 @@ def _finish(method, problem: Problem, best: Trajectory, err: dict, w, setting, r
         floor = (f"; not reached: {int(np.sum(missed & ~spent))} member(s) whose estimate stopped falling (round-off, "
                  f"or the method's order), {int(np.sum(spent))} after {MAX_RUNS} runs")
     beyond = _near(method, setting) & missed
-    if _any(beyond):  # refused near round-off: the error cannot fall below FLOOR ε A, however tight the tolerance
+    amplification, done, cap = capped if capped is not None else (None, 0, None)
+    if done:  # capped runs measured the steps' round-off: the start's rounding, shared by every run, grown by A
+        err = {k: np.maximum(v, np.finfo(float).eps * amplification) for k, v in err.items()}
+    elif _any(beyond):  # refused near round-off: the error cannot fall below FLOOR ε A, however tight the tolerance
         idx = np.flatnonzero(beyond)  # (a member that meets the accuracy is not charged: its pair, 10 apart near
-        amplification = method.amplification(problem.select(idx))  # round-off, sees the runs' own round-off)
+        if amplification is None:  # round-off, sees the runs' own round-off)
+            amplification = method.amplification(problem.select(idx))
         bound = FLOOR * np.finfo(float).eps * amplification
         err = {k: np.array(v, dtype=float, copy=True) for k, v in err.items()}
         for v in err.values():
@@ -535,10 +606,14 @@ def _finish(method, problem: Problem, best: Trajectory, err: dict, w, setting, r
     what = "rtol" if method.adaptive else "steps per output interval"
     shown = setting if len(setting) < 4 else np.array([setting.min(), setting.max()])
     text = " … ".join(dict.fromkeys(f"{s:.3g}" for s in shown))
+    if done:
+        text += (f", steps ≤ {cap:.3g} ({done} run(s) with the step capped: the round-off of shorter steps; "
+                 f"amplification {float(amplification[0]):.3g})")
+    other = "with longer steps" if done else "looser" if method.adaptive else "at twice the step"
     return dataclasses.replace(best, error=err, n_rhs_calls=calls,
                                message=(best.message + "; " if best.message else "")
                                + f"{what} {text} for accuracy {accuracy:g} (global error estimated from a run "
-                               + ("looser" if method.adaptive else "at twice the step") + ")" + floor)
+                               + other + ")" + floor)
 
 
 def richardson(run, first: int, accuracy: float, order: int) -> Trajectory:

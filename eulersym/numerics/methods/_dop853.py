@@ -13,6 +13,10 @@ with safety 0.9 and factors in [0.2, 10], no growth right after a rejection) wit
 - **the time in double-double**: the exact sum of the steps taken, so an output at t = 10³ is interpolated at
   t = 10³, not at 10³ plus the round-off of 10⁵ additions.
 
+and, as SciPy's ``max_step``, a **step cap** per member: near round-off, where a tolerance alone no longer lowers the
+error, more and shorter steps do (a step's round-off is ∝ its length, so over N steps ∝ 1/√N) — what the accuracy
+control asks for (:func:`eulersym.numerics.methods._accuracy.deliver`).
+
 A kernel is any module with ``rhs_flat(t, *state, *parameters)`` (every generated module, a model's own included,
 and ``STATE``/``PARAMETERS``). Its right-hand side is wrapped once in a numba ``cfunc`` (cached on disk beside the
 kernel's file, named by the kernel's bytes), and the one stepping loop — compiled once, cached, shared by every
@@ -121,9 +125,9 @@ def _stage(y, K, s, h, out):
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _member(f, y0, p, t_eval, rtol, atol, max_steps, out, last):
-    """One member over ``t_eval`` into ``out`` (m, n); returns (calls, status, time reached, steps accepted) and
-    leaves its last finite state in ``last``."""
+def _member(f, y0, p, t_eval, rtol, atol, max_step, max_steps, out, last):
+    """One member over ``t_eval`` into ``out`` (m, n), no step longer than ``max_step``; returns (calls, status, time
+    reached, steps accepted) and leaves its last finite state in ``last``."""
     n = y0.shape[0]
     m = t_eval.shape[0]
     K = np.empty((16, n))
@@ -176,7 +180,7 @@ def _member(f, y0, p, t_eval, rtol, atol, max_steps, out, last):
         h1 = max(1e-6, h0 * 1e-3)
     else:
         h1 = (0.01 / max(d1, d2)) ** (1.0 / 9.0)
-    h = min(100.0 * h0, h1, span)
+    h = min(100.0 * h0, h1, span, max_step)
     k_out = 1
     steps = 0
     while k_out < m:
@@ -282,15 +286,16 @@ def _member(f, y0, p, t_eval, rtol, atol, max_steps, out, last):
             last[i] = y[i]
         th = nh
         tl = nl
-        h = hu * factor if not final else h
+        h = min(hu * factor, max_step) if not final else h
     return calls, 0, th + tl, steps
 
 
-def _members(f, Y0, P, t_eval, rtol, atol, max_steps, out, last, info):
-    """Every member b (rows of ``Y0``, ``P``; tolerances ``rtol[b]``, ``atol[b]``) into ``out[b]``; ``info[b]`` =
-    (calls, status, time reached, steps)."""
+def _members(f, Y0, P, t_eval, rtol, atol, max_step, max_steps, out, last, info):
+    """Every member b (rows of ``Y0``, ``P``; tolerances ``rtol[b]``, ``atol[b]``, steps at most ``max_step[b]``) into
+    ``out[b]``; ``info[b]`` = (calls, status, time reached, steps)."""
     for b in _range(Y0.shape[0]):
-        calls, status, reached, steps = _member(f, Y0[b], P[b], t_eval, rtol[b], atol[b], max_steps, out[b], last[b])
+        calls, status, reached, steps = _member(f, Y0[b], P[b], t_eval, rtol[b], atol[b], max_step[b], max_steps,
+                                                out[b], last[b])
         info[b, 0] = calls
         info[b, 1] = status
         info[b, 2] = reached
@@ -300,10 +305,10 @@ def _members(f, Y0, P, t_eval, rtol, atol, max_steps, out, last, info):
 _range = range
 
 
-#: The one signature the member loop is compiled for: (f, Y0, P, t_eval, rtol, atol, max_steps, out, last, info),
-#: every array float64, C-contiguous and writable (:func:`integrate` makes them so).
+#: The one signature the member loop is compiled for: (f, Y0, P, t_eval, rtol, atol, max_step, max_steps, out, last,
+#: info), every array float64, C-contiguous and writable (:func:`integrate` makes them so).
 _ARGS = (nt.FunctionType(SIGNATURE), nt.float64[:, ::1], nt.float64[:, ::1], nt.float64[::1], nt.float64[::1],
-         nt.float64[::1], nt.int64, nt.float64[:, :, ::1], nt.float64[:, ::1], nt.float64[:, ::1])
+         nt.float64[::1], nt.float64[::1], nt.int64, nt.float64[:, :, ::1], nt.float64[:, ::1], nt.float64[:, ::1])
 
 
 @lru_cache(maxsize=2)
@@ -497,7 +502,8 @@ class Run:
     last: np.ndarray
 
 
-def integrate(module, y0, t, params, *, rtol, atol, max_steps: int = 10**8, parallel=None, function=None) -> Run:
+def integrate(module, y0, t, params, *, rtol, atol, max_steps: int = 10**8, parallel=None, function=None,
+              max_step=math.inf) -> Run:
     """Integrate every member of ``y' = module.rhs_flat(t, *y, *params)`` with eulersym's compiled DOP853.
 
     Parameters
@@ -516,6 +522,10 @@ def integrate(module, y0, t, params, *, rtol, atol, max_steps: int = 10**8, para
         Members over the cores (``prange``); None: when there is more than one.
     function : cfunc, optional
         The system to integrate instead of ``module``'s right-hand side (:func:`variational_function`).
+    max_step : float or array_like (batch,)
+        The longest step a member may take (its step otherwise from the tolerances alone): more, shorter steps,
+        each adding less round-off — what the accuracy control asks for when a tolerance at round-off is not enough
+        (:func:`eulersym.numerics.methods._accuracy.deliver`).
 
     Returns
     -------
@@ -541,11 +551,16 @@ def integrate(module, y0, t, params, *, rtol, atol, max_steps: int = 10**8, para
     rt[:] = rtol
     at = np.empty(batch)
     at[:] = atol
+    cap = np.empty(batch)
+    cap[:] = max_step
+    if not np.all(cap > 0):
+        raise ValueError(f"max_step must be positive, got {max_step!r}")
     out = np.empty((batch, len(t), n))
     last = np.empty((batch, n))
     info = np.zeros((batch, 4))
     if batch:
         run = _driver(batch > 1 if parallel is None else bool(parallel))
-        run(rhs_function(module) if function is None else function, y0, P, t, rt, at, int(max_steps), out, last, info)
+        run(rhs_function(module) if function is None else function, y0, P, t, rt, at, cap, int(max_steps), out, last,
+            info)
     return Run(y=out, calls=info[:, 0].astype(np.int64), status=info[:, 1].astype(np.int64), reached=info[:, 2],
                steps=info[:, 3].astype(np.int64), last=last)

@@ -119,6 +119,7 @@ class OwnDOP853(Integrator):
     cost = MEMBERS_COST
     compiled = True
     side_by_side = True
+    step_cap = True
     regimes = ("torque-free", "heavy top", "torque", "model")
 
     def applies(self, problem: Problem) -> str | None:
@@ -142,13 +143,13 @@ class OwnDOP853(Integrator):
 
     _inputs = (None, None)  # (the problem, its system's arrays): the control's runs share one problem
 
-    def attempt(self, problem: Problem, setting) -> object:
+    def attempt(self, problem: Problem, setting, *, max_step=np.inf) -> object:
         from eulersym.numerics.methods import _dop853
 
         s, y0, params = self._prepared(problem)
         rtol = np.asarray(setting, dtype=float)
         run = _dop853.integrate(s.module, y0, problem.t, params, rtol=rtol, atol=rtol * ATOL_RATIO,
-                                max_steps=MAX_STEPS)
+                                max_steps=MAX_STEPS, max_step=max_step)
         if run.status.any():
             _failed(self.name, problem, run, _state_names(problem, s.layout))
         return s.members_trajectory(problem.t, run.y, int(run.calls.sum()), self.name,
