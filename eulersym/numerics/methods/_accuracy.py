@@ -27,7 +27,10 @@ against the stored reference): two runs near round-off can share part of their e
 coefficients miss its order conditions by ~1e-16 (Σ b − 1 = 6.9e-17), a bias of every step in the same direction
 that no pair sees — and 5 of those 20 runs delivered beyond the accuracy (up to 5.1e-12 at 1e-12), estimates down to
 0.12× the truth. Hairer's 30-digit coefficients remove the bias (1 of 20 beyond, lowest 0.18×) but are not adopted
-yet: they moved other near-round-off estimates below half (a free body over 5000 s: 0.29×).
+yet: they moved other near-round-off estimates below half (a free body over 5000 s: 0.29×), and with them the
+T = 1000 error stays at 0.5–1.1e-12 however short the steps — a part every run shares (the model's rounded
+parameters, e.g. M g l and the principal frame, change the motion by ~ε) that neither a pair nor A sees. Without
+them, that shared part and the coefficients' bias largely cancel there (capped runs reach 1.7e-13).
 
 **Shorter steps** (:func:`_capped`). A tolerance near round-off lowers the truncation, not the round-off: a step's
 round-off is ∝ its length (the stages' sums, the kernel's evaluation; the state's own rounding is compensated), so
