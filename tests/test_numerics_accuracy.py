@@ -285,10 +285,10 @@ def test_sweep_members_whose_error_stalls_between_two_tolerances_still_get_their
 def test_sweep_members_whose_error_is_erratic_against_rtol_still_get_their_accuracy():
     """The 16 members of ``eulersym bench accuracy --members 100000``'s sweep (an asymmetric top, T = 2) that the
     control left beyond 1e-6 before session 32 (1.1–4.7e-6; member 1353: 2.4e-6 at rtol 1e-7, 1.5e-5 at 5.6e-8, so a
-    pair's estimate is 3–10× too small), in the grid of their spins and tilts: a sweep's members aim SWEEP_AIM below
-    the accuracy and must meet accuracy / SWEEP_MARGIN, and every one is within it (AIM alone: 16 of these beyond)."""
+    pair's estimate is 3–10× too small), in the grid of their spins and tilts: members aim TIGHT_AIM below the
+    accuracy and must meet accuracy / MARGIN, and every one is within it (AIM alone: 16 of these beyond)."""
     from eulersym.bench.sweeps import ASYMMETRIC_TOP
-    from eulersym.numerics.methods._accuracy import SWEEP_MARGIN
+    from eulersym.numerics.methods._accuracy import MARGIN
 
     spins = np.linspace(20.0, 40.0, 632)[[26, 54, 89, 90, 91, 92, 93, 94, 95, 108, 114, 126, 138, 148, 176, 275]]
     tilts = np.linspace(0.1, 0.6, 158)[[0, 2, 4, 5, 38, 39, 42, 43, 46]]
@@ -306,7 +306,7 @@ def test_sweep_members_whose_error_is_erratic_against_rtol_still_get_their_accur
     scale = np.max(np.linalg.norm(reference.omega, axis=2), axis=1)
     true = np.max(np.linalg.norm(result.omega - reference.omega, axis=2), axis=1) / scale
     assert np.all(true <= 1e-6), np.flatnonzero(true > 1e-6)
-    assert np.max(np.stack(list(result.error.values()))) <= 1e-6 / SWEEP_MARGIN  # the margin met by every member
+    assert np.max(np.stack(list(result.error.values()))) <= 1e-6 / MARGIN  # the margin met by every member
 
 
 @pytest.mark.parametrize("accuracy", [1e-7, 1e-9, 1e-12])

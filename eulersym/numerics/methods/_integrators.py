@@ -15,19 +15,17 @@ from eulersym.numerics.methods._base import Cost, Explanation, Problem, numba_av
 __all__ = ["OwnDOP853", "BatchedDOP853", "CompiledDOP853", "SolveIVP", "DOP853_COST", "MEMBERS_COST",
            "numba_available", "ATOL_RATIO", "MAX_STEPS", "CONTROL"]
 
-#: The work of the accuracy control, in single runs at the delivered tolerance: the pilot pair (its looser run,
-#: 10× looser, costs ≈ 0.75 of the tighter) and, when the pilot misses, one or two runs more (measured 2.05–2.9 on
-#: the bench's motions, median 2.4: ``eulersym bench accuracy``).
-CONTROL = 2.3
-#: A sweep's members aim lower and meet a margin (:data:`eulersym.numerics.methods._accuracy.SWEEP_AIM`): the
-#: control's work × 1.25 (measured on ``eulersym bench accuracy``'s sweep: 10⁴ members 42.7 → 53.6 M kernel
-#: evaluations, 10⁵ members 426 → 535 M).
-SWEEP_CONTROL = 1.25 * CONTROL
+#: The work of the accuracy control, in single runs at rtol = the accuracy asked: the pilot pair (its looser run,
+#: 10× looser, costs ≈ 0.75 of the tighter) and, when the pilot misses the margin, one or two runs more aiming 10×
+#: below the accuracy (:data:`eulersym.numerics.methods._accuracy.MARGIN`; measured 2.05–2.9 single runs at the
+#: tolerance delivering the same error on the bench's motions, median 2.4: ``eulersym bench accuracy``; the margin
+#: adds ~25 %: the sweep of that bench, 10⁴ members, 42.7 → 53.6 M kernel evaluations, 10⁵ members 426 → 535 M).
+CONTROL = 2.9
 #: Dormand–Prince 8(5,3) with a step shared by groups of 4096 members (and ``solve_ivp``'s DOP853 for one member).
 DOP853_COST = Cost("dop853", order=8, stages=12, constant=0.12 * CONTROL, working=22, grain=4096,
                    seconds_per_evaluation=8e-9)
 #: The compiled DOP853, a step per member, the members on every core (the heavy top's and eulersym's own).
-MEMBERS_COST = Cost("dop853-members", order=8, stages=12, constant=0.16 * SWEEP_CONTROL, working=6, grain=1,
+MEMBERS_COST = Cost("dop853-members", order=8, stages=12, constant=0.16 * CONTROL, working=6, grain=1,
                     seconds_per_evaluation=7e-9, threaded=True)
 #: atol = rtol × this (the state's components are of order one: unit vectors, and ω in its own units).
 ATOL_RATIO = 1e-3
@@ -124,6 +122,7 @@ class OwnDOP853(Integrator):
     compiled = True
     side_by_side = True
     step_cap = True
+    margin = True
     regimes = ("torque-free", "heavy top", "torque", "model")
 
     def applies(self, problem: Problem) -> str | None:
@@ -178,6 +177,7 @@ class BatchedDOP853(Integrator):
     ``solve_ivp`` method) asked of a sweep."""
 
     name = "batched_dop853"
+    margin = True
     cost = DOP853_COST
     regimes = ("torque-free", "heavy top", "torque", "model")
 
@@ -246,6 +246,7 @@ class CompiledDOP853(Integrator):
     """
 
     name = "compiled_dop853"
+    margin = True
     cost = MEMBERS_COST
     compiled = True
     regimes = ("heavy top",)
