@@ -43,24 +43,26 @@ which every run shares). Kovalevskaya's top over T = 1000 (``eulersym bench accu
 1.4× the kernel evaluations of the cheapest single run that delivers as much (one capped 16×). A method without a
 step cap (:attr:`Integrator.step_cap`), and a sweep, refuse as before.
 
-**How it is controlled** (:func:`deliver`). A pilot pair at ``(accuracy, accuracy / 10)`` (a fixed-step method: a
-step from its rule and half of it; for accuracies below 1e-11 the looser at :data:`PILOT_LOOSE`, a pair that only
-steers); if its estimate exceeds the accuracy, the next run's tolerance follows from proportionality (``rtol ·
-accuracy / (2 · estimate)``, near round-off at least 10 below; a step by ``(…)^(1/p)``) and pairs with the run before
-it, or with one more run 10× looser when the run before is more than :data:`PAIR_SPAN` away — per member: in a sweep
-only the members still beyond the accuracy run again. It stops when every member meets the accuracy, or a member's
-estimate no longer falls near round-off (its error is round-off amplified by the motion: shorter steps may still
-reach it — above — or it cannot be reached in double precision; an adaptive run far above round-off goes on —
-before its asymptotic regime its error may stray from proportionality), or after :data:`MAX_RUNS` runs; the result is the last run of each member with its estimate
-(:attr:`~eulersym.numerics.trajectory.Trajectory.error`), and the scene says when it exceeds the accuracy asked
-(:class:`eulersym.errors.AccuracyNotReached`). A one-member problem of a method whose runs release the GIL
-(:attr:`Integrator.side_by_side`: eulersym's compiled DOP853) runs a new run and its partner side by side on two
-threads when the run before took at least :data:`SIDE_BY_SIDE_SECONDS`: their wall time is then the new run's.
+**How it is controlled** (:func:`deliver`). A pilot pair at ``(accuracy, accuracy / 10)`` (a fixed-step method: a step
+from its rule and half of it; for accuracies below 1e-11 the looser at :data:`PILOT_LOOSE`, a pair that only steers); if
+its estimate exceeds the accuracy, the next run's tolerance follows from proportionality (``rtol · accuracy / (aim ·
+estimate)``, aim :data:`AIM` = 2, or :data:`TIGHT_AIM` = 10 with a margin — below —, near round-off at least 10 below; a step by ``(…)^(1/p)``) and pairs with the run before it, or with one
+more run 10× looser when the run before is more than :data:`PAIR_SPAN` away — per member: in a sweep only the members
+still beyond the accuracy run again. It stops when every member meets the accuracy, or a member's estimate no longer
+falls near round-off (its error is round-off amplified by the motion: shorter steps may still reach it — above — or it
+cannot be reached in double precision; an adaptive run far above round-off goes on — before its asymptotic regime its
+error may stray from proportionality), or after :data:`MAX_RUNS` runs; the result is the last run of each member with
+its estimate (:attr:`~eulersym.numerics.trajectory.Trajectory.error`), and the scene says when it exceeds the accuracy
+asked (:class:`eulersym.errors.AccuracyNotReached`). A one-member problem of a method whose runs release the GIL
+(:attr:`Integrator.side_by_side`: eulersym's compiled DOP853) runs a new run and its partner side by side on two threads
+when the run before took at least :data:`SIDE_BY_SIDE_SECONDS`: their wall time is then the new run's.
 
-**What it costs** (``eulersym bench accuracy --members 0 --repeats 5``; the 14 rows with a comparison): kernel
-evaluations 2.05–2.91 × (median 2.42) those of a single DOP853 run at the tolerance that happens to deliver the same
-error (a tolerance found only by trial against a reference). A new run and its partner run side by side, and the
-compiled loop is called without numba's dispatch (~0.15 ms of bookkeeping a control beside its runs).
+**What it costs** (``eulersym bench accuracy --members 0 --repeats 5``, session 32, 2 cores, load 0.8; all 15 rows
+with a comparison): 1.45–2.68 × (median 2.26) the wall time of a single DOP853 run at the tolerance that happens to
+deliver the same error (a tolerance, or for Kovalevskaya's top at 1e-12 a capped step, found only by trial against a
+reference), 1.50–3.56 × its CPU time (a new run and its partner run side by side on two threads, which slow each
+other here), 1.44–2.91 × (median 2.35) its kernel evaluations. The compiled loop is called without numba's dispatch
+(~0.15 ms of bookkeeping a control beside its runs).
 
 **Why the pilot is not wider.** A pilot at ``(10 accuracy, accuracy / 10)`` (session 31) took 8 % fewer kernel
 evaluations (median 2.22), but two decades apart a pair's error ratio spreads too far for one σ: on 2000 random starts
@@ -69,17 +71,18 @@ half the true error on 39 at accuracy 1e-7 (lowest 0.19×) and 1 at 1e-9; this p
 Pilots one decade tighter than the accuracy were less honest on the 10⁴-member sweep of that bench (13–14 members
 beyond 1e-6: their error at rtol 1e-7 equals that at 1e-8, and a pair there sees no difference).
 
-**A margin** (DOP853 above round-off: accuracies from 1e-11 up; :attr:`Integrator.margin`). A member is accepted only when its
-estimate is within ``accuracy /`` :data:`MARGIN` (3), and a run that proportionality places aims :data:`TIGHT_AIM` =
-10 below the accuracy (not :data:`AIM` = 2): some errors are erratic against rtol, so that a pair's estimate falls
-3–10× short, and a margin of 3 keeps such a member within the accuracy. Measured (session 32) on the 10⁵-member sweep
-of ``eulersym bench accuracy`` at 1e-6 — member 1353's error 2.4e-6 at rtol 1e-7, 1.5e-5 at 5.6e-8 — AIM alone left
-16 of 99 856 members beyond 1e-6 (max 4.7e-6); the margin none (max 3.2e-7), for 25 % more kernel evaluations; and
-on 2000 random free bodies (1, 2, 3) over 20 s, where the loose runs are not yet asymptotic (a run at rtol 1e-6 as
-accurate as one at 1e-7): beyond the accuracy 101 → 19 of 2000 at 1e-5 (max 3.65 → 2.1×), 8 → 3 at 1e-6, 0 at 1e-7
-and 1e-9, for 23–37 % more kernel evaluations. The work against a single run delivering the same error is unchanged
-(the bench's 14 rows: median 2.42 → 2.37, at most 2.91): the control delivers more accuracy than before for the work
-that accuracy costs.
+**A margin** (DOP853 above round-off: accuracies from 1e-11 up; :attr:`Integrator.margin`). A member is accepted only
+when its estimate is within ``accuracy /`` :data:`MARGIN` (3), and a run that proportionality places aims
+:data:`TIGHT_AIM` = 10 below the accuracy (not :data:`AIM` = 2): some errors are erratic against rtol, so that a pair's
+estimate falls 3–10× short, and a margin of 3 keeps such a member within the accuracy. Measured (session 32) on the
+10⁵-member sweep of ``eulersym bench accuracy`` at 1e-6 — member 1353's error 2.4e-6 at rtol 1e-7, 1.5e-5 at 5.6e-8 —
+AIM alone left 16 of 99 856 members beyond 1e-6 (max 4.7e-6); the margin none (max 8.5e-7; 3.2e-7 with session 31's
+wider pilot), for 25 % more kernel evaluations, still 8.86× faster than ``method = "DOP853"`` at equal delivered error;
+and on 2000 random free bodies (1, 2, 3) over 20 s, where the loose runs are not yet asymptotic (a run at rtol 1e-6 as
+accurate as one at 1e-7): beyond the accuracy 101 → 19 of 2000 at 1e-5 (max 3.65 → 2.1×), 8 → 3 at 1e-6, 0 at 1e-7 and
+1e-9, for 23–37 % more kernel evaluations. The work against a single run delivering the same error is unchanged (the
+bench's 14 rows: median 2.42 → 2.37, at most 2.91): the control delivers more accuracy than before for the work that
+accuracy costs.
 
 Examples
 --------
@@ -125,13 +128,13 @@ ROUNDOFF_RTOL = 1e-13
 MAX_RUNS = 7
 #: The next run aims this far below the accuracy (its tolerance from proportionality).
 AIM = 2.0
-#: A method with a margin (DOP853's, :attr:`Integrator.margin`) above round-off (accuracies from
-#: ``100 ROUNDOFF_RTOL`` up) aims this far below the accuracy instead, and accepts a member only when its estimate is
-#: within ``accuracy / MARGIN`` (the module docstring, "A margin"): a few errors are erratic against rtol (the bench's asymmetric top: 2.4e-6 at rtol 1e-7, 1.5e-5 at
-#: 5.6e-8), their pair's estimate 3–10× short. Measured on ``eulersym bench accuracy``'s 10⁵-member sweep at 1e-6
-#: (session 32, with session 31's pilot): AIM alone left 16 of 99 856 members beyond 1e-6 (max 4.7e-6); 7 and 2:
-#: none, max 6.3e-7, +17 % kernel evaluations; 10 and 2: max 4.4e-7, +25 %; 10 and 3: max 3.2e-7, +26 %; a confirming
-#: fourth run 10× tighter for every member: max 1.9e-7, +58 %.
+#: A method with a margin (DOP853's, :attr:`Integrator.margin`) above round-off (accuracies from ``100 ROUNDOFF_RTOL``
+#: up) aims this far below the accuracy instead, and accepts a member only when its estimate is within ``accuracy /
+#: MARGIN`` (the module docstring, "A margin"): a few errors are erratic against rtol (the bench's asymmetric top:
+#: 2.4e-6 at rtol 1e-7, 1.5e-5 at 5.6e-8), their pair's estimate 3–10× short. Measured on ``eulersym bench accuracy``'s
+#: 10⁵-member sweep at 1e-6 (session 32, with session 31's pilot): AIM alone left 16 of 99 856 members beyond 1e-6 (max
+#: 4.7e-6); 7 and 2: none, max 6.3e-7, +17 % kernel evaluations; 10 and 2: max 4.4e-7, +25 %; 10 and 3: max 3.2e-7,
+#: +26 %; a confirming fourth run 10× tighter for every member: max 1.9e-7, +58 %.
 TIGHT_AIM = 10.0
 MARGIN = 3.0
 #: Two runs whose tolerances differ by more than this make no pair: the new run gets a partner 10× looser (the
