@@ -176,6 +176,59 @@ def test_kovalevskaya_s_top_gets_1e_12_by_capped_steps():
     assert result.n_rhs_calls > 4 * 618_000  # the capped runs: a run at rtol 1e-16 alone makes 0.62 M calls
 
 
+def test_below_the_start_s_rounding_the_best_is_delivered_and_refused_with_true_advice():
+    """Kovalevskaya's top at 4e-13, below ε A = 5.5e-13 (the start's rounding grown by the motion): shorter steps
+    still give their best (true 1.4e-13 against the stored reference; the uncapped runs' 2e-12 before the review of
+    session 32), refused with the estimate at ε A and the advice an accuracy ≥ 1e-12 — which is delivered."""
+    from eulersym.bench._accuracy_references import STATES, STRIDE
+    from eulersym.bench._cases import case
+    from eulersym.bench.accuracy import true_error
+
+    with pytest.warns(AccuracyNotReached) as caught:
+        result = simulate(case("kovalevskaya").scene(4e-13))
+    k = slice(None, None, STRIDE)
+    true = true_error(result.omega[k], result.attitude[k], result.gamma[k], np.array(STATES["kovalevskaya"]))
+    assert max(true.values()) < 5e-13
+    text = str(caught[0].message)
+    assert "What would help: an accuracy ≥ 1e-12" in text and 5e-13 < caught[0].message.reached < 1e-12
+
+
+def test_a_capped_run_that_cannot_be_made_keeps_the_runs_before_it(monkeypatch):
+    """The capped runs stop, keeping what they reached, when the next would take more than half the method's
+    max_steps, or when one fails (IntegrationFailed): the scene is refused with its best estimate, never raised."""
+    from eulersym.bench._cases import case
+    from eulersym.numerics.methods._integrators import OwnDOP853
+
+    monkeypatch.setattr(OwnDOP853, "max_steps", 1_000_000)  # the 16× capped run (~0.8 M steps) is not asked for
+    with pytest.warns(AccuracyNotReached):
+        limited = simulate(case("kovalevskaya").scene(1e-12))
+    assert 1e-12 < max(float(v) for v in limited.error.values()) < 3e-12
+    monkeypatch.undo()
+    real = OwnDOP853.attempt
+
+    def failing(self, problem, setting, max_step=np.inf):
+        if max_step < np.inf:
+            raise IntegrationFailed(self.name, "a capped run failed here")
+        return real(self, problem, setting)
+
+    monkeypatch.setattr(OwnDOP853, "attempt", failing)
+    with pytest.warns(AccuracyNotReached):
+        failed = simulate(case("kovalevskaya").scene(1e-12))
+    assert np.all(np.isfinite(failed.omega)) and max(float(v) for v in failed.error.values()) > 1e-12
+
+
+def test_the_margin_and_the_steering_pilot_meet_at_1e_11():
+    """One threshold (STEER_BELOW): at 1e-11 a pilot that can end the control and the margin; just below it, a pilot
+    that only steers and none (100 × 1e-13 is 1.0000000000000001e-11 in doubles: 1e-11 once steered)."""
+    from types import SimpleNamespace as NS
+
+    from eulersym.numerics.methods._accuracy import STEER_BELOW, _pilot
+
+    assert STEER_BELOW == 1e-11
+    steer = _pilot(NS(adaptive=True, min_rtol=1e-16), np.array([1e-11, np.nextafter(1e-11, 0.0)]))[2]
+    assert steer.tolist() == [False, True]
+
+
 # ---- the promise, against the 30-digit references ------------------------------------------------------------------
 def test_the_references_are_what_their_code_computes_and_agree_with_the_bench_s():
     """The stored data: recomputed live over the first output interval, and against the bench's fixed-point Taylor

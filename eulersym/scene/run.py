@@ -152,7 +152,7 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     if error:
         beyond = np.max(np.stack(list(error.values())), axis=0) > scene.accuracy
         if np.any(beyond):
-            note = _not_reached(scene, problem, error, beyond, sigma, "" if streamed else (traj.message or ""))
+            note = _not_reached(scene, problem, error, beyond, sigma, None if streamed else traj.control)
             out["notes"].append(note.args[0])
             warnings.warn(note, stacklevel=2)
     bar.done()
@@ -195,9 +195,10 @@ def simulate(scene: Scene, *, progress: bool = False, client=None, memory=None, 
     )
 
 
-def _not_reached(scene, problem, error, beyond, sigma, how: str = "") -> AccuracyNotReached:
+def _not_reached(scene, problem, error, beyond, sigma, control=None) -> AccuracyNotReached:
     """The warning for members whose estimate stayed above the accuracy asked: the amplification of a change of the
-    start (from the variational equations, for the worst member), the best error reached, what would help."""
+    start (from the variational equations, for the worst member), the best error reached, what would help;
+    ``control``: how the accuracy control ended (:attr:`~eulersym.numerics.trajectory.Trajectory.control`, or None)."""
     from eulersym.numerics.methods import sensitivity
     from eulersym.numerics.methods._accuracy import FLOOR, MAX_RUNS
 
@@ -225,16 +226,19 @@ def _not_reached(scene, problem, error, beyond, sigma, how: str = "") -> Accurac
         text += (f"; a change of the start grows up to {amplification:.3g}× over the span (largest singular value of "
                  "the state-transition matrix, from the variational equations), and so does the round-off of every "
                  "step")
-        floor = FLOOR * np.finfo(float).eps * amplification
-        spent = f"after {MAX_RUNS} runs" in how and f", 0 after {MAX_RUNS} runs" not in how
-        if floor < asked / 10 and spent:  # the runs ran out, not round-off: say so rather than blame double precision
+        capped = int(control["capped"]) if control else 0  # runs with the step capped: their floor is ε A
+        factor = float(control["floor_factor"]) if control else FLOOR
+        floor = factor * np.finfo(float).eps * amplification
+        spent = bool(control["spent"][b]) if control else False
+        if floor < asked / 10 and spent and not capped:  # the runs ran out, not round-off: say so
             text = text.replace("is not reachable in double precision", "was not reached within the control's "
                                 f"{MAX_RUNS} runs")
-            text += f" (its round-off floor, {FLOOR:g} ε × that, is only {floor:.2g}: more runs would reach it)"
+            text += f" (its round-off floor, {factor:g} ε × that, is only {floor:.2g}: more runs would reach it)"
         elif floor < asked / 10:  # the estimate stopped falling: round-off beyond the start's, grown by the motion
+            how = f" and then with {capped} shorter steps" if capped else ""
             text = text.replace("is not reachable in double precision", "was not reached: the estimate stopped "
-                                "falling as the tolerance tightened")
-            text += (f" (above the round-off floor of its start, {FLOOR:g} ε × that = {floor:.2g}: the steps' own "
+                                f"falling as the tolerance tightened{how}")
+            text += (f" (above the round-off floor of its start, {factor:g} ε × that = {floor:.2g}: the steps' own "
                      "round-off — e.g. a torque that reads cos(n t) at large n t — is what remains)")
         # the error of round-off grows about as σ(t) √(t): the last output time it stays within the accuracy
         growth = s * np.sqrt(np.maximum(t - t[0], 0.0) / max(t[-1] - t[0], 1e-300))

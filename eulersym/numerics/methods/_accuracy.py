@@ -26,7 +26,8 @@ round-off when both are made of it. A member refused near round-off has its esti
 against the stored reference): two runs near round-off can share part of their error — the doubles of DOP853's
 coefficients miss its order conditions by ~1e-16 (Σ b − 1 = 6.9e-17), a bias of every step in the same direction
 that no pair sees — and 5 of those 20 runs delivered beyond the accuracy (up to 5.1e-12 at 1e-12), estimates down to
-0.12× the truth. Hairer's 30-digit coefficients remove the bias (1 of 20 beyond, lowest 0.18×) but are not adopted
+0.12× the truth; over T = 1000 itself, 2e-12 and 3e-12 are "met" by an uncapped pair whose estimate is 0.57× and
+0.5× a true 2.0e-12 and 3.5e-12 (1e-12, the bench's row, goes on to capped steps and is delivered). Hairer's 30-digit coefficients remove the bias (1 of 20 beyond, lowest 0.18×) but are not adopted
 yet: they moved other near-round-off estimates below half (a free body over 5000 s: 0.29×), and with them the
 T = 1000 error stays at 0.5–1.1e-12 however short the steps — a part every run shares (the model's rounded
 parameters, e.g. M g l and the principal frame, change the motion by ~ε) that neither a pair nor A sees. Without
@@ -35,10 +36,12 @@ them, that shared part and the coefficients' bias largely cancel there (capped r
 **Shorter steps** (:func:`_capped`). A tolerance near round-off lowers the truncation, not the round-off: a step's
 round-off is ∝ its length (the stages' sums, the kernel's evaluation; the state's own rounding is compensated), so
 over N steps it falls as 1/√N, and only more steps lower it. A one-member motion still short of the accuracy at the
-tightest tolerance — where its amplification A leaves room, ε A below the accuracy — runs again with the step capped
-(:data:`CAP_FACTOR` shorter each run, at most :data:`CAPPED_RUNS`), each paired with the run before; their
-difference is their round-off (uncorrelated), and the estimate is that difference, at least ε A (the start's rounding,
-which every run shares). Kovalevskaya's top over T = 1000 (``eulersym bench accuracy``; A = 2.5e3), refused at
+tightest tolerance — where its amplification A leaves room, ε A below half its estimate — runs again with the step
+capped (:data:`CAP_FACTOR` shorter each run, at most :data:`CAPPED_RUNS`, none over half the method's ``max_steps``;
+a run that fails ends them, the runs before it kept), each paired with the run before; their difference is their
+round-off (uncorrelated), and the estimate is that difference, at least ε A (the start's rounding, which every run
+shares). An accuracy below ε A gets the best shorter steps give, refused with it (Kovalevskaya's top at 4e-13:
+estimated 5.5e-13, true 1.4e-13, and the advice an accuracy ≥ 1e-12). Kovalevskaya's top over T = 1000 (``eulersym bench accuracy``; A = 2.5e3), refused at
 1e-12 until session 32 (every tolerance left ~2e-12): two capped runs deliver 2.8e-13, estimated 9.1e-13, in 0.8 s,
 1.4× the kernel evaluations of the cheapest single run that delivers as much (one capped 16×). A method without a
 step cap (:attr:`Integrator.step_cap`), and a sweep, refuse as before.
@@ -71,8 +74,9 @@ half the true error on 39 at accuracy 1e-7 (lowest 0.19×) and 1 at 1e-9; this p
 Pilots one decade tighter than the accuracy were less honest on the 10⁴-member sweep of that bench (13–14 members
 beyond 1e-6: their error at rtol 1e-7 equals that at 1e-8, and a pair there sees no difference).
 
-**A margin** (DOP853 above round-off: accuracies from 1e-11 up; :attr:`Integrator.margin`). A member is accepted only
-when its estimate is within ``accuracy /`` :data:`MARGIN` (3), and a run that proportionality places aims
+**A margin** (DOP853 above round-off: accuracies from 1e-11 up; :attr:`Integrator.margin`). A member runs again until
+its estimate is within ``accuracy /`` :data:`MARGIN` (3) — one that cannot get there (its runs spent, or its estimate
+stalled near round-off) is accepted within the accuracy —, and a run that proportionality places aims
 :data:`TIGHT_AIM` = 10 below the accuracy (not :data:`AIM` = 2): some errors are erratic against rtol, so that a pair's
 estimate falls 3–10× short, and a margin of 3 keeps such a member within the accuracy. Measured (session 32) on the
 10⁵-member sweep of ``eulersym bench accuracy`` at 1e-6 — member 1353's error 2.4e-6 at rtol 1e-7, 1.5e-5 at 5.6e-8 —
@@ -111,7 +115,7 @@ from eulersym.numerics.methods._base import Method, Problem
 from eulersym.numerics.trajectory import Trajectory
 
 __all__ = ["Integrator", "deliver", "richardson", "deviation", "estimate", "worst", "QUANTITIES", "SAFETY",
-           "ROUNDOFF_RTOL", "MAX_RUNS", "PAIR_SPAN", "PILOT_LOOSE", "AMPLIFICATION_RTOL", "AIM", "TIGHT_AIM", "MARGIN",
+           "ROUNDOFF_RTOL", "MAX_RUNS", "PAIR_SPAN", "PILOT_LOOSE", "STEER_BELOW", "AMPLIFICATION_RTOL", "AIM", "TIGHT_AIM", "MARGIN",
            "AMPLIFICATION_TIMES", "SIDE_BY_SIDE_SECONDS", "CAP_FACTOR", "CAPPED_RUNS", "select", "splice"]
 
 #: The integrated quantities an estimate covers (those a trajectory has).
@@ -128,8 +132,8 @@ ROUNDOFF_RTOL = 1e-13
 MAX_RUNS = 7
 #: The next run aims this far below the accuracy (its tolerance from proportionality).
 AIM = 2.0
-#: A method with a margin (DOP853's, :attr:`Integrator.margin`) above round-off (accuracies from ``100 ROUNDOFF_RTOL``
-#: up) aims this far below the accuracy instead, and accepts a member only when its estimate is within ``accuracy /
+#: A method with a margin (DOP853's, :attr:`Integrator.margin`) above round-off (accuracies from :data:`STEER_BELOW`
+#: up) aims this far below the accuracy instead, and runs a member again until its estimate is within ``accuracy /
 #: MARGIN`` (the module docstring, "A margin"): a few errors are erratic against rtol (the bench's asymmetric top:
 #: 2.4e-6 at rtol 1e-7, 1.5e-5 at 5.6e-8), their pair's estimate 3–10× short. Measured on ``eulersym bench accuracy``'s
 #: 10⁵-member sweep at 1e-6 (session 32, with session 31's pilot): AIM alone left 16 of 99 856 members beyond 1e-6 (max
@@ -146,7 +150,10 @@ MARGIN = 3.0
 PAIR_SPAN = 100.0
 #: The same below :data:`ROUNDOFF_RTOL`, where the error's ratio falls towards 1 (round-off): the span it had before.
 ROUNDOFF_SPAN = 30.0
-#: The pilot's looser run for accuracies below ``100 ROUNDOFF_RTOL`` (1e-11): cheap (a sixth of a run at 1e-15), the
+#: Accuracies below this (``100 ROUNDOFF_RTOL``) are near round-off: the pilot only steers (its looser run at
+#: :data:`PILOT_LOOSE`) and no margin is kept (:data:`MARGIN`).
+STEER_BELOW = 1e-11
+#: The pilot's looser run for accuracies below :data:`STEER_BELOW` (1e-11): cheap (a sixth of a run at 1e-15), the
 #: pair only steers the next run — never the last pair — whose tolerance near round-off the motion decides (the
 #: bench's 1e-12 rows: 1e-14 … 4e-16).
 PILOT_LOOSE = 1e-10
@@ -321,7 +328,7 @@ def select(traj: Trajectory, idx) -> Trajectory:
     for name in ("omega", "q", "gamma", "steps", "euler", "turning"):
         value = getattr(traj, name)
         fields[name] = None if value is None else np.asarray(value)[idx]
-    return dataclasses.replace(traj, **fields, state=None, y=None, error=None)
+    return dataclasses.replace(traj, **fields, state=None, y=None, error=None, control=None)
 
 
 def splice(traj: Trajectory, idx, part: Trajectory) -> Trajectory:
@@ -336,7 +343,7 @@ def splice(traj: Trajectory, idx, part: Trajectory) -> Trajectory:
         value = np.array(mine, copy=True)
         value[idx] = theirs
         fields[name] = value
-    return dataclasses.replace(traj, **fields, state=None, y=None, error=None)
+    return dataclasses.replace(traj, **fields, state=None, y=None, error=None, control=None)
 
 
 class Integrator(Method):
@@ -359,6 +366,8 @@ class Integrator(Method):
         one-member problem side by side, on two threads (:func:`_two`).
     step_cap : bool
         :meth:`attempt` takes ``max_step`` (the longest step): near round-off the control caps it (:func:`_capped`).
+    max_steps : int
+        Steps a run may take before it fails (a capped run is never asked for more than half of them).
     margin : bool
         Above round-off a member is accepted within ``accuracy /`` :data:`MARGIN`, a new run aiming :data:`TIGHT_AIM`
         below it (measured for DOP853, whose errors against rtol the margin covers; ``solve_ivp``'s methods, whose
@@ -369,6 +378,7 @@ class Integrator(Method):
     compiled: ClassVar[bool] = False
     side_by_side: ClassVar[bool] = False
     step_cap: ClassVar[bool] = False
+    max_steps: ClassVar[int] = 50_000_000
     margin: ClassVar[bool] = False
     order: ClassVar[int] = 8
     min_rtol: ClassVar[float] = 1e-16
@@ -419,7 +429,7 @@ def _ratio(method, loose, tight):
 def _pilot(method, first):
     """The pilot pair's settings (loose, tight) per member from the method's first setting, and which pairs only
     steer: an adaptive method's ``(accuracy, accuracy / 10)``, except that where the accuracy is below
-    ``100 ROUNDOFF_RTOL`` the looser is at :data:`PILOT_LOOSE` (the pair only steers); a fixed-step method's step and
+    :data:`STEER_BELOW` the looser is at :data:`PILOT_LOOSE` (the pair only steers); a fixed-step method's step and
     half of it.
 
     Examples
@@ -431,7 +441,7 @@ def _pilot(method, first):
     """
     if not method.adaptive:
         return first, first * 2.0, np.zeros(first.shape, bool)
-    steer = first / 100.0 < ROUNDOFF_RTOL
+    steer = first < STEER_BELOW
     tight = np.maximum(first / 10.0, method.min_rtol)
     loose = 10.0 * tight
     if _any(steer):
@@ -501,7 +511,7 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
     runs[:] = 2
     w = worst(err)
     # above round-off the members of a method with a margin (DOP853's) aim lower and must meet it (TIGHT_AIM, MARGIN)
-    margin = method.margin and accuracy >= 100.0 * ROUNDOFF_RTOL
+    margin = method.margin and accuracy >= STEER_BELOW
     aim, accept = (TIGHT_AIM, accuracy / MARGIN) if margin else (AIM, accuracy)
     # a steering pilot (near round-off) only chooses the next run: it never ends the control
     active = (w > accept) | steer
@@ -580,24 +590,36 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
 
 def _capped(method, problem: Problem, best: Trajectory, err: dict, w, setting, calls: int) -> tuple:
     """One member short of the accuracy at a tolerance near round-off: runs at that tolerance with the step capped
-    (:data:`CAP_FACTOR` shorter each), each paired with the run before — where the motion's amplification A leaves
-    room (ε A below the accuracy; the start's own rounding grows by A, whatever the steps). Their round-off, not
-    their truncation, is what differs (uncorrelated between runs of different steps, the coarser's about twice the
-    finer's), and the estimate is the difference itself: about 2.2× the finer run's round-off. Stops when the
-    accuracy is met, the estimate stops falling (from the second capped run: the first pairs with the uncapped run,
-    whose round-off dominates their difference), or after :data:`CAPPED_RUNS` runs. Returns ``(best, err, w, calls,
-    (the amplification, the capped runs, the last cap))``."""
+    (about :data:`CAP_FACTOR` times the previous run's steps each: the cap from its kernel calls, ~12 a step), each
+    paired with the run before — where the motion's amplification A leaves room (ε A below half the estimate; the
+    start's own rounding grows by A, whatever the steps). Their round-off, not their truncation, is what differs
+    (uncorrelated between runs of different steps, the coarser's about twice the finer's), and the estimate is the
+    difference itself: about 2.2× the finer run's round-off. Stops when the accuracy is met, the estimate stops
+    falling (from the second capped run: the first pairs with the uncapped run, whose round-off dominates their
+    difference), a run would take more than half the method's :attr:`~Integrator.max_steps`, a run fails (the runs
+    before it kept), or after :data:`CAPPED_RUNS` runs. An accuracy below ε A gets the best that shorter steps give,
+    and is refused with it. Returns ``(best, err, w, calls, (A, the capped runs, the last cap, why they stopped))``."""
+    from eulersym.errors import IntegrationFailed
+
     accuracy = float(problem.accuracy)
     amplification = method.amplification(problem)
-    if not bool(np.finfo(float).eps * amplification[0] < accuracy):
-        return best, err, w, calls, (amplification, 0, None)
+    start = float(np.finfo(float).eps * amplification[0])  # the start's rounding, grown: no step goes below it
+    if not start < 0.5 * w[0]:
+        return best, err, w, calls, (amplification, 0, None, "")
     t = np.asarray(problem.t, dtype=float)
     span = float(abs(t[-1] - t[0]))
     steps = max(int(best.n_rhs_calls) / 12.0, 1.0)  # the last run's (DOP853: 12 evaluations a step)
     cap = span / (CAP_FACTOR * steps)
-    done = 0
+    done, why = 0, f"{CAPPED_RUNS} capped runs"
     while done < CAPPED_RUNS:
-        fresh = method.attempt(problem, setting, max_step=cap)
+        if span / cap > 0.5 * method.max_steps:
+            why = f"a shorter step would take over {method.max_steps // 2:,} steps"
+            break
+        try:
+            fresh = method.attempt(problem, setting, max_step=cap)
+        except IntegrationFailed as exc:
+            why = f"the run capped at {cap:.3g} failed ({exc})"
+            break
         calls += int(fresh.n_rhs_calls)
         done += 1
         e_new = deviation(best, fresh, vertical=problem.regime == "model", compiled=method.compiled)
@@ -605,37 +627,49 @@ def _capped(method, problem: Problem, best: Trajectory, err: dict, w, setting, c
         # (the first pair holds the uncapped run's round-off, about twice the capped one's: it may not fall at all)
         falling = done == 1 or bool(w_new[0] <= 0.9 * w[0])
         best, err, w = fresh, e_new, w_new
-        if bool(w[0] <= accuracy) or not falling:
+        if bool(w[0] <= max(accuracy, start)):
+            why = "" if start <= accuracy else f"the start's rounding grown by the motion, ε A = {start:.2g}, is above it"
+            break
+        if not falling:
+            why = "the estimate stopped falling"
             break
         cap /= CAP_FACTOR
-    return best, err, w, calls, (amplification, done, cap)
+    return best, err, w, calls, (amplification, done, cap, why)
 
 
 def _finish(method, problem: Problem, best: Trajectory, err: dict, w, setting, runs, calls: int,
             capped=None) -> Trajectory:
     """The control's result: each member's last run ``best`` with its estimate ``err`` (worst quantity ``w``), its
     last setting and its number of runs, every run's kernel calls; members refused near round-off charged the
-    round-off floor (:data:`FLOOR` ε A), the message saying the setting and why the control stopped short;
-    ``capped``: (the amplification, runs, the last cap) of :func:`_capped`."""
+    round-off floor (:data:`FLOOR` ε A; after capped runs ε A, the start's rounding), the message saying the setting
+    and why the control stopped short, :attr:`~eulersym.numerics.trajectory.Trajectory.control` the same as data;
+    ``capped``: (A, runs, the last cap, why they stopped) of :func:`_capped`."""
     accuracy = float(problem.accuracy)
+    eps = np.finfo(float).eps
     floor = ""
+    amplification, done, cap, why = capped if capped is not None else (None, 0, None, "")
+    if done:  # capped runs measured the steps' round-off: the start's rounding, shared by every run, grown by A
+        err = {k: np.maximum(v, eps * amplification) for k, v in err.items()}
+        w = worst(err)
     missed = w > accuracy
+    spent = missed & (runs >= MAX_RUNS)
     if _any(missed):  # why the control stopped short, for the refusal's words
-        spent = missed & (runs >= MAX_RUNS)
         floor = (f"; not reached: {int(np.sum(missed & ~spent))} member(s) whose estimate stopped falling (round-off, "
                  f"or the method's order), {int(np.sum(spent))} after {MAX_RUNS} runs")
+        if done:
+            floor += f", then {done} run(s) with the step capped ({why})"
     beyond = _near(method, setting) & missed
-    amplification, done, cap = capped if capped is not None else (None, 0, None)
-    if done:  # capped runs measured the steps' round-off: the start's rounding, shared by every run, grown by A
-        err = {k: np.maximum(v, np.finfo(float).eps * amplification) for k, v in err.items()}
+    charged = np.zeros(len(w))
+    if done:
+        charged[:] = eps * amplification
     elif _any(beyond):  # refused near round-off: the error cannot fall below FLOOR ε A, however tight the tolerance
         idx = np.flatnonzero(beyond)  # (a member that meets the accuracy is not charged: its pair, 10 apart near
         if amplification is None:  # round-off, sees the runs' own round-off)
             amplification = method.amplification(problem.select(idx))
-        bound = FLOOR * np.finfo(float).eps * amplification
+        charged[idx] = FLOOR * eps * amplification
         err = {k: np.array(v, dtype=float, copy=True) for k, v in err.items()}
         for v in err.values():
-            v[idx] = np.maximum(v[idx], bound)
+            v[idx] = np.maximum(v[idx], charged[idx])
         floor += (f"; round-off floor {FLOOR:g} ε × amplification {float(np.max(amplification)):.3g} "
                   "(variational equations)")
     what = "rtol" if method.adaptive else "steps per output interval"
@@ -645,7 +679,8 @@ def _finish(method, problem: Problem, best: Trajectory, err: dict, w, setting, r
         text += (f", steps ≤ {cap:.3g} ({done} run(s) with the step capped: the round-off of shorter steps; "
                  f"amplification {float(amplification[0]):.3g})")
     other = "with longer steps" if done else "looser" if method.adaptive else "at twice the step"
-    return dataclasses.replace(best, error=err, n_rhs_calls=calls,
+    control = {"runs": runs, "spent": spent, "capped": done, "floor": charged, "floor_factor": 1.0 if done else FLOOR}
+    return dataclasses.replace(best, error=err, n_rhs_calls=calls, control=control,
                                message=(best.message + "; " if best.message else "")
                                + f"{what} {text} for accuracy {accuracy:g} (global error estimated from a run "
                                + other + ")" + floor)

@@ -122,6 +122,7 @@ class OwnDOP853(Integrator):
     compiled = True
     side_by_side = True
     step_cap = True
+    max_steps = MAX_STEPS
     margin = True
     regimes = ("torque-free", "heavy top", "torque", "model")
 
@@ -152,7 +153,7 @@ class OwnDOP853(Integrator):
         s, y0, params = self._prepared(problem)
         rtol = np.asarray(setting, dtype=float)
         run = _dop853.integrate(s.module, y0, problem.t, params, rtol=rtol, atol=rtol * ATOL_RATIO,
-                                max_steps=MAX_STEPS, max_step=max_step)
+                                max_steps=self.max_steps, max_step=max_step)
         if run.status.any():
             _failed(self.name, problem, run, _state_names(problem, s.layout))
         return s.members_trajectory(problem.t, run.y, int(run.calls.sum()), self.name,
