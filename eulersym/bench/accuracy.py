@@ -182,7 +182,8 @@ def promise(case, accuracies, *, repeats=3, log=print) -> list:
         if ladder_rows is None:
             ladder_rows = ladder(method, problem, plan, reference, STRIDE, log=log)
         delivered = max(true.values())
-        if ladder_rows and not refused and ladder_rows[-1][3] == math.inf and not any(e <= delivered for _, e, _, _ in ladder_rows):
+        capped_yet = not ladder_rows or ladder_rows[-1][3] < math.inf
+        if not refused and not capped_yet and not any(e <= delivered for _, e, _, _ in ladder_rows):
             ladder_rows = ladder_rows + capped_ladder(method, problem, plan, reference, STRIDE)
         fits = [(calls, r, cap) for r, e, calls, cap in ladder_rows if e <= delivered]  # the cheapest single run
         single_calls, single_rtol, single_cap = min(fits) if fits else (0, None, math.inf)

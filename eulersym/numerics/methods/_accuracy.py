@@ -22,41 +22,43 @@ rival their truncation difference: the error ratio falls from 10 to 2 or 1 (Kova
 mostly their own round-off, which ``σ |Δ| / (ρ − 1)`` would take for truncation and inflate: a satellite's runs 2.08
 apart gave 8.6× its error and a refusal) and the estimate is at least ``|Δ| / √2`` — the size of either run's
 round-off when both are made of it. A member refused near round-off has its estimate raised to :data:`FLOOR` ε A.
-**Where this is weak** (measured in session 32 on Kovalevskaya's top over T = 500, 550, … 950 at 1e-12 and 2e-12
-against the stored reference): two runs near round-off can share part of their error — the doubles of DOP853's
-coefficients miss its order conditions by ~1e-16 (Σ b − 1 = 6.9e-17), a bias of every step in the same direction
-that no pair sees — and 5 of those 20 runs delivered beyond the accuracy (up to 5.1e-12 at 1e-12), estimates down to
-0.12× the truth; over T = 1000 itself, 2e-12 and 3e-12 are "met" by an uncapped pair whose estimate is 0.57× and
-0.5× a true 2.0e-12 and 3.5e-12 (1e-12, the bench's row, goes on to capped steps and is delivered). Hairer's 30-digit coefficients remove the bias (1 of 20 beyond, lowest 0.18×) but are not adopted
-yet: they moved other near-round-off estimates below half (a free body over 5000 s: 0.29×), and with them the
-T = 1000 error stays at 0.5–1.1e-12 however short the steps — a part every run shares (the model's rounded
-parameters, e.g. M g l and the principal frame, change the motion by ~ε) that neither a pair nor A sees. Without
-them, that shared part and the coefficients' bias largely cancel there (capped runs reach 1.7e-13).
+
+**Where this is weak** (measured in session 32 on Kovalevskaya's top over T = 500, 550, … 950 at 1e-12 and 2e-12 against
+the stored reference): two runs near round-off can share part of their error — the doubles of DOP853's coefficients miss
+its order conditions by ~1e-16 (Σ b − 1 = 6.9e-17), a bias of every step in the same direction that no pair sees — and 5
+of those 20 runs delivered beyond the accuracy (up to 5.1e-12 at 1e-12), estimates down to 0.12× the truth; over T =
+1000 itself, 2e-12 and 3e-12 are "met" by an uncapped pair whose estimate is 0.57× and 0.5× a true 2.0e-12 and 3.5e-12
+(1e-12, the bench's row, goes on to capped steps and is delivered). Hairer's 30-digit coefficients remove the bias (1 of
+20 beyond, lowest 0.18×) but are not adopted yet: they moved other near-round-off estimates below half (a free body over
+5000 s: 0.29×), and with them the T = 1000 error stays at 0.5–1.1e-12 however short the steps — a part every run shares
+(the model's rounded parameters, e.g. M g l and the principal frame, change the motion by ~ε) that neither a pair nor A
+sees. Without them, that shared part and the coefficients' bias largely cancel there (capped runs reach 1.7e-13).
 
 **Shorter steps** (:func:`_capped`). A tolerance near round-off lowers the truncation, not the round-off: a step's
-round-off is ∝ its length (the stages' sums, the kernel's evaluation; the state's own rounding is compensated), so
-over N steps it falls as 1/√N, and only more steps lower it. A one-member motion still short of the accuracy at the
-tightest tolerance — where its amplification A leaves room, ε A below half its estimate — runs again with the step
-capped (:data:`CAP_FACTOR` shorter each run, at most :data:`CAPPED_RUNS`, none over half the method's ``max_steps``;
-a run that fails ends them, the runs before it kept), each paired with the run before; their difference is their
-round-off (uncorrelated), and the estimate is that difference, at least ε A (the start's rounding, which every run
-shares). An accuracy below ε A gets the best shorter steps give, refused with it (Kovalevskaya's top at 4e-13:
-estimated 5.5e-13, true 1.4e-13, and the advice an accuracy ≥ 1e-12). Kovalevskaya's top over T = 1000 (``eulersym bench accuracy``; A = 2.5e3), refused at
-1e-12 until session 32 (every tolerance left ~2e-12): two capped runs deliver 2.8e-13, estimated 9.1e-13, in 0.8 s,
-1.4× the kernel evaluations of the cheapest single run that delivers as much (one capped 16×). A method without a
-step cap (:attr:`Integrator.step_cap`), and a sweep, refuse as before.
+round-off is ∝ its length (the stages' sums, the kernel's evaluation; the state's own rounding is compensated), so over
+N steps it falls as 1/√N, and only more steps lower it. A one-member motion still short of the accuracy at the tightest
+tolerance — where its amplification A leaves room, ε A below half its estimate — runs again with the step capped
+(:data:`CAP_FACTOR` shorter each run, at most :data:`CAPPED_RUNS`, none over half the method's ``max_steps``; a run that
+fails ends them, the runs before it kept), each paired with the run before; their difference is their round-off
+(uncorrelated), and the estimate is that difference, at least ε A (the start's rounding, which every run shares). An
+accuracy below ε A gets the best shorter steps give, refused with it (Kovalevskaya's top at 4e-13: estimated 5.5e-13,
+true 1.4e-13, and the advice an accuracy ≥ 1e-12). Kovalevskaya's top over T = 1000 (``eulersym bench accuracy``; A =
+2.5e3), refused at 1e-12 until session 32 (every tolerance left ~2e-12): two capped runs deliver 2.8e-13, estimated
+9.1e-13, in 0.8 s, 1.4× the kernel evaluations of the cheapest single run that delivers as much (one capped 16×). A
+method without a step cap (:attr:`Integrator.step_cap`), and a sweep, refuse as before.
 
 **How it is controlled** (:func:`deliver`). A pilot pair at ``(accuracy, accuracy / 10)`` (a fixed-step method: a step
 from its rule and half of it; for accuracies below 1e-11 the looser at :data:`PILOT_LOOSE`, a pair that only steers); if
 its estimate exceeds the accuracy, the next run's tolerance follows from proportionality (``rtol · accuracy / (aim ·
-estimate)``, aim :data:`AIM` = 2, or :data:`TIGHT_AIM` = 10 with a margin — below —, near round-off at least 10 below; a step by ``(…)^(1/p)``) and pairs with the run before it, or with one
-more run 10× looser when the run before is more than :data:`PAIR_SPAN` away — per member: in a sweep only the members
-still beyond the accuracy run again. It stops when every member meets the accuracy, or a member's estimate no longer
-falls near round-off (its error is round-off amplified by the motion: shorter steps may still reach it — above — or it
-cannot be reached in double precision; an adaptive run far above round-off goes on — before its asymptotic regime its
-error may stray from proportionality), or after :data:`MAX_RUNS` runs; the result is the last run of each member with
-its estimate (:attr:`~eulersym.numerics.trajectory.Trajectory.error`), and the scene says when it exceeds the accuracy
-asked (:class:`eulersym.errors.AccuracyNotReached`). A one-member problem of a method whose runs release the GIL
+estimate)``, aim :data:`AIM` = 2, or :data:`TIGHT_AIM` = 10 with a margin — below —, near round-off at least 10 below; a
+step by ``(…)^(1/p)``) and pairs with the run before it, or with one more run 10× looser when the run before is more
+than :data:`PAIR_SPAN` away — per member: in a sweep only the members still beyond the accuracy run again. It stops when
+every member meets the accuracy, or a member's estimate no longer falls near round-off (its error is round-off amplified
+by the motion: shorter steps may still reach it — above — or it cannot be reached in double precision; an adaptive run
+far above round-off goes on — before its asymptotic regime its error may stray from proportionality), or after
+:data:`MAX_RUNS` runs; the result is the last run of each member with its estimate
+(:attr:`~eulersym.numerics.trajectory.Trajectory.error`), and the scene says when it exceeds the accuracy asked
+(:class:`eulersym.errors.AccuracyNotReached`). A one-member problem of a method whose runs release the GIL
 (:attr:`Integrator.side_by_side`: eulersym's compiled DOP853) runs a new run and its partner side by side on two threads
 when the run before took at least :data:`SIDE_BY_SIDE_SECONDS`: their wall time is then the new run's.
 
@@ -76,17 +78,17 @@ beyond 1e-6: their error at rtol 1e-7 equals that at 1e-8, and a pair there sees
 
 **A margin** (DOP853 above round-off: accuracies from 1e-11 up; :attr:`Integrator.margin`). A member runs again until
 its estimate is within ``accuracy /`` :data:`MARGIN` (3) — one that cannot get there (its runs spent, or its estimate
-stalled near round-off) is accepted within the accuracy —, and a run that proportionality places aims
-:data:`TIGHT_AIM` = 10 below the accuracy (not :data:`AIM` = 2): some errors are erratic against rtol, so that a pair's
-estimate falls 3–10× short, and a margin of 3 keeps such a member within the accuracy. Measured (session 32) on the
-10⁵-member sweep of ``eulersym bench accuracy`` at 1e-6 — member 1353's error 2.4e-6 at rtol 1e-7, 1.5e-5 at 5.6e-8 —
-AIM alone left 16 of 99 856 members beyond 1e-6 (max 4.7e-6); the margin none (max 8.5e-7; 3.2e-7 with session 31's
-wider pilot), for 25 % more kernel evaluations, still 8.86× faster than ``method = "DOP853"`` at equal delivered error;
-and on 2000 random free bodies (1, 2, 3) over 20 s, where the loose runs are not yet asymptotic (a run at rtol 1e-6 as
-accurate as one at 1e-7): beyond the accuracy 101 → 19 of 2000 at 1e-5 (max 3.65 → 2.1×), 8 → 3 at 1e-6, 0 at 1e-7 and
-1e-9, for 23–37 % more kernel evaluations. The work against a single run delivering the same error is unchanged (the
-bench's 14 rows: median 2.42 → 2.37, at most 2.91): the control delivers more accuracy than before for the work that
-accuracy costs.
+stalled near round-off) is accepted within the accuracy —, and a run that proportionality places aims :data:`TIGHT_AIM`
+= 10 below the accuracy (not :data:`AIM` = 2): some errors are erratic against rtol, so that a pair's estimate falls
+3–10× short, and a margin of 3 keeps such a member within the accuracy. Measured (session 32) on the 10⁵-member sweep of
+``eulersym bench accuracy`` at 1e-6 — member 1353's error 2.4e-6 at rtol 1e-7, 1.5e-5 at 5.6e-8 — without the margin 21
+of 99 856 members are beyond 1e-6 (max 3.0e-6; 16, max 4.7e-6, with session 31's wider pilot); with it none (max
+8.5e-7), for 21 % more kernel evaluations (438 → 531 M), still 8.86× faster than ``method = "DOP853"`` at equal
+delivered error; and on 2000 random free bodies (1, 2, 3) over 20 s, where the loose runs are not yet asymptotic (a run
+at rtol 1e-6 as accurate as one at 1e-7): beyond the accuracy 101 → 19 of 2000 at 1e-5 (max 3.65 → 2.1×), 8 → 3 at 1e-6,
+0 at 1e-7 and 1e-9, for 23–37 % more kernel evaluations. The work against a single run delivering the same error is
+unchanged (the bench's 14 rows: median 2.42 → 2.37, at most 2.91): the control delivers more accuracy than before for
+the work that accuracy costs.
 
 Examples
 --------
@@ -115,8 +117,9 @@ from eulersym.numerics.methods._base import Method, Problem
 from eulersym.numerics.trajectory import Trajectory
 
 __all__ = ["Integrator", "deliver", "richardson", "deviation", "estimate", "worst", "QUANTITIES", "SAFETY",
-           "ROUNDOFF_RTOL", "MAX_RUNS", "PAIR_SPAN", "PILOT_LOOSE", "STEER_BELOW", "AMPLIFICATION_RTOL", "AIM", "TIGHT_AIM", "MARGIN",
-           "AMPLIFICATION_TIMES", "SIDE_BY_SIDE_SECONDS", "CAP_FACTOR", "CAPPED_RUNS", "select", "splice"]
+           "ROUNDOFF_RTOL", "MAX_RUNS", "PAIR_SPAN", "PILOT_LOOSE", "STEER_BELOW", "AMPLIFICATION_RTOL", "AIM",
+           "TIGHT_AIM", "MARGIN", "AMPLIFICATION_TIMES", "SIDE_BY_SIDE_SECONDS", "CAP_FACTOR", "CAPPED_RUNS", "select",
+           "splice"]
 
 #: The integrated quantities an estimate covers (those a trajectory has).
 QUANTITIES = ("omega", "attitude", "gamma")
@@ -181,11 +184,11 @@ FLOOR = 6.0
 AMPLIFICATION_RTOL = 1e-4
 AMPLIFICATION_TIMES = 20
 #: Near round-off, where the tightest tolerance leaves a one-member motion short of the accuracy and its amplification
-#: leaves room (ε A below the accuracy), the step is capped: each run's longest step this many times shorter than the
-#: run before's mean step. A step's round-off is ∝ its length (the stages' sums and the kernel's evaluation; the
+#: leaves room (ε A below half its estimate), the step is capped: each run's longest step this many times shorter than
+#: the run before's mean step. A step's round-off is ∝ its length (the stages' sums and the kernel's evaluation; the
 #: state's own rounding is compensated), so over N steps the round-off falls as 1/√N: half for each ×4. Measured on
-#: Kovalevskaya's top over T = 1000 (A = 2.5e3, its 1e-12 refused until session 32): rtol 1e-16 alone 2.0e-12
-#: (0.62 M kernel calls, 36 ms); capped at ×2, ×4, ×8, ×16, ×32 its steps, 4.0, 7.7, 5.9, 2.8, 1.7e-13.
+#: Kovalevskaya's top over T = 1000 (A = 2.5e3, its 1e-12 refused until session 32): rtol 1e-16 alone 2.0e-12 (0.62 M
+#: kernel calls, 36 ms); capped at ×2, ×4, ×8, ×16, ×32 its steps, 4.0, 7.7, 5.9, 2.8, 1.7e-13.
 CAP_FACTOR = 4.0
 #: At most this many runs with a capped step (the last up to CAP_FACTOR^3 = 64× the steps of the uncapped run).
 CAPPED_RUNS = 3
@@ -369,9 +372,9 @@ class Integrator(Method):
     max_steps : int
         Steps a run may take before it fails (a capped run is never asked for more than half of them).
     margin : bool
-        Above round-off a member is accepted within ``accuracy /`` :data:`MARGIN`, a new run aiming :data:`TIGHT_AIM`
-        below it (measured for DOP853, whose errors against rtol the margin covers; ``solve_ivp``'s methods, whose
-        pairs span differently, keep :data:`AIM` and no margin).
+        Above round-off a member runs again until its estimate is within ``accuracy /`` :data:`MARGIN`, a new run
+        aiming :data:`TIGHT_AIM` below the accuracy (measured for DOP853, whose errors against rtol the margin
+        covers; ``solve_ivp``'s methods, whose pairs span differently, keep :data:`AIM` and no margin).
     """
 
     adaptive: ClassVar[bool] = True
@@ -628,7 +631,7 @@ def _capped(method, problem: Problem, best: Trajectory, err: dict, w, setting, c
         falling = done == 1 or bool(w_new[0] <= 0.9 * w[0])
         best, err, w = fresh, e_new, w_new
         if bool(w[0] <= max(accuracy, start)):
-            why = "" if start <= accuracy else f"the start's rounding grown by the motion, ε A = {start:.2g}, is above it"
+            why = "" if start <= accuracy else f"the start's rounding grown by the motion, ε A = {start:.2g}, is above"
             break
         if not falling:
             why = "the estimate stopped falling"
