@@ -19,7 +19,7 @@ __all__ = ["OwnDOP853", "BatchedDOP853", "CompiledDOP853", "SolveIVP", "DOP853_C
 #: 10× looser, costs ≈ 0.75 of the tighter) and, when the pilot misses the margin, one or two runs more aiming 10×
 #: below the accuracy (:data:`eulersym.numerics.methods._accuracy.MARGIN`; measured 1.4–2.9 single runs at the
 #: tolerance delivering the same error on the bench's motions, median 2.35: ``eulersym bench accuracy``; the margin
-#: adds ~25 %: the sweep of that bench, 10⁴ members, 42.7 → 53.6 M kernel evaluations, 10⁵ members 426 → 535 M).
+#: adds ~20–25 %: the 10⁵-member sweep of that bench, 438 → 531 M kernel evaluations).
 CONTROL = 2.9
 #: Dormand–Prince 8(5,3) with a step shared by groups of 4096 members (and ``solve_ivp``'s DOP853 for one member).
 DOP853_COST = Cost("dop853", order=8, stages=12, constant=0.12 * CONTROL, working=22, grain=4096,
