@@ -135,6 +135,31 @@ def test_a_member_stops_with_its_cause_never_nan_never_endless():
     assert int(many.status[0]) == _dop853.TOO_MANY_STEPS and many.steps[0] == 6
 
 
+def _bench_true(name, result) -> dict:
+    """The true error per quantity of a result of ``eulersym bench accuracy``'s case ``name`` against its stored
+    38-digit reference (every STRIDE-th output time)."""
+    from eulersym.bench._accuracy_references import STATES, STRIDE
+    from eulersym.bench.accuracy import true_error
+
+    k = slice(None, None, STRIDE)
+    return true_error(result.omega[k], result.attitude[k], result.gamma[k], np.array(STATES[name]))
+
+
+def _bench_promise(name, accuracy):
+    """The bench's case ``name`` at ``accuracy``, without a warning: delivered ≤ asked, the estimate within [½, 10] ×
+    the true error (the issue's floors). Returns the result."""
+    from eulersym.bench._cases import case
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AccuracyNotReached)
+        result = simulate(case(name).scene(accuracy))
+    true = _bench_true(name, result)
+    est = {q: float(v) for q, v in result.error.items()}
+    assert max(true.values()) <= accuracy, (true, est)
+    assert all(est[q] >= v / 2 for q, v in true.items()) and max(est.values()) <= 10 * max(true.values())
+    return result
+
+
 def test_a_capped_step_is_never_exceeded_and_an_infinite_cap_changes_no_bit():
     """``max_step``: a member's steps never longer than its cap (so at least span / cap of them), members capped each
     their own; ``inf`` is the uncapped run bit for bit; a cap that is not positive is refused, naming it."""
@@ -161,18 +186,7 @@ def test_kovalevskaya_s_top_gets_1e_12_by_capped_steps():
     16× shorter than that run's (a step's round-off ∝ its length: over N steps ∝ 1/√N) deliver it: against the stored
     38-digit reference, ≤ 1e-12 with an estimate within [½, 10] × the truth, without a warning; on a chaotic top
     (ε A ≫ the accuracy) no step is capped and the refusal stands (test_an_accuracy_double_precision_cannot_...)."""
-    from eulersym.bench._accuracy_references import STATES, STRIDE
-    from eulersym.bench._cases import case
-    from eulersym.bench.accuracy import true_error
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", AccuracyNotReached)
-        result = simulate(case("kovalevskaya").scene(1e-12))
-    k = slice(None, None, STRIDE)
-    true = true_error(result.omega[k], result.attitude[k], result.gamma[k], np.array(STATES["kovalevskaya"]))
-    est = {name: float(v) for name, v in result.error.items()}
-    assert max(true.values()) <= 1e-12, (true, est)
-    assert all(est[name] >= v / 2 for name, v in true.items()) and max(est.values()) <= 10 * max(true.values())
+    result = _bench_promise("kovalevskaya", 1e-12)
     assert result.n_rhs_calls > 4 * 618_000  # the capped runs: a run at rtol 1e-16 alone makes 0.62 M calls
 
 
@@ -180,15 +194,11 @@ def test_below_the_start_s_rounding_the_best_is_delivered_and_refused_with_true_
     """Kovalevskaya's top at 4e-13, below ε A = 5.5e-13 (the start's rounding grown by the motion): shorter steps
     still give their best (true 1.4e-13 against the stored reference; the uncapped runs' 2e-12 before the review of
     session 32), refused with the estimate at ε A and the advice an accuracy ≥ 1e-12 — which is delivered."""
-    from eulersym.bench._accuracy_references import STATES, STRIDE
     from eulersym.bench._cases import case
-    from eulersym.bench.accuracy import true_error
 
     with pytest.warns(AccuracyNotReached) as caught:
         result = simulate(case("kovalevskaya").scene(4e-13))
-    k = slice(None, None, STRIDE)
-    true = true_error(result.omega[k], result.attitude[k], result.gamma[k], np.array(STATES["kovalevskaya"]))
-    assert max(true.values()) < 5e-13
+    assert max(_bench_true("kovalevskaya", result).values()) < 5e-13
     text = str(caught[0].message)
     assert "What would help: an accuracy ≥ 1e-12" in text and 5e-13 < caught[0].message.reached < 1e-12
 
@@ -570,18 +580,7 @@ def test_a_satellite_near_round_off_gets_1e_12_and_says_so_honestly():
     rtol 5.6e-14 (the round-off of 4400 steps grown 30×), and runs at rtol 3.1e-14 and 1.5e-14 differ by 1.8e-12 — a
     pair that close took that round-off for truncation (3 |Δ|: 5e-12, 'not reached', on main). Near round-off a pair is at least 10 apart: against the
     stored 38-digit reference, delivered ≤ 1e-12 and the estimate within [½, 10] × the truth, without a warning."""
-    from eulersym.bench._accuracy_references import STATES, STRIDE
-    from eulersym.bench._cases import case
-    from eulersym.bench.accuracy import true_error
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", AccuracyNotReached)
-        result = simulate(case("satellite").scene(1e-12))
-    k = slice(None, None, STRIDE)
-    true = true_error(result.omega[k], result.attitude[k], result.gamma[k], np.array(STATES["satellite"]))
-    est = {name: float(v) for name, v in result.error.items()}
-    assert max(true.values()) <= 1e-12, (true, est)
-    assert all(est[name] >= v / 2 for name, v in true.items()) and max(est.values()) <= 10 * max(true.values())
+    _bench_promise("satellite", 1e-12)
 
 
 @pytest.mark.parametrize("gamma", [False, True])

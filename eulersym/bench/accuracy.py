@@ -146,12 +146,13 @@ def capped_ladder(method, problem, plan, reference, stride) -> list:
     single runs that deliver what a tolerance alone cannot (a method without a step cap: none)."""
     if not getattr(method, "step_cap", False):
         return []
+    from eulersym.numerics.methods._accuracy import mean_step
+
     rtol = np.array([method.min_rtol])
-    span = float(abs(problem.t[-1] - problem.t[0]))
-    steps = method.attempt(problem, rtol).n_rhs_calls / 12.0
+    step = mean_step(problem, method.attempt(problem, rtol).n_rhs_calls)
     rows = []
     for k in CAPPED_RUNGS:
-        cap = span / (k * steps)
+        cap = step / k
         traj = method.attempt(problem, rtol, max_step=cap)
         rows.append((float(rtol[0]), max(_traj_error(problem, plan, traj, reference, stride).values()),
                      int(traj.n_rhs_calls), cap))

@@ -64,10 +64,9 @@ class Trajectory:
         (:mod:`eulersym.numerics.methods._accuracy`). None for a closed form (exact to round-off) and for the
         low-level integrators, which take a step or a tolerance rather than an accuracy.
     control : mapping or None
-        How the accuracy control ended, per member where it says so (the words of a refusal): ``"runs"`` (batch,),
-        ``"spent"`` (batch,) bool — short of the accuracy after all its runs, ``"capped"`` — runs with the step
-        capped (one member), ``"floor"`` (batch,) — the round-off floor charged to the estimate (0: none),
-        ``"floor_factor"`` — that floor in ε A. None where no control ran.
+        How the accuracy control ended (the words of a refusal): ``"spent"`` (batch,) bool — short of the accuracy
+        after all its runs, ``"capped"`` — runs with the step capped (one member), ``"floor_factor"`` — the
+        round-off floor charged to a refused member's estimate, in ε A. None where no control ran.
 
     Examples
     --------

@@ -118,7 +118,7 @@ from eulersym.numerics.trajectory import Trajectory
 
 __all__ = ["Integrator", "deliver", "richardson", "deviation", "estimate", "worst", "QUANTITIES", "SAFETY",
            "ROUNDOFF_RTOL", "MAX_RUNS", "PAIR_SPAN", "PILOT_LOOSE", "STEER_BELOW", "AMPLIFICATION_RTOL", "AIM",
-           "TIGHT_AIM", "MARGIN", "AMPLIFICATION_TIMES", "SIDE_BY_SIDE_SECONDS", "CAP_FACTOR", "CAPPED_RUNS", "select",
+           "TIGHT_AIM", "MARGIN", "AMPLIFICATION_TIMES", "SIDE_BY_SIDE_SECONDS", "CAP_FACTOR", "CAPPED_RUNS", "mean_step", "select",
            "splice"]
 
 #: The integrated quantities an estimate covers (those a trajectory has).
@@ -558,7 +558,7 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
                          tight=near)
         w_new = worst(e_new)
         if whole:
-            best, err, w = fresh, e_new, w_new
+            best, err, w, setting = fresh, e_new, w_new, s_new
         else:
             best = splice(best, idx, fresh)
             err = {k: np.array(v, dtype=float, copy=True) for k, v in err.items()}
@@ -566,9 +566,6 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
                 v[idx] = e_new[k]
             w = w.copy()
             w[idx] = w_new
-        if whole:
-            setting = s_new
-        else:
             setting[idx] = s_new
         # stalled: the estimate no longer falls where round-off can explain it (a fixed step; an adaptive method near
         # round-off — above it an adaptive run's error strays from proportionality before its asymptotic regime: a
@@ -591,6 +588,18 @@ def deliver(method: Integrator, problem: Problem) -> Trajectory:
     return _finish(method, problem, best, err, w, setting, runs, calls, capped)
 
 
+def mean_step(problem: Problem, calls) -> float:
+    """The mean step of a one-member DOP853 run over ``problem`` that made ``calls`` kernel evaluations (12 a step).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> mean_step(NS(t=np.array([0.0, 10.0])), 1200)
+    0.1
+    """
+    return float(abs(problem.t[-1] - problem.t[0])) / max(int(calls) / 12.0, 1.0)
+
+
 def _capped(method, problem: Problem, best: Trajectory, err: dict, w, setting, calls: int) -> tuple:
     """One member short of the accuracy at a tolerance near round-off: runs at that tolerance with the step capped
     (about :data:`CAP_FACTOR` times the previous run's steps each: the cap from its kernel calls, ~12 a step), each
@@ -609,10 +618,8 @@ def _capped(method, problem: Problem, best: Trajectory, err: dict, w, setting, c
     start = float(np.finfo(float).eps * amplification[0])  # the start's rounding, grown: no step goes below it
     if not start < 0.5 * w[0]:
         return best, err, w, calls, (amplification, 0, None, "")
-    t = np.asarray(problem.t, dtype=float)
-    span = float(abs(t[-1] - t[0]))
-    steps = max(int(best.n_rhs_calls) / 12.0, 1.0)  # the last run's (DOP853: 12 evaluations a step)
-    cap = span / (CAP_FACTOR * steps)
+    span = float(abs(problem.t[-1] - problem.t[0]))
+    cap = mean_step(problem, best.n_rhs_calls) / CAP_FACTOR
     done, why = 0, f"{CAPPED_RUNS} capped runs"
     while done < CAPPED_RUNS:
         if span / cap > 0.5 * method.max_steps:
@@ -662,17 +669,14 @@ def _finish(method, problem: Problem, best: Trajectory, err: dict, w, setting, r
         if done:
             floor += f", then {done} run(s) with the step capped ({why})"
     beyond = _near(method, setting) & missed
-    charged = np.zeros(len(w))
-    if done:
-        charged[:] = eps * amplification
-    elif _any(beyond):  # refused near round-off: the error cannot fall below FLOOR ε A, however tight the tolerance
+    if not done and _any(beyond):  # refused near round-off: the error cannot fall below FLOOR ε A, however tight
         idx = np.flatnonzero(beyond)  # (a member that meets the accuracy is not charged: its pair, 10 apart near
         if amplification is None:  # round-off, sees the runs' own round-off)
             amplification = method.amplification(problem.select(idx))
-        charged[idx] = FLOOR * eps * amplification
+        bound = FLOOR * eps * amplification
         err = {k: np.array(v, dtype=float, copy=True) for k, v in err.items()}
         for v in err.values():
-            v[idx] = np.maximum(v[idx], charged[idx])
+            v[idx] = np.maximum(v[idx], bound)
         floor += (f"; round-off floor {FLOOR:g} ε × amplification {float(np.max(amplification)):.3g} "
                   "(variational equations)")
     what = "rtol" if method.adaptive else "steps per output interval"
@@ -682,7 +686,7 @@ def _finish(method, problem: Problem, best: Trajectory, err: dict, w, setting, r
         text += (f", steps ≤ {cap:.3g} ({done} run(s) with the step capped: the round-off of shorter steps; "
                  f"amplification {float(amplification[0]):.3g})")
     other = "with longer steps" if done else "looser" if method.adaptive else "at twice the step"
-    control = {"runs": runs, "spent": spent, "capped": done, "floor": charged, "floor_factor": 1.0 if done else FLOOR}
+    control = {"spent": spent, "capped": done, "floor_factor": 1.0 if done else FLOOR}
     return dataclasses.replace(best, error=err, n_rhs_calls=calls, control=control,
                                message=(best.message + "; " if best.message else "")
                                + f"{what} {text} for accuracy {accuracy:g} (global error estimated from a run "
